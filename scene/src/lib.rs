@@ -1,0 +1,21 @@
+//! Scene model shared by the `mcrt-noise` oracle and the `mcrt-reference` tracer.
+//!
+//! A scene is a TOML file (format: `docs/scene-format.md`, conventions:
+//! `docs/conventions.md`). [`Scene::from_toml_str`] parses *and* validates it:
+//! every invalid value is reported as a [`FieldError`] naming the field, the
+//! value and the allowed range, and no partially valid scene is ever returned.
+//!
+//! This crate holds only the scene and the physics primitives both crates need
+//! (the phase functions). The oracle's formulas live in `mcrt-noise`; the tracer
+//! must not depend on them, so that it stays an independent witness.
+
+mod error;
+mod file;
+mod model;
+mod phase;
+mod validate;
+
+pub use error::{FieldError, SceneError};
+pub use model::{Camera, Effects, Estimator, Light, Medium, ScatteringOrders, Scene};
+pub use phase::Phase;
+pub use glam::DVec3;

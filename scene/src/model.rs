@@ -1,0 +1,95 @@
+//! The validated scene. Every value here is in range; construct it with
+//! [`Scene::from_toml_str`].
+
+use crate::phase::Phase;
+use glam::DVec3;
+
+/// A validated scene: one medium filling space, lights, one pixel's camera ray,
+/// the estimator's parameters, and the effects to simulate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    pub medium: Medium,
+    pub lights: Vec<Light>,
+    pub camera: Camera,
+    pub estimator: Estimator,
+    pub effects: Effects,
+}
+
+/// Homogeneous medium. Units: 1/length for the coefficients.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Medium {
+    /// Extinction coefficient σ_ext > 0.
+    pub sigma_ext: f64,
+    /// Single-scattering albedo σ_sc/σ_ext ∈ [0, 1].
+    pub albedo: f64,
+    pub phase: Phase,
+}
+
+impl Medium {
+    /// Scattering coefficient σ_sc = albedo · σ_ext.
+    pub fn sigma_sc(&self) -> f64 {
+        self.albedo * self.sigma_ext
+    }
+}
+
+/// A light source. Flux is the total power it emits (arbitrary power unit).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Light {
+    /// Isotropic point light.
+    Point { position: DVec3, flux: f64 },
+    /// Collimated beam of uniform irradiance leaving a disk of `radius` at
+    /// `center`, perpendicular to the unit vector `direction`, along it.
+    Beam { center: DVec3, direction: DVec3, radius: f64, flux: f64 },
+}
+
+impl Light {
+    /// Total flux emitted by this light.
+    pub fn flux(&self) -> f64 {
+        match *self {
+            Light::Point { flux, .. } | Light::Beam { flux, .. } => flux,
+        }
+    }
+}
+
+/// The camera ray of the pixel (zero footprint): origin and unit direction u.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    pub origin: DVec3,
+    /// Unit view direction u (the camera looks along +u).
+    pub direction: DVec3,
+}
+
+/// Parameters of the multiple-integration-spheres estimator.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Estimator {
+    /// Integration sphere radius R > 0.
+    pub radius: f64,
+    /// Extinction probability per sub-step q ∈ (0, 1].
+    pub q: f64,
+    /// Forward rays per iteration N_F ≥ 1.
+    pub forward_rays: u64,
+    /// Camera rays through the pixel per iteration N_B ≥ 1.
+    pub camera_rays: u64,
+}
+
+/// Which light-transport effects are simulated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Effects {
+    pub scattering_orders: ScatteringOrders,
+}
+
+/// Forward segments after more scatterings than this are not simulated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ScatteringOrders {
+    /// At most this many scatterings (0: uncollided light only).
+    Limited(u32),
+    /// No limit.
+    All,
+}
+
+impl Scene {
+    /// Total flux 𝓕 of all lights (paper eq. (5)).
+    pub fn total_flux(&self) -> f64 {
+        self.lights.iter().map(Light::flux).sum()
+    }
+}

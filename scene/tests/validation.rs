@@ -1,0 +1,194 @@
+//! Scene parsing, validation and round-trip.
+
+use mcrt_scene::{Phase, ScatteringOrders, Scene, SceneError};
+use std::path::Path;
+
+const BASE: &str = r#"
+[medium]
+sigma_ext = 1.0
+albedo = 0.8
+[medium.phase]
+kind = "henyey-greenstein"
+g = 0.0
+[[lights]]
+kind = "point"
+position = [1.0, 0.0, 1.0]
+flux = 1.0
+[camera]
+origin = [0.0, 0.0, 0.0]
+direction = [0.0, 0.0, 1.0]
+[estimator]
+radius = 0.01
+q = 0.5
+forward_rays = 200
+camera_rays = 8
+[effects]
+scattering_orders = 0
+"#;
+
+fn with(from: &str, to: &str) -> String {
+    assert!(BASE.contains(from), "test bug: {from:?} not in base scene");
+    BASE.replacen(from, to, 1)
+}
+
+/// The single field error of `text`, as (field, message).
+fn field_error(text: &str) -> (String, String) {
+    match Scene::from_toml_str(text) {
+        Err(SceneError::Invalid(errors)) => {
+            assert_eq!(errors.len(), 1, "{errors:?}");
+            (errors[0].field.clone(), errors[0].to_string())
+        }
+        other => panic!("expected one field error, got {other:?}"),
+    }
+}
+
+#[test]
+fn issue_example_parses() {
+    let s = Scene::from_toml_str(BASE).unwrap();
+    assert_eq!(s.medium.phase, Phase::HenyeyGreenstein { g: 0.0 });
+    assert_eq!(s.estimator.forward_rays, 200);
+    assert_eq!(s.effects.scattering_orders, ScatteringOrders::Limited(0));
+    assert_eq!(s.total_flux(), 1.0);
+}
+
+#[test]
+fn bundled_scenes_parse_and_round_trip_exactly() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+    let mut n = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let s = Scene::from_toml_str(&std::fs::read_to_string(&path).unwrap())
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            let again = Scene::from_toml_str(&s.to_toml_string()).unwrap();
+            assert_eq!(s, again, "{}", path.display());
+            n += 1;
+        }
+    }
+    assert!(n >= 5, "only {n} bundled scenes");
+}
+
+#[test]
+fn direction_is_normalised_and_round_trips() {
+    let s = Scene::from_toml_str(&with("direction = [0.0, 0.0, 1.0]", "direction = [1.0, 2.0, 3.0]")).unwrap();
+    approx::assert_relative_eq!(s.camera.direction.length(), 1.0, max_relative = 1e-15);
+    assert_eq!(Scene::from_toml_str(&s.to_toml_string()).unwrap(), s);
+}
+
+#[test]
+fn defaults_are_filled_in() {
+    let text = BASE.replace("[effects]\nscattering_orders = 0\n", "").replace(
+        "[medium.phase]\nkind = \"henyey-greenstein\"\ng = 0.0\n",
+        "",
+    );
+    let s = Scene::from_toml_str(&text).unwrap();
+    assert_eq!(s.medium.phase, Phase::Isotropic);
+    assert_eq!(s.effects.scattering_orders, ScatteringOrders::Limited(0));
+    assert!(s.to_toml_string().contains("scattering_orders = 0"));
+}
+
+#[test]
+fn orders_all() {
+    let s = Scene::from_toml_str(&with("scattering_orders = 0", "scattering_orders = \"all\"")).unwrap();
+    assert_eq!(s.effects.scattering_orders, ScatteringOrders::All);
+}
+
+#[test]
+fn each_out_of_range_value_names_field_value_and_range() {
+    let cases: &[(&str, &str, &str, &str)] = &[
+        ("sigma_ext = 1.0", "sigma_ext = -1.0", "medium.sigma_ext", "> 0"),
+        ("sigma_ext = 1.0", "sigma_ext = 0.0", "medium.sigma_ext", "> 0"),
+        ("sigma_ext = 1.0", "sigma_ext = nan", "medium.sigma_ext", "finite"),
+        ("albedo = 0.8", "albedo = 1.5", "medium.albedo", "[0, 1]"),
+        ("albedo = 0.8", "albedo = -0.1", "medium.albedo", "[0, 1]"),
+        ("g = 0.0", "g = 1.0", "medium.phase.g", "(-1, 1)"),
+        ("g = 0.0", "g = -1.0", "medium.phase.g", "(-1, 1)"),
+        ("g = 0.0", "g = nan", "medium.phase.g", "(-1, 1)"),
+        ("radius = 0.01", "radius = 0.0", "estimator.radius", "> 0"),
+        ("radius = 0.01", "radius = -0.01", "estimator.radius", "> 0"),
+        ("radius = 0.01", "radius = inf", "estimator.radius", "finite"),
+        ("q = 0.5", "q = 0.0", "estimator.q", "(0, 1]"),
+        ("q = 0.5", "q = 1.0000001", "estimator.q", "(0, 1]"),
+        ("q = 0.5", "q = nan", "estimator.q", "(0, 1]"),
+        ("forward_rays = 200", "forward_rays = 0", "estimator.forward_rays", ">= 1"),
+        ("camera_rays = 8", "camera_rays = -3", "estimator.camera_rays", ">= 1"),
+        ("flux = 1.0", "flux = 0.0", "lights[0].flux", "> 0"),
+        ("position = [1.0, 0.0, 1.0]", "position = [1.0, nan, 1.0]", "lights[0].position[1]", "finite"),
+        ("direction = [0.0, 0.0, 1.0]", "direction = [0.0, 0.0, 0.0]", "camera.direction", "non-zero"),
+        ("kind = \"point\"", "kind = \"spot\"", "lights[0].kind", "\"point\" or \"beam\""),
+        ("kind = \"henyey-greenstein\"", "kind = \"rayleigh\"", "medium.phase.kind", "isotropic"),
+        ("scattering_orders = 0", "scattering_orders = -1", "effects.scattering_orders", "\"all\""),
+        ("scattering_orders = 0", "scattering_orders = \"many\"", "effects.scattering_orders", "\"all\""),
+    ];
+    for (from, to, field, range) in cases {
+        let (f, msg) = field_error(&with(from, to));
+        assert_eq!(&f, field, "{to}: {msg}");
+        assert!(msg.contains(range), "{to}: message {msg:?} lacks {range:?}");
+        let value = to.split(" = ").nth(1).unwrap().trim_matches('"');
+        let value_shown = value.trim_start_matches('-').trim_start_matches('[');
+        assert!(msg.contains(&value_shown[..1.min(value_shown.len())]), "{msg}");
+    }
+}
+
+#[test]
+fn all_errors_are_listed_not_only_the_first() {
+    let text = with("albedo = 0.8", "albedo = 2.0").replace("q = 0.5", "q = 2.0");
+    match Scene::from_toml_str(&text) {
+        Err(SceneError::Invalid(e)) => {
+            let fields: Vec<_> = e.iter().map(|e| e.field.as_str()).collect();
+            assert_eq!(fields, ["medium.albedo", "estimator.q"]);
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn unknown_key_is_named() {
+    for (from, to, key) in [
+        ("albedo = 0.8", "albedo = 0.8\nalbedoo = 0.8", "albedoo"),
+        ("q = 0.5", "q = 0.5\nsphere_count = 3", "sphere_count"),
+        ("flux = 1.0", "flux = 1.0\ncolour = 3", "colour"),
+    ] {
+        match Scene::from_toml_str(&with(from, to)) {
+            Err(SceneError::Parse(msg)) => assert!(msg.contains(key), "{msg}"),
+            other => panic!("{other:?}"),
+        }
+    }
+    match Scene::from_toml_str(&format!("{BASE}\n[extra]\na = 1\n")) {
+        Err(SceneError::Parse(msg)) => assert!(msg.contains("extra"), "{msg}"),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn point_light_on_camera_ray_in_front_is_rejected() {
+    for pos in ["[0.0, 0.0, 2.0]", "[0.0, 0.0, 0.0]", "[0.0, 0.0, 1e-300]"] {
+        let (f, msg) = field_error(&with("position = [1.0, 0.0, 1.0]", &format!("position = {pos}")));
+        assert_eq!(f, "lights[0].position");
+        assert!(msg.contains("infinite"), "{msg}");
+    }
+    // Oblique camera ray, light on it up to rounding of the input.
+    let text = with("direction = [0.0, 0.0, 1.0]", "direction = [1.0, 1.0, 1.0]")
+        .replace("position = [1.0, 0.0, 1.0]", "position = [0.3, 0.3, 0.3]");
+    assert_eq!(field_error(&text).0, "lights[0].position");
+}
+
+#[test]
+fn point_light_behind_camera_or_near_the_ray_is_accepted() {
+    for pos in ["[0.0, 0.0, -2.0]", "[1e-6, 0.0, 2.0]", "[-1e-6, 0.0, -2.0]"] {
+        Scene::from_toml_str(&with("position = [1.0, 0.0, 1.0]", &format!("position = {pos}")))
+            .unwrap_or_else(|e| panic!("{pos}: {e}"));
+    }
+}
+
+#[test]
+fn beam_requires_its_fields() {
+    let text = with("kind = \"point\"\nposition = [1.0, 0.0, 1.0]", "kind = \"beam\"\ncenter = [1.0, 0.0, 1.0]");
+    match Scene::from_toml_str(&text) {
+        Err(SceneError::Invalid(e)) => {
+            let fields: Vec<_> = e.iter().map(|e| e.field.as_str()).collect();
+            assert_eq!(fields, ["lights[0].direction", "lights[0].radius"]);
+        }
+        other => panic!("{other:?}"),
+    }
+}
