@@ -1,1 +1,17 @@
+//! # mcrt-noise
+//!
+//! A numerics oracle for the noise of the multiple-integration-spheres
+//! estimator of Ershov, Zhdanov & Voloboy (2019): special functions and a
+//! quadrature engine in f64 and MPFR that report value, error bar, evaluation
+//! count and status, never a silently wrong number.
+//!
+//! Architecture: scene (crate `mcrt-scene`) → field → moments → correlations →
+//! noise, beside the independent reference tracer (crate `mcrt-reference`).
+//! Units and conventions: `docs/conventions.md`.
 
+pub mod accuracy;
+pub mod prec;
+pub mod real;
+pub mod special;
+
+pub use mcrt_scene as scene;

@@ -1,0 +1,211 @@
+//! Accuracy of the f64 special functions, measured in ulps against MPFR.
+//!
+//! The references are the *naive* closed forms (and MPFR's own `eint`),
+//! evaluated at a precision raised by the bits their cancellation can lose,
+//! and confirmed by a second evaluation 128 bits higher: an independent
+//! source, not the series and fractions under test.
+
+use crate::special;
+use rayon::prelude::*;
+use rug::float::Constant;
+use rug::Float;
+
+/// One function under test.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpecialFn {
+    OverlapA,
+    OverlapAIntegral,
+    OverlapAMoment,
+    ExpIntE1,
+    ExpIntTail2,
+}
+
+impl SpecialFn {
+    pub const ALL: [SpecialFn; 5] =
+        [SpecialFn::OverlapA, SpecialFn::OverlapAIntegral, SpecialFn::OverlapAMoment, SpecialFn::ExpIntE1, SpecialFn::ExpIntTail2];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SpecialFn::OverlapA => "A(x)",
+            SpecialFn::OverlapAIntegral => "∫₀ˣ A(y) dy",
+            SpecialFn::OverlapAMoment => "∫₀ˣ A(y) y dy",
+            SpecialFn::ExpIntE1 => "E₁(x)",
+            SpecialFn::ExpIntTail2 => "x⁻¹(e⁻ˣ − x E₁(x))",
+        }
+    }
+
+    /// The f64 implementation under test.
+    pub fn eval_f64(self, x: f64) -> f64 {
+        match self {
+            SpecialFn::OverlapA => special::overlap_a(&x),
+            SpecialFn::OverlapAIntegral => special::overlap_a_integral(&x),
+            SpecialFn::OverlapAMoment => special::overlap_a_moment(&x),
+            SpecialFn::ExpIntE1 => special::exp_int_e1(&x),
+            SpecialFn::ExpIntTail2 => special::exp_int_tail2(&x),
+        }
+    }
+
+    /// Sweep segments: (label, lo, hi, log-spaced?). Log spacing is for the
+    /// hard ends; `1-` segments are spaced in u = 1 − x.
+    fn segments(self) -> &'static [Segment] {
+        const OVERLAP: &[Segment] = &[
+            Segment { label: "x ∈ [1e-300, 0.5], log-spaced", lo: 1e-300, hi: 0.5, spacing: Spacing::Log },
+            Segment { label: "1 − x ∈ [2⁻⁵³, 0.5], log-spaced", lo: 1.1102230246251565e-16, hi: 0.5, spacing: Spacing::LogFromOne },
+            Segment { label: "x ∈ [0, 1.5], uniform", lo: 0.0, hi: 1.5, spacing: Spacing::Uniform },
+        ];
+        const EXPINT: &[Segment] = &[
+            Segment { label: "x ∈ [1e-300, 700], log-spaced", lo: 1e-300, hi: 700.0, spacing: Spacing::Log },
+            Segment { label: "x ∈ [0, 5], uniform", lo: 0.0, hi: 5.0, spacing: Spacing::Uniform },
+        ];
+        match self {
+            SpecialFn::ExpIntE1 | SpecialFn::ExpIntTail2 => EXPINT,
+            _ => OVERLAP,
+        }
+    }
+
+    /// Reference value at `prec` bits from the naive closed form.
+    fn reference(self, x: f64, prec: u32) -> Float {
+        let xf = Float::with_val(prec, x);
+        let one = Float::with_val(prec, 1);
+        if matches!(self, SpecialFn::OverlapA | SpecialFn::OverlapAIntegral | SpecialFn::OverlapAMoment) && x >= 1.0 {
+            let pi = Float::with_val(prec, Constant::Pi);
+            return match self {
+                SpecialFn::OverlapA => Float::with_val(prec, 0),
+                SpecialFn::OverlapAIntegral => Float::with_val(prec, 2) / 3u32,
+                _ => pi / 16u32,
+            };
+        }
+        let w = Float::with_val(prec, &one - Float::with_val(prec, &xf * &xf));
+        let sw = w.clone().sqrt();
+        let acos = xf.clone().acos();
+        match self {
+            SpecialFn::OverlapA => acos - Float::with_val(prec, &xf * &sw),
+            SpecialFn::OverlapAIntegral => {
+                let w32 = Float::with_val(prec, &w * &sw);
+                Float::with_val(prec, &xf * &acos) - sw + w32 / 3u32 + Float::with_val(prec, 2) / 3u32
+            }
+            SpecialFn::OverlapAMoment => {
+                let pi = Float::with_val(prec, Constant::Pi);
+                let x2 = Float::with_val(prec, &xf * &xf);
+                let a = (one.clone() - Float::with_val(prec, 4 * &x2)) * acos;
+                let b = xf * (one + Float::with_val(prec, 2 * &x2)) * sw;
+                (pi / 2u32 - a - b) / 8u32
+            }
+            SpecialFn::ExpIntE1 => -Float::with_val(prec, -&xf).eint(),
+            SpecialFn::ExpIntTail2 => {
+                let e1 = -Float::with_val(prec, -&xf).eint();
+                let ex = Float::with_val(prec, -&xf).exp();
+                (ex - Float::with_val(prec, &xf * &e1)) / xf
+            }
+        }
+    }
+
+    /// Bits the naive reference can lose to cancellation at x, plus 256.
+    fn reference_prec(self, x: f64) -> u32 {
+        let lg = |v: f64| if v > 0.0 && v < 1.0 { -v.log2() } else { 0.0 };
+        let lost = match self {
+            SpecialFn::ExpIntE1 => 0.0,
+            SpecialFn::ExpIntTail2 => x.max(1.0).log2() * 2.0 + 8.0,
+            _ => 3.0 * lg(x) + 3.0 * lg(1.0 - x),
+        };
+        256 + lost.ceil() as u32
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Spacing {
+    Log,
+    LogFromOne,
+    Uniform,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Segment {
+    label: &'static str,
+    lo: f64,
+    hi: f64,
+    spacing: Spacing,
+}
+
+impl Segment {
+    /// The i-th of n midpoint-stratified points.
+    fn point(&self, i: usize, n: usize) -> f64 {
+        let t = (i as f64 + 0.5) / n as f64;
+        match self.spacing {
+            Spacing::Uniform => self.lo + t * (self.hi - self.lo),
+            Spacing::Log => (self.lo.ln() + t * (self.hi.ln() - self.lo.ln())).exp(),
+            Spacing::LogFromOne => 1.0 - (self.lo.ln() + t * (self.hi.ln() - self.lo.ln())).exp(),
+        }
+    }
+}
+
+/// Size of one unit in the last place at the magnitude of `r` (2⁻¹⁰⁷⁴ for
+/// subnormals and 0).
+pub fn ulp(r: f64) -> f64 {
+    let r = r.abs();
+    if r < f64::MIN_POSITIVE {
+        return f64::from_bits(1);
+    }
+    // Exponent of r, minus the 52 fraction bits, built bit by bit (powi would
+    // overflow through 2^1048 on the way to 2^-1048).
+    let k = ((r.to_bits() >> 52) & 0x7ff) as i64 - 1023 - 52;
+    if k >= -1022 {
+        f64::from_bits(((k + 1023) as u64) << 52)
+    } else {
+        f64::from_bits(1u64 << (k + 1074))
+    }
+}
+
+/// Error of `f(x)` in ulps of the exact value, against a reference confirmed
+/// at two precisions. Panics if the two references disagree in f64 (the
+/// reference itself would be unreliable).
+pub fn ulps_at(func: SpecialFn, x: f64) -> f64 {
+    let p = func.reference_prec(x);
+    let r1 = func.reference(x, p);
+    let r2 = func.reference(x, p + 128);
+    assert_eq!(r1.to_f64(), r2.to_f64(), "{} reference unstable at x = {x:e}", func.name());
+    let got = func.eval_f64(x);
+    let diff = (Float::with_val(p + 128, got) - &r2).abs();
+    (diff / ulp(r2.to_f64())).to_f64()
+}
+
+/// Summary of one sweep segment.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct SegmentSummary {
+    pub function: &'static str,
+    pub segment: &'static str,
+    pub points: usize,
+    pub max_ulps: f64,
+    pub max_at: f64,
+    pub median_ulps: f64,
+}
+
+/// Sweeps `func` over its segments with `points` points in all.
+pub fn sweep(func: SpecialFn, points: usize) -> Vec<SegmentSummary> {
+    let segs = func.segments();
+    let per = points.div_ceil(segs.len());
+    segs.iter()
+        .map(|seg| {
+            let mut errs: Vec<(f64, f64)> =
+                (0..per).into_par_iter().map(|i| {
+                    let x = seg.point(i, per);
+                    (ulps_at(func, x), x)
+                }).collect();
+            let (max_ulps, max_at) = errs.iter().copied().fold((0.0, f64::NAN), |a, b| if b.0 > a.0 { b } else { a });
+            errs.sort_by(|a, b| a.0.total_cmp(&b.0));
+            SegmentSummary {
+                function: func.name(),
+                segment: seg.label,
+                points: per,
+                max_ulps,
+                max_at,
+                median_ulps: errs[per / 2].0,
+            }
+        })
+        .collect()
+}
+#[doc(hidden)]
+pub fn debug_ref(func: SpecialFn, x: f64) -> (f64, f64) {
+    let p = func.reference_prec(x);
+    (func.reference(x, p).to_f64(), p as f64)
+}

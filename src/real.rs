@@ -1,0 +1,182 @@
+//! One numeric interface for f64 and MPFR (`rug::Float`) so that every special
+//! function and quadrature rule is written once and runs at any precision.
+//!
+//! A `rug::Float` carries its precision; constants are made "like" an existing
+//! value ([`Real::lit`], [`Real::pi`]) so that they inherit it.
+
+use rug::float::Constant;
+use rug::Float;
+use std::fmt::Debug;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// A real number type: f64, or `rug::Float` at its own precision.
+pub trait Real:
+    Clone
+    + Debug
+    + PartialOrd
+    + Send
+    + Sync
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// Significand bits (53 for f64).
+    fn prec(&self) -> u32;
+    /// The value `v` at this value's precision.
+    fn lit(&self, v: f64) -> Self;
+    /// A value of the given precision (ignored for f64).
+    fn with_prec(v: f64, prec: u32) -> Self;
+    /// Unit roundoff 2^(1−prec).
+    fn eps(&self) -> Self {
+        self.lit(2f64).powi_like(1 - self.prec() as i32)
+    }
+    /// 2^k at this precision.
+    fn powi_like(&self, k: i32) -> Self;
+    fn pi(&self) -> Self;
+    /// Euler–Mascheroni constant γ.
+    fn euler_gamma(&self) -> Self;
+    fn to_f64(&self) -> f64;
+    fn is_finite(&self) -> bool;
+    fn abs(&self) -> Self;
+    fn sqrt(&self) -> Self;
+    fn exp(&self) -> Self;
+    fn ln(&self) -> Self;
+    fn sin(&self) -> Self;
+    fn cos(&self) -> Self;
+    fn asin(&self) -> Self;
+    fn acos(&self) -> Self;
+    fn sinh(&self) -> Self;
+    fn cosh(&self) -> Self;
+    fn tanh(&self) -> Self;
+    fn is_zero(&self) -> bool {
+        self.to_f64() == 0.0 && self.is_finite()
+    }
+    fn max_of(self, other: Self) -> Self {
+        if other > self { other } else { self }
+    }
+}
+
+impl Real for f64 {
+    fn prec(&self) -> u32 {
+        f64::MANTISSA_DIGITS
+    }
+    fn lit(&self, v: f64) -> Self {
+        v
+    }
+    fn with_prec(v: f64, _prec: u32) -> Self {
+        v
+    }
+    fn powi_like(&self, k: i32) -> Self {
+        2f64.powi(k)
+    }
+    fn pi(&self) -> Self {
+        std::f64::consts::PI
+    }
+    fn euler_gamma(&self) -> Self {
+        0.577_215_664_901_532_9
+    }
+    fn to_f64(&self) -> f64 {
+        *self
+    }
+    fn is_finite(&self) -> bool {
+        f64::is_finite(*self)
+    }
+    fn abs(&self) -> Self {
+        f64::abs(*self)
+    }
+    fn sqrt(&self) -> Self {
+        f64::sqrt(*self)
+    }
+    fn exp(&self) -> Self {
+        f64::exp(*self)
+    }
+    fn ln(&self) -> Self {
+        f64::ln(*self)
+    }
+    fn sin(&self) -> Self {
+        f64::sin(*self)
+    }
+    fn cos(&self) -> Self {
+        f64::cos(*self)
+    }
+    fn asin(&self) -> Self {
+        f64::asin(*self)
+    }
+    fn acos(&self) -> Self {
+        f64::acos(*self)
+    }
+    fn sinh(&self) -> Self {
+        f64::sinh(*self)
+    }
+    fn cosh(&self) -> Self {
+        f64::cosh(*self)
+    }
+    fn tanh(&self) -> Self {
+        f64::tanh(*self)
+    }
+}
+
+impl Real for Float {
+    fn prec(&self) -> u32 {
+        Float::prec(self)
+    }
+    fn lit(&self, v: f64) -> Self {
+        Float::with_val(Float::prec(self), v)
+    }
+    fn with_prec(v: f64, prec: u32) -> Self {
+        Float::with_val(prec, v)
+    }
+    fn powi_like(&self, k: i32) -> Self {
+        Float::with_val(Float::prec(self), Float::i_exp(1, k))
+    }
+    fn pi(&self) -> Self {
+        Float::with_val(Float::prec(self), Constant::Pi)
+    }
+    fn euler_gamma(&self) -> Self {
+        Float::with_val(Float::prec(self), Constant::Euler)
+    }
+    fn to_f64(&self) -> f64 {
+        Float::to_f64(self)
+    }
+    fn is_finite(&self) -> bool {
+        Float::is_finite(self)
+    }
+    fn abs(&self) -> Self {
+        self.clone().abs()
+    }
+    fn sqrt(&self) -> Self {
+        self.clone().sqrt()
+    }
+    fn exp(&self) -> Self {
+        self.clone().exp()
+    }
+    fn ln(&self) -> Self {
+        self.clone().ln()
+    }
+    fn sin(&self) -> Self {
+        self.clone().sin()
+    }
+    fn cos(&self) -> Self {
+        self.clone().cos()
+    }
+    fn asin(&self) -> Self {
+        self.clone().asin()
+    }
+    fn acos(&self) -> Self {
+        self.clone().acos()
+    }
+    fn sinh(&self) -> Self {
+        self.clone().sinh()
+    }
+    fn cosh(&self) -> Self {
+        self.clone().cosh()
+    }
+    fn tanh(&self) -> Self {
+        self.clone().tanh()
+    }
+    fn is_zero(&self) -> bool {
+        Float::is_zero(self)
+    }
+}

@@ -1,0 +1,19 @@
+//! Special functions of the seed paper, written once over [`Real`](crate::real::Real)
+//! so the same code runs in f64 and in MPFR at any precision.
+//!
+//! | function | definition | paper |
+//! |---|---|---|
+//! | [`overlap_a`] | A(x) = arccos x − x√(1−x²), 0 for x ≥ 1 | §4.3, after (21) |
+//! | [`overlap_a_integral`] | ∫₀ˣ A(y) dy | appendix, I₁ |
+//! | [`overlap_a_moment`] | ∫₀ˣ A(y) y dy | appendix, bound on I₂ₐ |
+//! | [`exp_int_e1`] | E₁(x) = ∫₁^∞ e^{−xt}/t dt | appendix, "Ei(1, X)" |
+//! | [`exp_int_tail2`] | X⁻¹(e^{−X} − X E₁(X)) = ∫_X^∞ u⁻² e^{−u} du | appendix, bound on I₂ |
+//!
+//! Accuracy in f64 (measured against MPFR at ≥ 256 bits): `docs/accuracy.md`.
+
+mod expint;
+mod overlap;
+mod series;
+
+pub use expint::{exp_int_e1, exp_int_tail2};
+pub use overlap::{overlap_a, overlap_a_integral, overlap_a_moment};

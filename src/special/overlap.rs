@@ -1,0 +1,96 @@
+//! The circle-overlap function A(x) of §4.3 and its two integrals.
+//!
+//! Two discs of radius R whose centres are l apart overlap in the area
+//! 2R² A(l / 2R), with A(x) = arccos x − x√(1−x²) for 0 ≤ x ≤ 1 and 0 beyond.
+//! A'(x) = −2√(1−x²), so A(x) = 2∫ₓ¹ √(1−t²) dt; with u = 1 − x this is
+//! A = 2√2 u^{3/2} Σ_k C(1/2,k)(−1/2)^k u^k / (k + 3/2), which we use near
+//! x = 1, where the two terms of the closed form cancel (both ~ √(2u)).
+
+use super::series::{sqrt_half_series, y_minus_sin};
+use crate::real::Real;
+
+/// Below this x the closed forms are used, above it the series in u = 1 − x.
+/// From x = 0.5 on, u = 1 − x is exact in f64 (Sterbenz), which matters:
+/// A is 1.4 times as sensitive to u as to x near there. At x = 0.5 the closed
+/// form of A cancels by a factor 1.7 and the series ratio is u/2 = 0.25.
+const SERIES_FROM: f64 = 0.5;
+/// For ∫₀ˣ A y dy the tail π/16 − ∫ₓ¹ A y dy cancels (factor 1.7 at x = 0.5),
+/// while the closed form stays well conditioned (factor 1.4 at 0.75); so the
+/// series takes over only from x = 0.75 (u = 1/4, still exact).
+const MOMENT_SERIES_FROM: f64 = 0.75;
+
+/// A(x) = arccos x − x√(1−x²) for 0 ≤ x < 1, 0 for x ≥ 1 (paper §4.3; the
+/// argument is l/(2R), see `docs/errata.md` for the paper's A(t sin ϑ/R)).
+///
+/// Domain: x ≥ 0 (NaN for x < 0 or NaN). A(0) = π/2, A(1⁻) ~ (8/3)((1−x)/2)^{3/2}.
+pub fn overlap_a<T: Real>(x: &T) -> T {
+    if !(x.clone() >= x.lit(0.0)) {
+        return x.lit(f64::NAN);
+    }
+    if x.clone() >= x.lit(1.0) {
+        return x.lit(0.0);
+    }
+    if x.clone() < x.lit(SERIES_FROM) {
+        let w = (x.lit(1.0) - x.clone()) * (x.lit(1.0) + x.clone());
+        return x.acos() - x.clone() * w.sqrt();
+    }
+    let u = x.lit(1.0) - x.clone(); // exact in f64 (Sterbenz), u ≤ 0.5
+    // √(8u³) rounds once less than 2√2·u·√u.
+    (x.lit(8.0) * u.clone() * u.clone() * u.clone()).sqrt() * sqrt_half_series(&u, 1.5, false)
+}
+
+/// ∫₀ˣ A(y) dy (appendix, I₁: ∫₀¹ A = 2/3). Domain x ≥ 0; 2/3 for x ≥ 1.
+///
+/// Small x: x arccos x + x⁴ (2 + √w) / (3 (1 + √w)²), w = 1 − x², which is the
+/// closed form x arccos x − √w + w^{3/2}/3 + 2/3 with its O(1) terms cancelled
+/// analytically. Near 1: 2/3 − 2√2 u^{5/2} Σ_k b_k u^k / (k + 5/2), u = 1 − x.
+pub fn overlap_a_integral<T: Real>(x: &T) -> T {
+    if !(x.clone() >= x.lit(0.0)) {
+        return x.lit(f64::NAN);
+    }
+    if x.clone() >= x.lit(1.0) {
+        return x.lit(2.0) / x.lit(3.0);
+    }
+    if x.clone() < x.lit(SERIES_FROM) {
+        let w = (x.lit(1.0) - x.clone()) * (x.lit(1.0) + x.clone());
+        let sw = w.sqrt();
+        let x2 = x.clone() * x.clone();
+        let one_plus = x.lit(1.0) + sw.clone();
+        return x.clone() * x.acos() + x2.clone() * x2 * (x.lit(2.0) + sw) / (x.lit(3.0) * one_plus.clone() * one_plus);
+    }
+    let u = x.lit(1.0) - x.clone();
+    x.lit(2.0) / x.lit(3.0) - two_sqrt2(x) * u.clone() * u.clone() * u.sqrt() * sqrt_half_series(&u, 2.5, true)
+}
+
+/// ∫₀ˣ A(y) y dy (appendix, before the bound on I₂ₐ). Domain x ≥ 0; π/16 for x ≥ 1.
+///
+/// The appendix's closed form [π/2 − (1 − 4X²) arccos X − X(1 + 2X²)√(1 − X²)]/8
+/// is exact (checked by differentiation, `docs/model.md`) but cancels as X → 0
+/// (π/2 − arccos X − X√(1−X²) = O(X³)). We use, with φ = arcsin X,
+/// [ (2φ − sin 2φ)/2 + 4X² arccos X − 2X³√(1−X²) ] / 8 for small X, and
+/// π/16 − 2√2 Σ_k b_k [u^{k+5/2}/(k+5/2) − u^{k+7/2}/(k+7/2)] near X = 1.
+pub fn overlap_a_moment<T: Real>(x: &T) -> T {
+    if !(x.clone() >= x.lit(0.0)) {
+        return x.lit(f64::NAN);
+    }
+    let pi16 = x.pi() / x.lit(16.0);
+    if x.clone() >= x.lit(1.0) {
+        return pi16;
+    }
+    if x.clone() < x.lit(MOMENT_SERIES_FROM) {
+        let w = (x.lit(1.0) - x.clone()) * (x.lit(1.0) + x.clone());
+        let x2 = x.clone() * x.clone();
+        let phi2 = x.lit(2.0) * x.asin();
+        let n = y_minus_sin(&phi2) / x.lit(2.0) + x.lit(4.0) * x2.clone() * x.acos()
+            - x.lit(2.0) * x2 * x.clone() * w.sqrt();
+        return n / x.lit(8.0);
+    }
+    let u = x.lit(1.0) - x.clone();
+    let u52 = u.clone() * u.clone() * u.sqrt();
+    let inner = sqrt_half_series(&u, 2.5, true) - u.clone() * sqrt_half_series(&u, 3.5, true);
+    pi16 - two_sqrt2(x) * u52 * inner
+}
+
+fn two_sqrt2<T: Real>(x: &T) -> T {
+    x.lit(8.0).sqrt()
+}

@@ -1,0 +1,51 @@
+//! Shared power series.
+
+use crate::real::Real;
+
+/// Σ_{k≥0} β_k u^k / ((k + 3/2)(k + c))^m, β_k = C(1/2, k)(−1/2)^k, for
+/// 0 ≤ u ≤ 1/2, m ∈ {0, 1} selecting whether the extra (k + 3/2) divides.
+///
+/// With m = 0 and c = 3/2 this is the expansion of A(1 − u) / (2√2 u^{3/2}),
+/// see [`super::overlap_a`]; with m = 1 it integrates that once more. For
+/// k ≥ 1 every term is negative and |β_k| ≤ 2^{-k}, so the sum is well
+/// conditioned. The number of terms is fixed first ((u/2)^K below the working
+/// epsilon) and the sum is evaluated by Horner's rule from the smallest term,
+/// which keeps its rounding error near one ulp.
+pub(crate) fn sqrt_half_series<T: Real>(u: &T, c: f64, extra: bool) -> T {
+    let eps = u.eps().to_f64().max(f64::MIN_POSITIVE);
+    let ratio = (u.to_f64() / 2.0).max(f64::MIN_POSITIVE);
+    let terms = ((eps / 8.0).ln() / ratio.ln()).ceil().clamp(1.0, 100_000.0) as usize;
+    let mut coeffs = Vec::with_capacity(terms + 1);
+    let mut beta = u.lit(1.0);
+    for k in 0..=terms {
+        let kf = k as f64;
+        if k > 0 {
+            beta = beta * u.lit(-(1.5 - kf) / (2.0 * kf));
+        }
+        let denom = if extra { u.lit((kf + 1.5) * (kf + c)) } else { u.lit(kf + c) };
+        coeffs.push(beta.clone() / denom);
+    }
+    let mut sum = u.lit(0.0);
+    for coeff in coeffs.into_iter().rev() {
+        sum = sum * u.clone() + coeff;
+    }
+    sum
+}
+
+/// y − sin y for 0 ≤ y ≤ 2.2, by its Taylor series y³/3! − y⁵/5! + …,
+/// free of the cancellation of the direct difference at small y.
+pub(crate) fn y_minus_sin<T: Real>(y: &T) -> T {
+    let eps = y.eps();
+    let y2 = y.clone() * y.clone();
+    let mut term = y2.clone() * y.clone() / y.lit(6.0);
+    let mut sum = term.clone();
+    for k in 2..100_000 {
+        let kf = k as f64;
+        term = -(term * y2.clone()) / y.lit((2.0 * kf) * (2.0 * kf + 1.0));
+        sum = sum + term.clone();
+        if term.abs() <= eps.clone() * sum.abs() * y.lit(0.25) {
+            break;
+        }
+    }
+    sum
+}
