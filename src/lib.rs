@@ -10,8 +10,11 @@
 //! Units and conventions: `docs/conventions.md`.
 
 pub mod accuracy;
+pub mod kernel;
 pub mod prec;
+pub mod quad;
 pub mod real;
+pub mod report;
 pub mod special;
 
 pub use mcrt_scene as scene;

@@ -1,1 +1,93 @@
-fn main(){}
+//! `mcrt-noise` command-line interface.
+
+use clap::{Parser, Subcommand};
+use mcrt_noise::report;
+use mcrt_noise::scene::Scene;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "mcrt-noise", version, about = "Noise oracle for multiple-integration-sphere MCRT in scattering media")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Parse and validate a scene; print it normalised (defaults filled in) or list its errors.
+    Validate { scene: PathBuf },
+    /// Kernel of integral (23), I(ϑ, R), at a chosen precision, with error bar and cost.
+    Kernel {
+        /// Angle ϑ in radians (decimal; parsed at the working precision).
+        #[arg(long, allow_hyphen_values = true)]
+        theta: String,
+        /// Sphere radius R in units of 1/σ_ext (decimal).
+        #[arg(long)]
+        radius: String,
+        /// `f64` or a number of MPFR bits.
+        #[arg(long, default_value = "f64")]
+        precision: String,
+        /// Relative tolerance (default 1e-13 for f64, 2^-(bits-22) for MPFR).
+        #[arg(long)]
+        rel_tol: Option<f64>,
+        /// Integrate the bare integrand without telling the engine the kink.
+        #[arg(long)]
+        bare: bool,
+    },
+    /// Measure the f64 special functions against MPFR and write the table.
+    Accuracy {
+        /// Points per function.
+        #[arg(long, default_value_t = 100_000)]
+        points: usize,
+        /// Write the Markdown report here (e.g. docs/accuracy.md).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// What accuracy costs in time: I(1, 1e-3) over tolerances and precisions.
+    Cost {
+        /// Write the Markdown report here (e.g. docs/accuracy-cost.md).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Repetitions per f64 row (the minimum time is reported).
+        #[arg(long, default_value_t = 5)]
+        repeats: usize,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Validate { scene } => validate(&scene),
+        Command::Kernel { theta, radius, precision, rel_tol, bare } => {
+            report::kernel_cli(&theta, &radius, &precision, rel_tol, bare)
+        }
+        Command::Accuracy { points, out } => write_or_print(report::accuracy_markdown(points), out),
+        Command::Cost { out, repeats } => write_or_print(report::cost_markdown(repeats), out),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(msg) => {
+            eprintln!("error: {msg}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn validate(path: &PathBuf) -> Result<(), String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let scene = Scene::from_toml_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    print!("{}", scene.to_toml_string());
+    Ok(())
+}
+
+fn write_or_print(text: Result<String, String>, out: Option<PathBuf>) -> Result<(), String> {
+    let text = text?;
+    match out {
+        Some(path) => std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display())),
+        None => {
+            print!("{text}");
+            Ok(())
+        }
+    }
+}

@@ -53,6 +53,11 @@ pub trait Real:
     fn is_zero(&self) -> bool {
         self.to_f64() == 0.0 && self.is_finite()
     }
+    /// Magnitude below which values lose relative precision to underflow
+    /// (f64: 2⁻¹⁰²² / eps ≈ 5·10⁻²⁹¹; MPFR: 0, its exponent range is vast).
+    fn underflow_floor(&self) -> Self {
+        self.lit(0.0)
+    }
     fn max_of(self, other: Self) -> Self {
         if other > self { other } else { self }
     }
@@ -67,6 +72,9 @@ impl Real for f64 {
     }
     fn with_prec(v: f64, _prec: u32) -> Self {
         v
+    }
+    fn underflow_floor(&self) -> Self {
+        f64::MIN_POSITIVE / f64::EPSILON
     }
     fn powi_like(&self, k: i32) -> Self {
         2f64.powi(k)

@@ -20,7 +20,8 @@ pub(crate) fn sqrt_half_series<T: Real>(u: &T, c: f64, extra: bool) -> T {
     for k in 0..=terms {
         let kf = k as f64;
         if k > 0 {
-            beta = beta * u.lit(-(1.5 - kf) / (2.0 * kf));
+            // β_k = β_{k−1} (2k − 3)/(4k), exact integers at any precision.
+            beta = beta * u.lit(2.0 * kf - 3.0) / u.lit(4.0 * kf);
         }
         let denom = if extra { u.lit((kf + 1.5) * (kf + c)) } else { u.lit(kf + c) };
         coeffs.push(beta.clone() / denom);

@@ -1,0 +1,418 @@
+//! Adaptive quadrature that is never silently wrong, in f64 and MPFR.
+//!
+//! [`integrate`] computes ∫ₐᵇ f over a finite or semi-infinite interval and
+//! returns either an [`Estimate`] (value, error bar, evaluation count) whose
+//! error bar has been *cross-checked*, or a [`Failure`] that says why no bar
+//! could be given (the best guess travels with it, clearly labelled). The two
+//! cannot be confused: a `Failure` is an `Err`.
+//!
+//! How a result is earned:
+//! 1. **Pieces.** The interval is cut at the caller's breakpoints; a
+//!    semi-infinite piece [a, ∞) is mapped to [0, 1) by t = a + u/(1 − u).
+//! 2. **Structure scan** ([`Structure::Unknown`], the default). The integrand
+//!    is sampled on a grid that is geometric towards every piece's ends and
+//!    uniform inside; every change between zero and non-zero is located by
+//!    bisection to the working precision and becomes a breakpoint, and any
+//!    non-finite value is an error. This is how the kink at t = 2R/sin ϑ of the
+//!    paper's kernel (23) is found when nobody passes it.
+//! 3. **Primary rule:** tanh–sinh on each piece, refined level by level
+//!    (error: difference of successive levels, plus the rounding floor, plus
+//!    the propagated error of nested inner integrals), pieces bisected when a
+//!    level cap is reached; global control picks the piece with the largest
+//!    error until Σ errors ≤ max(abs_tol, rel_tol·|I|).
+//! 4. **Cross-check:** the same pieces integrated again by an unrelated rule,
+//!    adaptive bisection in a smoothing substitution (f64: the `quadrature`
+//!    crate's Clenshaw–Curtis, wrapped; MPFR: Gauss–Legendre with nodes
+//!    computed at the working precision). The two must agree within the sum of
+//!    their error bars; the reported bar is at least their difference.
+//! 5. **All-zero guard:** if every sample was exactly zero, no bound can be
+//!    given (the support may be narrower than the scan resolves): `Failure`.
+//!
+//! Nesting: an integrand may itself call [`integrate`] and return its
+//! `Estimate` through [`integrate_nested`]; inner error bars are integrated
+//! into the outer one, evaluation counts add up, and an inner `Failure` fails
+//! the outer integral.
+
+mod check;
+mod nodes;
+mod scan;
+mod tanh_sinh;
+
+use crate::real::Real;
+pub use check::CheckRule;
+use std::fmt;
+
+/// What the caller knows of the integrand's structure.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Structure {
+    /// Breakpoints, if any, are hints: the engine scans for more and refuses
+    /// to vouch for an integrand that was zero at every sample.
+    #[default]
+    Unknown,
+    /// The caller has derived every kink, jump and edge of support and passes
+    /// them as breakpoints; the integrand is smooth (or has only integrable
+    /// endpoint singularities) inside each piece. No scan is made. The
+    /// cross-check still runs.
+    Declared,
+}
+
+/// Accuracy goals and limits of one integration.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Relative tolerance on the value.
+    pub rel_tol: f64,
+    /// Absolute tolerance (the goal is max(abs_tol, rel_tol·|I|)).
+    pub abs_tol: f64,
+    /// Budget of integrand evaluations at this level (inner levels have their own).
+    pub max_evals: u64,
+    pub structure: Structure,
+    /// Run the cross-check (on by default; turning it off is for benchmarks
+    /// that separate the two rules' costs, never for reported values).
+    pub cross_check: bool,
+    /// Refuse an integrand that was zero at every sample (on by default).
+    /// [`integrate_nested`] turns it off in the options it hands to inner
+    /// integrals, where exact zeros are ordinary (f64 underflow of e^{−s} far
+    /// out); the guard then acts on the outer integral, which is zero
+    /// everywhere exactly when every inner one is.
+    pub zero_guard: bool,
+}
+
+impl Options {
+    /// Relative tolerance `rel_tol`, no absolute floor, unknown structure.
+    pub fn rel(rel_tol: f64) -> Options {
+        Options { rel_tol, abs_tol: 0.0, max_evals: 2_000_000, structure: Structure::Unknown, cross_check: true, zero_guard: true }
+    }
+
+    pub fn declared(mut self) -> Options {
+        self.structure = Structure::Declared;
+        self
+    }
+
+    pub fn with_abs_tol(mut self, abs_tol: f64) -> Options {
+        self.abs_tol = abs_tol;
+        self
+    }
+
+    pub fn with_max_evals(mut self, max_evals: u64) -> Options {
+        self.max_evals = max_evals;
+        self
+    }
+}
+
+/// Integration interval: `[lo, hi]`, or `[lo, ∞)` when `hi` is `None`.
+#[derive(Debug, Clone)]
+pub struct Domain<T> {
+    pub lo: T,
+    pub hi: Option<T>,
+    /// Interior points where the integrand is not smooth (kinks, jumps, edges
+    /// of support). Points outside (lo, hi) are ignored.
+    pub breakpoints: Vec<T>,
+}
+
+impl<T: Real> Domain<T> {
+    pub fn finite(lo: T, hi: T) -> Self {
+        Domain { lo, hi: Some(hi), breakpoints: Vec::new() }
+    }
+    pub fn semi_infinite(lo: T) -> Self {
+        Domain { lo, hi: None, breakpoints: Vec::new() }
+    }
+    pub fn with_breakpoints(mut self, points: impl IntoIterator<Item = T>) -> Self {
+        self.breakpoints.extend(points);
+        self
+    }
+}
+
+/// A converged, cross-checked integral.
+#[derive(Debug, Clone)]
+pub struct Estimate<T> {
+    pub value: T,
+    /// Bound on |value − exact|: the larger of the primary rule's estimate and
+    /// its distance to the cross-check, plus propagated inner errors.
+    pub error: T,
+    /// Integrand evaluations, counting those of nested inner integrals.
+    pub evaluations: u64,
+    /// The cross-check's value (equal to `value` when the check was off).
+    pub check_value: T,
+    /// Pieces the primary rule ended with, breakpoints found by the scan.
+    pub pieces: usize,
+    pub found_breakpoints: usize,
+}
+
+/// An integral for which no error bar can be vouched for.
+#[derive(Debug, Clone)]
+pub struct Failure<T> {
+    pub reason: String,
+    /// The best value available, *not* to be reported as a result.
+    pub best_guess: Option<T>,
+    /// Error estimate at the time of failure, if any.
+    pub error_estimate: Option<T>,
+    pub evaluations: u64,
+}
+
+impl<T: Real> fmt::Display for Failure<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "NOT CONVERGED: {}", self.reason)?;
+        if let Some(v) = &self.best_guess {
+            write!(f, " (unreliable best guess {:e}", v.to_f64())?;
+            if let Some(e) = &self.error_estimate {
+                write!(f, " ± {:e}", e.to_f64())?;
+            }
+            write!(f, ")")?;
+        }
+        write!(f, " after {} evaluations", self.evaluations)
+    }
+}
+
+impl<T: Real> std::error::Error for Failure<T> {}
+
+/// Result of an integration.
+pub type Outcome<T> = Result<Estimate<T>, Failure<T>>;
+
+/// One sample of an integrand: its value, the error bar of that value (0 for
+/// a plain function, the inner integral's bar when nested) and the
+/// evaluations it cost.
+#[derive(Debug, Clone)]
+pub struct Sample<T> {
+    pub value: T,
+    pub error: T,
+    pub evaluations: u64,
+}
+
+/// ∫ f over `domain` for a plain integrand `f(x) -> T`.
+pub fn integrate<T: CheckRule, F: FnMut(&T) -> T>(mut f: F, domain: &Domain<T>, opts: &Options) -> Outcome<T> {
+    integrate_samples(
+        &mut |x: &T| Ok(Sample { error: x.lit(0.0), value: f(x), evaluations: 1 }),
+        domain,
+        opts,
+    )
+}
+
+/// ∫ f over `domain` where f(x, inner_opts) is itself an integral (or any
+/// value with an error bar), computed with the options it is handed.
+///
+/// Two passes. A coarse one (outer 10⁻³, inner 10⁻⁵, no cross-check) finds the
+/// scale V₀ of the result; the accurate one then hands the inner integrals
+/// `rel_tol/10` *and* an absolute tolerance of `rel_tol·|V₀|/10`, so that
+/// inner integrals far out in a tail, which cannot matter, are not driven
+/// into the rounding noise of their own integrand (e^{−(s+t)} at s = 700 is
+/// only good to ~10⁻¹³ relative in f64). Inner error bars are still the
+/// inner integrals' own estimates, integrated into the outer bar.
+/// An inner `Failure` aborts the outer integral with its reason.
+pub fn integrate_nested<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(mut f: F, domain: &Domain<T>, opts: &Options) -> Outcome<T> {
+    let coarse_outer = Options { rel_tol: opts.rel_tol.max(1e-3), cross_check: false, ..opts.clone() };
+    let coarse_inner = Options { rel_tol: opts.rel_tol.max(1e-5), abs_tol: 0.0, cross_check: false, zero_guard: false, ..opts.clone() };
+    let scale = nested_pass(&mut f, domain, &coarse_outer, &coarse_inner)?;
+    let inner = Options {
+        rel_tol: opts.rel_tol * 0.1,
+        abs_tol: (opts.rel_tol * scale.value.abs().to_f64()).max(opts.abs_tol) * 0.1,
+        zero_guard: false,
+        ..opts.clone()
+    };
+    let mut fine = nested_pass(&mut f, domain, opts, &inner)?;
+    fine.evaluations += scale.evaluations;
+    Ok(fine)
+}
+
+fn nested_pass<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(f: &mut F, domain: &Domain<T>, opts: &Options, inner: &Options) -> Outcome<T> {
+    integrate_samples(
+        &mut |x: &T| {
+            let e = f(x, inner).map_err(|fail| Failure {
+                reason: format!("inner integral at x = {:e}: {}", x.to_f64(), fail.reason),
+                best_guess: None,
+                error_estimate: None,
+                evaluations: fail.evaluations,
+            })?;
+            Ok(Sample { value: e.value, error: e.error, evaluations: e.evaluations })
+        },
+        domain,
+        opts,
+    )
+}
+
+/// The integrand as the engine sees it, on a piece in its own variable.
+pub(crate) type SampleFn<'a, T> = dyn FnMut(&T) -> Result<Sample<T>, Failure<T>> + 'a;
+
+/// A piece [a, b] of the (possibly mapped) integration variable.
+#[derive(Debug, Clone)]
+pub(crate) struct Piece<T> {
+    pub a: T,
+    pub b: T,
+}
+
+/// Counters shared by the passes of one integration.
+#[derive(Debug, Default)]
+pub(crate) struct Tally {
+    pub evaluations: u64,
+    pub calls: u64,
+    pub all_zero: bool,
+}
+
+/// The integrand in the piece variable: applies the semi-infinite map and its
+/// Jacobian, counts evaluations, rejects non-finite values.
+pub(crate) struct Mapped<'f, 'g, T> {
+    f: &'f mut SampleFn<'g, T>,
+    /// `Some(a)`: variable u ∈ [0, 1) stands for t = a + u/(1 − u).
+    semi_from: Option<T>,
+    pub tally: Tally,
+}
+
+impl<'f, 'g, T: Real> Mapped<'f, 'g, T> {
+    pub fn eval(&mut self, u: &T) -> Result<Sample<T>, Failure<T>> {
+        let (t, jac) = match &self.semi_from {
+            None => (u.clone(), None),
+            Some(a) => {
+                let one_minus = u.lit(1.0) - u.clone();
+                (a.clone() + u.clone() / one_minus.clone(), Some(u.lit(1.0) / (one_minus.clone() * one_minus)))
+            }
+        };
+        let mut s = (self.f)(&t)?;
+        self.tally.calls += 1;
+        self.tally.evaluations += s.evaluations;
+        if !s.value.is_finite() || !s.error.is_finite() {
+            return Err(Failure {
+                reason: format!("integrand is not finite at x = {:e} (value {:e})", t.to_f64(), s.value.to_f64()),
+                best_guess: None,
+                error_estimate: None,
+                evaluations: self.tally.evaluations,
+            });
+        }
+        if !s.value.is_zero() {
+            self.tally.all_zero = false;
+        }
+        if let Some(j) = jac {
+            if !j.is_finite() {
+                return Ok(Sample { value: u.lit(0.0), error: u.lit(0.0), evaluations: s.evaluations });
+            }
+            s.value = s.value * j.clone();
+            s.error = s.error * j;
+        }
+        Ok(s)
+    }
+
+    pub fn fail(&self, reason: String, best: Option<(T, T)>) -> Failure<T> {
+        let (best_guess, error_estimate) = match best {
+            Some((v, e)) => (Some(v), Some(e)),
+            None => (None, None),
+        };
+        Failure { reason, best_guess, error_estimate, evaluations: self.tally.evaluations }
+    }
+}
+
+fn integrate_samples<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, opts: &Options) -> Outcome<T> {
+    validate(domain, opts)?;
+    let lo = domain.lo.clone();
+    // The piece variable: t itself, or u with t = lo + u/(1 − u).
+    let to_piece_var = |t: &T| -> T {
+        match domain.hi {
+            Some(_) => t.clone(),
+            None => {
+                let d = t.clone() - lo.clone();
+                d.clone() / (t.lit(1.0) + d)
+            }
+        }
+    };
+    let (a, b) = match &domain.hi {
+        Some(hi) => (lo.clone(), hi.clone()),
+        None => (lo.lit(0.0), lo.lit(1.0)),
+    };
+    let mut cuts: Vec<T> = domain
+        .breakpoints
+        .iter()
+        .filter(|p| p.is_finite() && **p > domain.lo && domain.hi.as_ref().is_none_or(|h| *p < h))
+        .map(|p| to_piece_var(p))
+        .collect();
+    let mut mapped = Mapped { f, semi_from: domain.hi.is_none().then(|| lo.clone()), tally: Tally { all_zero: true, ..Tally::default() } };
+
+    let declared_count = cuts.len();
+    if opts.structure == Structure::Unknown {
+        cuts.extend(scan::find_edges(&mut mapped, &a, &b, &cuts)?);
+    }
+    cuts.sort_by(|x, y| x.partial_cmp(y).expect("finite breakpoints"));
+    cuts.dedup_by(|x, y| x == y);
+    let found = cuts.len().saturating_sub(declared_count);
+    let mut edges = vec![a.clone()];
+    edges.extend(cuts);
+    edges.push(b.clone());
+    let pieces: Vec<Piece<T>> =
+        edges.windows(2).filter(|w| w[0] < w[1]).map(|w| Piece { a: w[0].clone(), b: w[1].clone() }).collect();
+
+    let primary = tanh_sinh::integrate(&mut mapped, &pieces, opts)?;
+    let check = if opts.cross_check { Some(check::adaptive(&mut mapped, &pieces, opts, &primary.value)?) } else { None };
+    if opts.structure == Structure::Unknown && opts.zero_guard && mapped.tally.all_zero {
+        return Err(mapped.fail(
+            "the integrand was exactly zero at every sample: a support narrower than the scan resolves cannot be excluded (pass its edges as breakpoints and declare the structure)".into(),
+            Some((a.lit(0.0), a.lit(f64::INFINITY))),
+        ));
+    }
+    let (value, mut error) = (primary.value.clone(), primary.error.clone());
+    let check_value = match check {
+        None => value.clone(),
+        Some(c) => {
+            // The rules must agree within their combined bars, or within the
+            // goal when both bars are far below it; the reported bar is at
+            // least their difference either way.
+            let diff = (c.value.clone() - value.clone()).abs();
+            let allowed = (primary.error.clone() + c.error.clone()).max_of(goal(&value, opts));
+            if diff > allowed {
+                return Err(mapped.fail(
+                    format!(
+                        "cross-check disagrees by {:e}: tanh-sinh {:e} ± {:e}, {} {:e} ± {:e}",
+                        diff.to_f64(),
+                        value.to_f64(),
+                        primary.error.to_f64(),
+                        T::CHECK_NAME,
+                        c.value.to_f64(),
+                        c.error.to_f64()
+                    ),
+                    Some((value, diff)),
+                ));
+            }
+            error = error.max_of(diff);
+            c.value
+        }
+    };
+    let goal = goal(&value, opts);
+    if error > goal.clone().max_of(primary.floor.clone()) {
+        return Err(mapped.fail(
+            format!("error bar {:e} above the goal {:e}", error.to_f64(), goal.to_f64()),
+            Some((value, error)),
+        ));
+    }
+    Ok(Estimate { value, error, evaluations: mapped.tally.evaluations, check_value, pieces: primary.pieces, found_breakpoints: found })
+}
+
+/// max(abs_tol, rel_tol·|value|) at the value's precision.
+///
+/// Never below twice the underflow floor (f64: ~10⁻²⁹⁰ absolute), under
+/// which no relative accuracy exists.
+pub(crate) fn goal<T: Real>(value: &T, opts: &Options) -> T {
+    (value.abs() * value.lit(opts.rel_tol))
+        .max_of(value.lit(opts.abs_tol))
+        .max_of(value.underflow_floor() * value.lit(4.0))
+}
+
+fn validate<T: Real>(domain: &Domain<T>, opts: &Options) -> Result<(), Failure<T>> {
+    let bad = |reason: String| Failure { reason, best_guess: None, error_estimate: None, evaluations: 0 };
+    if !domain.lo.is_finite() {
+        return Err(bad(format!("lower limit {:e} is not finite", domain.lo.to_f64())));
+    }
+    if let Some(hi) = &domain.hi {
+        if !hi.is_finite() || !(hi.clone() > domain.lo.clone()) {
+            return Err(bad(format!("upper limit {:e} must be finite and above the lower {:e}", hi.to_f64(), domain.lo.to_f64())));
+        }
+    }
+    if !(opts.rel_tol >= 0.0 && opts.abs_tol >= 0.0) || (opts.rel_tol == 0.0 && opts.abs_tol == 0.0) {
+        return Err(bad(format!("tolerances rel {} abs {}: both >= 0 and one > 0", opts.rel_tol, opts.abs_tol)));
+    }
+    Ok(())
+}
+
+/// Result of one rule over all pieces.
+#[derive(Debug, Clone)]
+pub(crate) struct RuleResult<T> {
+    pub value: T,
+    pub error: T,
+    /// Rounding floor: below this no rule can resolve the integral.
+    pub floor: T,
+    pub pieces: usize,
+}

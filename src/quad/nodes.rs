@@ -1,0 +1,113 @@
+//! Node tables computed at the working precision, cached per (type, precision).
+
+use crate::real::Real;
+use std::any::{Any, TypeId};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
+
+type Cache = Mutex<HashMap<(TypeId, u32, u32, usize), Arc<dyn Any + Send + Sync>>>;
+
+fn cache() -> &'static Cache {
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    CACHE.get_or_init(|| Mutex::new(HashMap::new()))
+}
+
+fn cached<T: Real + 'static, V: Send + Sync + 'static>(kind: u32, like: &T, n: usize, make: impl FnOnce() -> V) -> Arc<V> {
+    let key = (TypeId::of::<T>(), like.prec(), kind, n);
+    if let Some(v) = cache().lock().expect("node cache").get(&key) {
+        return v.clone().downcast::<V>().expect("node cache type");
+    }
+    let v = Arc::new(make());
+    cache().lock().expect("node cache").insert(key, v.clone());
+    v
+}
+
+/// One tanh–sinh node: x = ±(1 − comp) on [−1, 1], weight w = (π/2) cosh t / cosh²((π/2) sinh t).
+#[derive(Debug, Clone)]
+pub(crate) struct TsNode<T> {
+    /// 1 − |x| = 2/(e^{2u} + 1), u = (π/2) sinh t: exact near the ends.
+    pub comp: T,
+    pub weight: T,
+}
+
+/// Tanh–sinh nodes by level: level 0 holds t = 0, 1, 2, … (t = 0 first),
+/// level k ≥ 1 the odd multiples of 2^{−k}. Nodes stop where the weight
+/// falls below eps², beyond any contribution at this precision.
+pub(crate) struct TsTable<T> {
+    pub levels: Vec<Vec<TsNode<T>>>,
+}
+
+pub(crate) fn tanh_sinh<T: Real + 'static>(like: &T, max_level: usize) -> Arc<TsTable<T>> {
+    cached(0, like, max_level, || {
+        let eps = like.eps();
+        let tiny = eps.clone() * eps;
+        let half_pi = like.pi() / like.lit(2.0);
+        let node = |t: T| -> TsNode<T> {
+            let u = half_pi.clone() * t.sinh();
+            let e2u = (u.clone() * like.lit(2.0)).exp();
+            let comp = like.lit(2.0) / (e2u + like.lit(1.0));
+            let c = u.cosh();
+            let weight = half_pi.clone() * t.cosh() / (c.clone() * c);
+            TsNode { comp, weight }
+        };
+        let mut levels = Vec::with_capacity(max_level + 1);
+        for level in 0..=max_level {
+            let h = like.powi_like(-(level as i32));
+            let (start, step) = if level == 0 { (0usize, 1usize) } else { (1, 2) };
+            let mut nodes = Vec::new();
+            let mut m = start;
+            loop {
+                let n = node(h.clone() * like.lit(m as f64));
+                if n.weight < tiny && m > 0 {
+                    break;
+                }
+                nodes.push(n);
+                m += step;
+            }
+            levels.push(nodes);
+        }
+        TsTable { levels }
+    })
+}
+
+/// Gauss–Legendre nodes and weights on [−1, 1] (x ≥ 0 half; the rule is
+/// symmetric), by Newton's method on P_n at the working precision.
+pub(crate) fn gauss_legendre<T: Real + 'static>(like: &T, n: usize) -> Arc<Vec<(T, T)>> {
+    cached(1, like, n, || {
+        let one = like.lit(1.0);
+        let tol = like.eps() * like.lit(4.0);
+        let mut out = Vec::with_capacity(n.div_ceil(2));
+        for i in 1..=n.div_ceil(2) {
+            let guess = (std::f64::consts::PI * (i as f64 - 0.25) / (n as f64 + 0.5)).cos();
+            let mut x = like.lit(guess);
+            let mut dp = one.clone();
+            for _ in 0..200 {
+                let (p, pm1) = legendre(&x, n);
+                dp = like.lit(n as f64) * (x.clone() * p.clone() - pm1) / (x.clone() * x.clone() - one.clone());
+                let dx = p / dp.clone();
+                x = x - dx.clone();
+                if dx.abs() <= tol.clone() {
+                    let (p, pm1) = legendre(&x, n);
+                    dp = like.lit(n as f64) * (x.clone() * p - pm1) / (x.clone() * x.clone() - one.clone());
+                    break;
+                }
+            }
+            let w = like.lit(2.0) / ((one.clone() - x.clone() * x.clone()) * dp.clone() * dp);
+            out.push((x, w));
+        }
+        out
+    })
+}
+
+/// (P_n(x), P_{n−1}(x)) by the three-term recurrence.
+fn legendre<T: Real>(x: &T, n: usize) -> (T, T) {
+    let mut p0 = x.lit(1.0);
+    let mut p1 = x.clone();
+    for k in 2..=n {
+        let kf = k as f64;
+        let p2 = (x.lit(2.0 * kf - 1.0) * x.clone() * p1.clone() - x.lit(kf - 1.0) * p0) / x.lit(kf);
+        p0 = p1;
+        p1 = p2;
+    }
+    (p1, p0)
+}

@@ -1,0 +1,163 @@
+//! Primary rule: tanh–sinh (double-exponential) quadrature, refined level by
+//! level on each piece, pieces bisected when the level cap is reached, under
+//! global error control.
+
+use super::nodes::{tanh_sinh, TsTable};
+use super::{goal, Failure, Mapped, Options, Piece, RuleResult};
+use crate::real::Real;
+use std::sync::Arc;
+
+/// Levels computed before a panel's first error estimate (h = 1/8; 63 points
+/// in f64). Successive tanh–sinh levels converge quadratically, so the
+/// difference of levels 2 and 3 is a sound, if pessimistic, bound for level 3.
+const START_LEVEL: usize = 3;
+
+/// Highest level before a panel is bisected instead (f64: h = 1/128).
+fn max_level<T: Real>(like: &T) -> usize {
+    7 + (like.prec() as usize).saturating_sub(53) / 48
+}
+
+/// One panel [a, b] integrated through `level`.
+struct Panel<T> {
+    a: T,
+    b: T,
+    level: usize,
+    /// Σ over nodes of levels ≤ `level` of w·f (centre once, pairs ±), and the
+    /// same for the inner error bars and for |w·f|.
+    sum: T,
+    err_sum: T,
+    abs_sum: T,
+    value: T,
+    prev_value: T,
+}
+
+impl<T: Real> Panel<T> {
+    fn half(&self) -> T {
+        (self.b.clone() - self.a.clone()) / self.a.lit(2.0)
+    }
+    fn h(&self) -> T {
+        self.a.powi_like(-(self.level as i32))
+    }
+    /// Truncation estimate: difference of the last two levels.
+    fn quad_err(&self) -> T {
+        (self.value.clone() - self.prev_value.clone()).abs()
+    }
+    fn inner_err(&self) -> T {
+        self.half() * self.h() * self.err_sum.clone()
+    }
+    /// Rounding floor: 8 eps Σ|w f|.
+    fn floor(&self) -> T {
+        self.a.eps() * self.a.lit(8.0) * self.half().abs() * self.h() * self.abs_sum.clone() + self.a.underflow_floor()
+    }
+    fn error(&self) -> T {
+        self.quad_err() + self.inner_err() + self.floor()
+    }
+}
+
+/// Adds the nodes of `level` (which must be `p.level + 1`, or 0 for a new panel).
+fn add_level<T: Real>(p: &mut Panel<T>, level: usize, table: &TsTable<T>, f: &mut Mapped<'_, '_, T>) -> Result<(), Failure<T>> {
+    let half = p.half();
+    for (i, node) in table.levels[level].iter().enumerate() {
+        let offset = half.clone() * node.comp.clone();
+        let centre = level == 0 && i == 0;
+        let points = if centre {
+            vec![(p.a.clone() + p.b.clone()) / p.a.lit(2.0)]
+        } else {
+            vec![p.a.clone() + offset.clone(), p.b.clone() - offset]
+        };
+        for x in points {
+            // Far nodes may round onto (or past) an end: their weight is
+            // below eps², so they are dropped rather than evaluated there.
+            if !(x > p.a && x < p.b) {
+                continue;
+            }
+            let s = f.eval(&x)?;
+            p.sum = p.sum.clone() + node.weight.clone() * s.value.clone();
+            p.err_sum = p.err_sum.clone() + node.weight.clone() * s.error;
+            p.abs_sum = p.abs_sum.clone() + node.weight.clone() * s.value.abs();
+        }
+    }
+    p.level = level;
+    p.prev_value = p.value.clone();
+    p.value = p.half() * p.h() * p.sum.clone();
+    Ok(())
+}
+
+fn new_panel<T: Real>(a: T, b: T, table: &TsTable<T>, f: &mut Mapped<'_, '_, T>) -> Result<Panel<T>, Failure<T>> {
+    let zero = a.lit(0.0);
+    let mut p = Panel {
+        level: 0,
+        sum: zero.clone(),
+        err_sum: zero.clone(),
+        abs_sum: zero.clone(),
+        value: zero.clone(),
+        prev_value: zero,
+        a,
+        b,
+    };
+    for level in 0..=START_LEVEL {
+        add_level(&mut p, level, table, f)?;
+    }
+    Ok(p)
+}
+
+/// Integrates all pieces to the goal of `opts` (or as close as the budget and
+/// the rounding floor allow; the caller judges the final error bar).
+pub(crate) fn integrate<T: Real + 'static>(
+    f: &mut Mapped<'_, '_, T>,
+    pieces: &[Piece<T>],
+    opts: &Options,
+) -> Result<RuleResult<T>, Failure<T>> {
+    let like = pieces[0].a.clone();
+    let table: Arc<TsTable<T>> = tanh_sinh(&like, max_level(&like));
+    let top = table.levels.len() - 1;
+    let mut panels = Vec::with_capacity(pieces.len());
+    for piece in pieces {
+        panels.push(new_panel(piece.a.clone(), piece.b.clone(), &table, f)?);
+    }
+    loop {
+        let value = sum(panels.iter().map(|p| p.value.clone()), &like);
+        let error = sum(panels.iter().map(Panel::error), &like);
+        if error <= goal(&value, opts) {
+            break;
+        }
+        // Refine the panel whose truncation estimate is largest, unless every
+        // panel is already at its rounding floor.
+        let (worst, worst_err) = panels
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (i, p.quad_err()))
+            .fold((0, like.lit(-1.0)), |acc, (i, e)| if e > acc.1 { (i, e) } else { acc });
+        if worst_err <= panels[worst].floor() {
+            break;
+        }
+        if f.tally.calls >= opts.max_evals {
+            return Err(f.fail(
+                format!("evaluation budget {} exhausted by tanh-sinh", opts.max_evals),
+                Some((value, error)),
+            ));
+        }
+        if panels[worst].level < top {
+            let next = panels[worst].level + 1;
+            add_level(&mut panels[worst], next, &table, f)?;
+        } else {
+            let p = panels.swap_remove(worst);
+            let mid = (p.a.clone() + p.b.clone()) / p.a.lit(2.0);
+            if !(mid > p.a && mid < p.b) {
+                return Err(f.fail(format!("panel at {:e} cannot be bisected further", p.a.to_f64()), Some((value, error))));
+            }
+            panels.push(new_panel(p.a.clone(), mid.clone(), &table, f)?);
+            panels.push(new_panel(mid, p.b, &table, f)?);
+        }
+    }
+    Ok(RuleResult {
+        value: sum(panels.iter().map(|p| p.value.clone()), &like),
+        error: sum(panels.iter().map(Panel::error), &like),
+        floor: sum(panels.iter().map(Panel::floor), &like),
+        pieces: panels.len(),
+    })
+}
+
+pub(crate) fn sum<T: Real>(it: impl Iterator<Item = T>, like: &T) -> T {
+    it.fold(like.lit(0.0), |a, b| a + b)
+}
