@@ -45,6 +45,17 @@ impl SpecialFn {
         }
     }
 
+    /// The same implementation at the precision of `x` (MPFR).
+    pub fn eval_mpfr(self, x: &Float) -> Float {
+        match self {
+            SpecialFn::OverlapA => special::overlap_a(x),
+            SpecialFn::OverlapAIntegral => special::overlap_a_integral(x),
+            SpecialFn::OverlapAMoment => special::overlap_a_moment(x),
+            SpecialFn::ExpIntE1 => special::exp_int_e1(x),
+            SpecialFn::ExpIntTail2 => special::exp_int_tail2(x),
+        }
+    }
+
     /// Sweep segments: (label, lo, hi, log-spaced?). Log spacing is for the
     /// hard ends; `1-` segments are spaced in u = 1 − x.
     fn segments(self) -> &'static [Segment] {
@@ -64,7 +75,7 @@ impl SpecialFn {
     }
 
     /// Reference value at `prec` bits from the naive closed form.
-    fn reference(self, x: f64, prec: u32) -> Float {
+    pub fn reference(self, x: f64, prec: u32) -> Float {
         let xf = Float::with_val(prec, x);
         let one = Float::with_val(prec, 1);
         if matches!(self, SpecialFn::OverlapA | SpecialFn::OverlapAIntegral | SpecialFn::OverlapAMoment) && x >= 1.0 {
@@ -203,9 +214,4 @@ pub fn sweep(func: SpecialFn, points: usize) -> Vec<SegmentSummary> {
             }
         })
         .collect()
-}
-#[doc(hidden)]
-pub fn debug_ref(func: SpecialFn, x: f64) -> (f64, f64) {
-    let p = func.reference_prec(x);
-    (func.reference(x, p).to_f64(), p as f64)
 }

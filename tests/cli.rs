@@ -1,0 +1,53 @@
+//! The command-line interface: exit codes and messages.
+
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_mcrt-noise"))
+}
+
+#[test]
+fn validate_prints_normalised_scene_for_every_bundled_scene() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let out = bin().arg("validate").arg(&path).output().unwrap();
+        assert!(out.status.success(), "{}: {}", path.display(), String::from_utf8_lossy(&out.stderr));
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(text.contains("scattering_orders"), "{text}");
+        assert!(mcrt_noise::scene::Scene::from_toml_str(&text).is_ok());
+    }
+}
+
+#[test]
+fn validate_reports_every_bad_field_and_exits_non_zero() {
+    let dir = std::env::temp_dir().join(format!("mcrt-noise-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bad.toml");
+    let good = std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml")).unwrap();
+    std::fs::write(&path, good.replace("q = 0.5", "q = 1.5").replace("albedo = 0.8", "albedo = nan")).unwrap();
+    let out = bin().arg("validate").arg(&path).output().unwrap();
+    assert!(!out.status.success());
+    assert!(out.stdout.is_empty(), "nothing but the error on bad input");
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("estimator.q = 1.5: must be in (0, 1]"), "{err}");
+    assert!(err.contains("medium.albedo = NaN: must be in [0, 1]"), "{err}");
+}
+
+#[test]
+fn kernel_command_reports_value_bar_and_cost() {
+    let out = bin().args(["kernel", "--theta", "1", "--radius", "1e-3"]).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.starts_with("I(1, 1e-3) = 1.582819712428961"), "{text}");
+    assert!(text.contains("error bar") && text.contains("evaluations"), "{text}");
+}
+
+#[test]
+fn unconverged_kernel_is_loud() {
+    // A budget far too small: the command must fail, not print a number.
+    let out = bin().args(["kernel", "--theta", "1", "--radius", "1e-3", "--rel-tol", "1e-30"]).output().unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("NOT CONVERGED"), "{err}");
+}
