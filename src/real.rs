@@ -11,7 +11,8 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// A real number type: f64, or `rug::Float` at its own precision.
 pub trait Real:
-    Clone
+    'static
+    + Clone
     + Debug
     + PartialOrd
     + Send
@@ -24,6 +25,8 @@ pub trait Real:
 {
     /// Significand bits (53 for f64).
     fn prec(&self) -> u32;
+    /// Whether [`Real::raised`] adds guard bits (MPFR) or is the identity (f64).
+    const CAN_RAISE_PRECISION: bool;
     /// The value `v` at this value's precision.
     fn lit(&self, v: f64) -> Self;
     /// A value of the given precision (ignored for f64).
@@ -53,6 +56,15 @@ pub trait Real:
     fn is_zero(&self) -> bool {
         self.to_f64() == 0.0 && self.is_finite()
     }
+    /// This value carried at `extra` more bits (MPFR), or unchanged (f64,
+    /// which cannot; see [`Real::CAN_RAISE_PRECISION`]).
+    fn raised(&self, _extra: u32) -> Self {
+        self.clone()
+    }
+    /// This value rounded to `prec` bits (identity for f64).
+    fn rounded_to(&self, _prec: u32) -> Self {
+        self.clone()
+    }
     /// Magnitude below which values lose relative precision to underflow
     /// (f64: 2⁻¹⁰²² / eps ≈ 5·10⁻²⁹¹; MPFR: 0, its exponent range is vast).
     fn underflow_floor(&self) -> Self {
@@ -64,6 +76,7 @@ pub trait Real:
 }
 
 impl Real for f64 {
+    const CAN_RAISE_PRECISION: bool = false;
     fn prec(&self) -> u32 {
         f64::MANTISSA_DIGITS
     }
@@ -127,6 +140,13 @@ impl Real for f64 {
 }
 
 impl Real for Float {
+    const CAN_RAISE_PRECISION: bool = true;
+    fn raised(&self, extra: u32) -> Self {
+        Float::with_val(Float::prec(self) + extra, self)
+    }
+    fn rounded_to(&self, prec: u32) -> Self {
+        Float::with_val(prec, self)
+    }
     fn prec(&self) -> u32 {
         Float::prec(self)
     }

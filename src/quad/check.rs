@@ -35,7 +35,7 @@ impl CheckRule for f64 {
     fn panel_rule(g: &mut dyn FnMut(&f64) -> Result<Sample<f64>, Failure<f64>>, s0: &f64, s1: &f64, target: &f64)
         -> Result<(f64, f64, f64), Failure<f64>> {
         // The crate wants `Fn`; our integrand is `FnMut` and may fail.
-        let state = RefCell::new((g, None::<Failure<f64>>, 0.0f64, 0.0f64));
+        let state = RefCell::new((g, None::<Failure<f64>>, 0.0f64, 0.0f64, 0u32));
         let out = quadrature::clenshaw_curtis::integrate(
             |s| {
                 let mut st = state.borrow_mut();
@@ -45,7 +45,8 @@ impl CheckRule for f64 {
                 match (st.0)(&s) {
                     Ok(sample) => {
                         st.2 = st.2.max(sample.error);
-                        st.3 = st.3.max(sample.value.abs());
+                        st.3 += sample.value.abs();
+                        st.4 += 1;
                         sample.value
                     }
                     Err(e) => {
@@ -58,12 +59,14 @@ impl CheckRule for f64 {
             *s1,
             *target,
         );
-        let (_, failure, max_err, max_abs) = state.into_inner();
+        let (_, failure, max_err, sum_abs, count) = state.into_inner();
         if let Some(e) = failure {
             return Err(e);
         }
+        // No weights are exposed: the inner bars are bounded by their maximum
+        // times the width, ∫|g| (for the rounding floor) by the mean |g|.
         let width = s1 - s0;
-        Ok((out.integral, max_err * width, max_abs * width))
+        Ok((out.integral, max_err * width, sum_abs / f64::from(count.max(1)) * width))
     }
 }
 
@@ -78,8 +81,12 @@ impl CheckRule for Float {
         let mid = (s1.clone() + s0.clone()) / s0.lit(2.0);
         let (mut v, mut e, mut a) = (s0.lit(0.0), s0.lit(0.0), s0.lit(0.0));
         for (x, w) in nodes.iter() {
-            let xs: Vec<Float> = if x.is_zero() { vec![mid.clone()] } else { vec![mid.clone() - half.clone() * x.clone(), mid.clone() + half.clone() * x.clone()] };
-            for s in xs {
+            let xs = if x.is_zero() {
+                [Some(mid.clone()), None]
+            } else {
+                [Some(mid.clone() - half.clone() * x.clone()), Some(mid.clone() + half.clone() * x.clone())]
+            };
+            for s in xs.into_iter().flatten() {
                 let sample = g(&s)?;
                 v = v + w.clone() * sample.value.clone();
                 e = e + w.clone() * sample.error;
@@ -116,10 +123,13 @@ impl<T: Real> Panel<T> {
     }
 }
 
-/// Integrates all pieces to the goal set by `scale` (the primary value).
-pub(crate) fn adaptive<T: CheckRule>(f: &mut Mapped<'_, '_, T>, pieces: &[Piece<T>], opts: &Options, scale: &T) -> Result<RuleResult<T>, Failure<T>> {
+/// Integrates all pieces to the goal of `opts`.
+pub(crate) fn adaptive<T: CheckRule>(f: &mut Mapped<'_, '_, T>, pieces: &[Piece<T>], opts: &Options) -> Result<RuleResult<T>, Failure<T>> {
     let like = pieces[0].a.clone();
-    let target = goal(scale, opts) * like.lit(1e-2);
+    // The per-call target of the f64 rule: first +∞ (the crate's cheapest
+    // call) to learn the scale, then the goal at that scale. It
+    // only sets how hard the crate works; it never enters our error bar.
+    let target = std::cell::RefCell::new(like.lit(f64::INFINITY));
     // g(s) = f(x(s)) (b − a) φ'(s), x(s) = a + (b − a) φ(s), φ = 3s² − 2s³.
     let mut run = |piece: &Piece<T>, s0: &T, s1: &T, f: &mut Mapped<'_, '_, T>| {
         let width = piece.b.clone() - piece.a.clone();
@@ -137,7 +147,8 @@ pub(crate) fn adaptive<T: CheckRule>(f: &mut Mapped<'_, '_, T>, pieces: &[Piece<
             sample.error = sample.error * jac;
             Ok(sample)
         };
-        T::panel_rule(&mut g, s0, s1, &target)
+        let tgt = target.borrow().clone();
+        T::panel_rule(&mut g, s0, s1, &tgt)
     };
     let make = |piece_idx: usize, s0: T, s1: T, whole: T, f: &mut Mapped<'_, '_, T>, run: &mut dyn FnMut(&Piece<T>, &T, &T, &mut Mapped<'_, '_, T>) -> Result<(T, T, T), Failure<T>>| -> Result<Panel<T>, Failure<T>> {
         let mid = (s0.clone() + s1.clone()) / s0.lit(2.0);
@@ -145,6 +156,12 @@ pub(crate) fn adaptive<T: CheckRule>(f: &mut Mapped<'_, '_, T>, pieces: &[Piece<
         let right = run(&pieces[piece_idx], &mid, &s1, f)?;
         Ok(Panel { piece: piece_idx, s0, s1, whole, halves: [left, right] })
     };
+    let (zero, one) = (like.lit(0.0), like.lit(1.0));
+    let mut scale = like.lit(0.0);
+    for piece in pieces {
+        scale = scale + run(piece, &zero, &one, f)?.2;
+    }
+    *target.borrow_mut() = goal(&scale, opts) * like.lit(1.0);
     let mut panels = Vec::new();
     for (i, piece) in pieces.iter().enumerate() {
         let (zero, one) = (like.lit(0.0), like.lit(1.0));
@@ -180,7 +197,6 @@ pub(crate) fn adaptive<T: CheckRule>(f: &mut Mapped<'_, '_, T>, pieces: &[Piece<
     Ok(RuleResult {
         value: sum(panels.iter().map(Panel::value), &like),
         error: sum(panels.iter().map(Panel::error), &like),
-        floor: sum(panels.iter().map(Panel::floor), &like),
         pieces: panels.len(),
     })
 }

@@ -35,6 +35,7 @@
 
 mod check;
 mod nodes;
+pub(crate) use nodes::cached;
 mod scan;
 mod tanh_sinh;
 
@@ -75,12 +76,42 @@ pub struct Options {
     /// out); the guard then acts on the outer integral, which is zero
     /// everywhere exactly when every inner one is.
     pub zero_guard: bool,
+    /// Which rule computes the value; the other one cross-checks it.
+    /// [`integrate_nested`] runs its second, independent pass with
+    /// [`Rule::Check`] at every level.
+    pub rule: Rule,
+}
+
+/// The two quadrature rules of the engine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Rule {
+    /// Tanh–sinh, refined level by level (the default primary rule).
+    #[default]
+    TanhSinh,
+    /// Adaptive bisection of Clenshaw–Curtis (f64, `quadrature` crate) or
+    /// Gauss–Legendre (MPFR) in a smoothing substitution.
+    Check,
+}
+
+impl Rule {
+    pub fn other(self) -> Rule {
+        match self {
+            Rule::TanhSinh => Rule::Check,
+            Rule::Check => Rule::TanhSinh,
+        }
+    }
+    fn name<T: CheckRule>(self) -> &'static str {
+        match self {
+            Rule::TanhSinh => "tanh-sinh",
+            Rule::Check => T::CHECK_NAME,
+        }
+    }
 }
 
 impl Options {
     /// Relative tolerance `rel_tol`, no absolute floor, unknown structure.
     pub fn rel(rel_tol: f64) -> Options {
-        Options { rel_tol, abs_tol: 0.0, max_evals: 2_000_000, structure: Structure::Unknown, cross_check: true, zero_guard: true }
+        Options { rel_tol, abs_tol: 0.0, max_evals: 2_000_000, structure: Structure::Unknown, cross_check: true, zero_guard: true, rule: Rule::TanhSinh }
     }
 
     pub fn declared(mut self) -> Options {
@@ -107,14 +138,24 @@ pub struct Domain<T> {
     /// Interior points where the integrand is not smooth (kinks, jumps, edges
     /// of support). Points outside (lo, hi) are ignored.
     pub breakpoints: Vec<T>,
+    /// For [lo, ∞): a known exponential decay rate λ of the integrand. The
+    /// piece variable is then u = 1 − e^{−λ(t − lo)} (so e^{−λt} dt is flat
+    /// in u) instead of the default rational map u = (t − lo)/(1 + t − lo),
+    /// which suits algebraic decay.
+    pub decay: Option<T>,
 }
 
 impl<T: Real> Domain<T> {
     pub fn finite(lo: T, hi: T) -> Self {
-        Domain { lo, hi: Some(hi), breakpoints: Vec::new() }
+        Domain { lo, hi: Some(hi), breakpoints: Vec::new(), decay: None }
     }
     pub fn semi_infinite(lo: T) -> Self {
-        Domain { lo, hi: None, breakpoints: Vec::new() }
+        Domain { lo, hi: None, breakpoints: Vec::new(), decay: None }
+    }
+    /// Declares exponential decay at rate `rate` > 0 (semi-infinite domains).
+    pub fn with_decay(mut self, rate: T) -> Self {
+        self.decay = Some(rate);
+        self
     }
     pub fn with_breakpoints(mut self, points: impl IntoIterator<Item = T>) -> Self {
         self.breakpoints.extend(points);
@@ -136,6 +177,8 @@ pub struct Estimate<T> {
     /// Pieces the primary rule ended with, breakpoints found by the scan.
     pub pieces: usize,
     pub found_breakpoints: usize,
+    /// The rule that computed `value`.
+    pub rule: Rule,
 }
 
 /// An integral for which no error bar can be vouched for.
@@ -192,7 +235,8 @@ pub fn integrate<T: CheckRule, F: FnMut(&T) -> T>(mut f: F, domain: &Domain<T>, 
 ///
 /// Two passes. A coarse one (outer 10⁻³, inner 10⁻⁵, no cross-check) finds the
 /// scale V₀ of the result; the accurate one then hands the inner integrals
-/// `rel_tol/10` *and* an absolute tolerance of `rel_tol·|V₀|/10`, so that
+/// `rel_tol/10` (at least 64 ulps) *and* an absolute tolerance of
+/// `rel_tol·|V₀|/10`, so that
 /// inner integrals far out in a tail, which cannot matter, are not driven
 /// into the rounding noise of their own integrand (e^{−(s+t)} at s = 700 is
 /// only good to ~10⁻¹³ relative in f64). Inner error bars are still the
@@ -202,15 +246,31 @@ pub fn integrate_nested<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(mut 
     let coarse_outer = Options { rel_tol: opts.rel_tol.max(1e-3), cross_check: false, ..opts.clone() };
     let coarse_inner = Options { rel_tol: opts.rel_tol.max(1e-5), abs_tol: 0.0, cross_check: false, zero_guard: false, ..opts.clone() };
     let scale = nested_pass(&mut f, domain, &coarse_outer, &coarse_inner)?;
+    // Inner integrals get a tenth of the tolerance, but never less than 64
+    // ulps: each rule aims at a third of its goal and is floored at 8 eps of
+    // rounding, so tighter inner goals are unreachable, not more accurate.
+    let inner_floor = 64.0 * domain.lo.eps().to_f64();
     let inner = Options {
-        rel_tol: opts.rel_tol * 0.1,
+        rel_tol: (opts.rel_tol * 0.1).max(inner_floor),
         abs_tol: (opts.rel_tol * scale.value.abs().to_f64()).max(opts.abs_tol) * 0.1,
         zero_guard: false,
+        cross_check: false,
         ..opts.clone()
     };
-    let mut fine = nested_pass(&mut f, domain, opts, &inner)?;
-    fine.evaluations += scale.evaluations;
-    Ok(fine)
+    // Each pass aims at a third of the goal: the final bar is the larger of
+    // the primary's and (difference of the passes + the check's bar).
+    let outer = Options { rel_tol: opts.rel_tol / 3.0, abs_tol: opts.abs_tol / 3.0, cross_check: false, ..opts.clone() };
+    let mut primary = nested_pass(&mut f, domain, &outer, &inner)?;
+    primary.evaluations += scale.evaluations;
+    if !opts.cross_check {
+        return reconcile(primary, None, opts);
+    }
+    // The second pass is independent at every level: the check rule outside
+    // and inside.
+    let other = opts.rule.other();
+    let check = nested_pass(&mut f, domain, &Options { rule: other, ..outer }, &Options { rule: other, ..inner })?;
+    primary.evaluations += check.evaluations;
+    reconcile(primary, Some(check), opts)
 }
 
 fn nested_pass<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(f: &mut F, domain: &Domain<T>, opts: &Options, inner: &Options) -> Outcome<T> {
@@ -239,6 +299,34 @@ pub(crate) struct Piece<T> {
     pub b: T,
 }
 
+/// Map of a semi-infinite [a, ∞) onto the piece variable u ∈ [0, 1).
+#[derive(Debug, Clone)]
+pub(crate) enum TailMap<T> {
+    /// t = a + u/(1 − u), dt = du/(1 − u)².
+    Rational,
+    /// t = a − ln(1 − u)/λ, dt = du/(λ(1 − u)).
+    Exponential(T),
+}
+
+impl<T: Real> TailMap<T> {
+    fn to_t(&self, a: &T, u: &T) -> (T, T) {
+        let one_minus = u.lit(1.0) - u.clone();
+        match self {
+            TailMap::Rational => (a.clone() + u.clone() / one_minus.clone(), u.lit(1.0) / (one_minus.clone() * one_minus)),
+            TailMap::Exponential(rate) => {
+                (a.clone() - one_minus.ln() / rate.clone(), u.lit(1.0) / (rate.clone() * one_minus))
+            }
+        }
+    }
+    fn to_u(&self, a: &T, t: &T) -> T {
+        let d = t.clone() - a.clone();
+        match self {
+            TailMap::Rational => d.clone() / (t.lit(1.0) + d),
+            TailMap::Exponential(rate) => t.lit(1.0) - (-(rate.clone() * d)).exp(),
+        }
+    }
+}
+
 /// Counters shared by the passes of one integration.
 #[derive(Debug, Default)]
 pub(crate) struct Tally {
@@ -251,18 +339,18 @@ pub(crate) struct Tally {
 /// Jacobian, counts evaluations, rejects non-finite values.
 pub(crate) struct Mapped<'f, 'g, T> {
     f: &'f mut SampleFn<'g, T>,
-    /// `Some(a)`: variable u ∈ [0, 1) stands for t = a + u/(1 − u).
-    semi_from: Option<T>,
+    /// Semi-infinite [a, ∞): the piece variable u ∈ [0, 1) and its map.
+    semi: Option<(T, TailMap<T>)>,
     pub tally: Tally,
 }
 
 impl<'f, 'g, T: Real> Mapped<'f, 'g, T> {
     pub fn eval(&mut self, u: &T) -> Result<Sample<T>, Failure<T>> {
-        let (t, jac) = match &self.semi_from {
+        let (t, jac) = match &self.semi {
             None => (u.clone(), None),
-            Some(a) => {
-                let one_minus = u.lit(1.0) - u.clone();
-                (a.clone() + u.clone() / one_minus.clone(), Some(u.lit(1.0) / (one_minus.clone() * one_minus)))
+            Some((a, map)) => {
+                let (t, jac) = map.to_t(a, u);
+                (t, Some(jac))
             }
         };
         let mut s = (self.f)(&t)?;
@@ -302,13 +390,15 @@ fn integrate_samples<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, 
     validate(domain, opts)?;
     let lo = domain.lo.clone();
     // The piece variable: t itself, or u with t = lo + u/(1 − u).
+    let tail = match (&domain.hi, &domain.decay) {
+        (Some(_), _) => None,
+        (None, Some(rate)) if rate.clone() > rate.lit(0.0) && rate.is_finite() => Some((lo.clone(), TailMap::Exponential(rate.clone()))),
+        (None, _) => Some((lo.clone(), TailMap::Rational)),
+    };
     let to_piece_var = |t: &T| -> T {
-        match domain.hi {
-            Some(_) => t.clone(),
-            None => {
-                let d = t.clone() - lo.clone();
-                d.clone() / (t.lit(1.0) + d)
-            }
+        match &tail {
+            None => t.clone(),
+            Some((a, map)) => map.to_u(a, t),
         }
     };
     let (a, b) = match &domain.hi {
@@ -321,7 +411,7 @@ fn integrate_samples<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, 
         .filter(|p| p.is_finite() && **p > domain.lo && domain.hi.as_ref().is_none_or(|h| *p < h))
         .map(|p| to_piece_var(p))
         .collect();
-    let mut mapped = Mapped { f, semi_from: domain.hi.is_none().then(|| lo.clone()), tally: Tally { all_zero: true, ..Tally::default() } };
+    let mut mapped = Mapped { f, semi: tail.clone(), tally: Tally { all_zero: true, ..Tally::default() } };
 
     let declared_count = cuts.len();
     if opts.structure == Structure::Unknown {
@@ -336,49 +426,75 @@ fn integrate_samples<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, 
     let pieces: Vec<Piece<T>> =
         edges.windows(2).filter(|w| w[0] < w[1]).map(|w| Piece { a: w[0].clone(), b: w[1].clone() }).collect();
 
-    let primary = tanh_sinh::integrate(&mut mapped, &pieces, opts)?;
-    let check = if opts.cross_check { Some(check::adaptive(&mut mapped, &pieces, opts, &primary.value)?) } else { None };
+    // Each rule aims at a third of the goal (see `reconcile`).
+    let third = Options { rel_tol: opts.rel_tol / 3.0, abs_tol: opts.abs_tol / 3.0, ..opts.clone() };
+    let run = |rule: Rule, mapped: &mut Mapped<'_, '_, T>| match rule {
+        Rule::TanhSinh => tanh_sinh::integrate(mapped, &pieces, &third),
+        Rule::Check => check::adaptive(mapped, &pieces, &third),
+    };
+    let primary = run(opts.rule, &mut mapped)?;
+    let check = if opts.cross_check { Some(run(opts.rule.other(), &mut mapped)?) } else { None };
     if opts.structure == Structure::Unknown && opts.zero_guard && mapped.tally.all_zero {
         return Err(mapped.fail(
             "the integrand was exactly zero at every sample: a support narrower than the scan resolves cannot be excluded (pass its edges as breakpoints and declare the structure)".into(),
             Some((a.lit(0.0), a.lit(f64::INFINITY))),
         ));
     }
-    let (value, mut error) = (primary.value.clone(), primary.error.clone());
-    let check_value = match check {
-        None => value.clone(),
-        Some(c) => {
-            // The rules must agree within their combined bars, or within the
-            // goal when both bars are far below it; the reported bar is at
-            // least their difference either way.
-            let diff = (c.value.clone() - value.clone()).abs();
-            let allowed = (primary.error.clone() + c.error.clone()).max_of(goal(&value, opts));
-            if diff > allowed {
-                return Err(mapped.fail(
-                    format!(
-                        "cross-check disagrees by {:e}: tanh-sinh {:e} ± {:e}, {} {:e} ± {:e}",
-                        diff.to_f64(),
-                        value.to_f64(),
-                        primary.error.to_f64(),
-                        T::CHECK_NAME,
-                        c.value.to_f64(),
-                        c.error.to_f64()
-                    ),
-                    Some((value, diff)),
-                ));
-            }
-            error = error.max_of(diff);
-            c.value
-        }
+    let evaluations = mapped.tally.evaluations;
+    let estimate = |r: &RuleResult<T>| Estimate {
+        value: r.value.clone(),
+        error: r.error.clone(),
+        evaluations,
+        check_value: r.value.clone(),
+        pieces: r.pieces,
+        found_breakpoints: found,
+        rule: opts.rule,
     };
-    let goal = goal(&value, opts);
-    if error > goal.clone().max_of(primary.floor.clone()) {
-        return Err(mapped.fail(
-            format!("error bar {:e} above the goal {:e}", error.to_f64(), goal.to_f64()),
-            Some((value, error)),
-        ));
+    let check = check.map(|c| Estimate { rule: opts.rule.other(), ..estimate(&c) });
+    reconcile(estimate(&primary), check, opts)
+}
+
+/// Judges a primary result against its cross-check and the goal.
+///
+/// The reported bar is max(e_p, |p − c| + e_c): the check's bar e_c is the
+/// conservative one (a bisection difference), so |p − exact| ≤ |p − c| + e_c
+/// whenever the check is right, whatever the primary's own estimate e_p.
+/// Each rule aims at a third of the goal, so two sound results always fit.
+fn reconcile<T: CheckRule>(primary: Estimate<T>, check: Option<Estimate<T>>, opts: &Options) -> Outcome<T> {
+    let goal = goal(&primary.value, opts);
+    let fail = |reason: String, bar: T, p: &Estimate<T>| Failure {
+        reason,
+        best_guess: Some(p.value.clone()),
+        error_estimate: Some(bar),
+        evaluations: p.evaluations,
+    };
+    let Some(c) = check else {
+        if primary.error > goal {
+            let reason = format!("error bar {:e} above the goal {:e}", primary.error.to_f64(), goal.to_f64());
+            return Err(fail(reason, primary.error.clone(), &primary));
+        }
+        return Ok(primary);
+    };
+    let diff = (c.value.clone() - primary.value.clone()).abs();
+    let bar = primary.error.clone().max_of(diff.clone() + c.error.clone());
+    if bar <= goal {
+        return Ok(Estimate { error: bar, check_value: c.value, ..primary });
     }
-    Ok(Estimate { value, error, evaluations: mapped.tally.evaluations, check_value, pieces: primary.pieces, found_breakpoints: found })
+    let reason = if diff > primary.error.clone() + c.error.clone() {
+        format!(
+            "cross-check disagrees by {:e}: {} {:e} ± {:e}, {} {:e} ± {:e}",
+            diff.to_f64(),
+            primary.rule.name::<T>(),
+            primary.value.to_f64(),
+            primary.error.to_f64(),
+            c.rule.name::<T>(),
+            c.value.to_f64(),
+            c.error.to_f64()
+        )
+    } else {
+        format!("error bar {:e} above the goal {:e}", bar.to_f64(), goal.to_f64())
+    };
+    Err(fail(reason, bar, &primary))
 }
 
 /// max(abs_tol, rel_tol·|value|) at the value's precision.
@@ -412,7 +528,5 @@ fn validate<T: Real>(domain: &Domain<T>, opts: &Options) -> Result<(), Failure<T
 pub(crate) struct RuleResult<T> {
     pub value: T,
     pub error: T,
-    /// Rounding floor: below this no rule can resolve the integral.
-    pub floor: T,
     pub pieces: usize,
 }

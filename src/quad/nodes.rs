@@ -3,22 +3,24 @@
 use crate::real::Real;
 use std::any::{Any, TypeId};
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex, OnceLock};
+use std::cell::RefCell;
+use std::sync::Arc;
 
-type Cache = Mutex<HashMap<(TypeId, u32, u32, usize), Arc<dyn Any + Send + Sync>>>;
+type Cache = RefCell<HashMap<(TypeId, u32, u32, usize), Arc<dyn Any + Send + Sync>>>;
 
-fn cache() -> &'static Cache {
-    static CACHE: OnceLock<Cache> = OnceLock::new();
-    CACHE.get_or_init(|| Mutex::new(HashMap::new()))
+thread_local! {
+    /// Per-thread, so that look-ups in inner loops take no lock.
+    static CACHE: Cache = RefCell::new(HashMap::new());
 }
 
-fn cached<T: Real + 'static, V: Send + Sync + 'static>(kind: u32, like: &T, n: usize, make: impl FnOnce() -> V) -> Arc<V> {
+/// Value `make()` cached under (type, precision, kind, n), per thread.
+pub(crate) fn cached<T: Real + 'static, V: Send + Sync + 'static>(kind: u32, like: &T, n: usize, make: impl FnOnce() -> V) -> Arc<V> {
     let key = (TypeId::of::<T>(), like.prec(), kind, n);
-    if let Some(v) = cache().lock().expect("node cache").get(&key) {
-        return v.clone().downcast::<V>().expect("node cache type");
+    if let Some(v) = CACHE.with(|c| c.borrow().get(&key).cloned()) {
+        return v.downcast::<V>().expect("node cache type");
     }
     let v = Arc::new(make());
-    cache().lock().expect("node cache").insert(key, v.clone());
+    CACHE.with(|c| c.borrow_mut().insert(key, v.clone()));
     v
 }
 

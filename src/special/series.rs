@@ -15,22 +15,34 @@ pub(crate) fn sqrt_half_series<T: Real>(u: &T, c: f64, extra: bool) -> T {
     let eps = u.eps().to_f64().max(f64::MIN_POSITIVE);
     let ratio = (u.to_f64() / 2.0).max(f64::MIN_POSITIVE);
     let terms = ((eps / 8.0).ln() / ratio.ln()).ceil().clamp(1.0, 100_000.0) as usize;
-    let mut coeffs = Vec::with_capacity(terms + 1);
-    let mut beta = u.lit(1.0);
-    for k in 0..=terms {
-        let kf = k as f64;
-        if k > 0 {
-            // β_k = β_{k−1} (2k − 3)/(4k), exact integers at any precision.
-            beta = beta * u.lit(2.0 * kf - 3.0) / u.lit(4.0 * kf);
-        }
-        let denom = if extra { u.lit((kf + 1.5) * (kf + c)) } else { u.lit(kf + c) };
-        coeffs.push(beta.clone() / denom);
-    }
+    let coeffs = coefficients(u, c, extra);
     let mut sum = u.lit(0.0);
-    for coeff in coeffs.into_iter().rev() {
-        sum = sum * u.clone() + coeff;
+    for coeff in coeffs[..=terms.min(coeffs.len() - 1)].iter().rev() {
+        sum = sum * u.clone() + coeff.clone();
     }
     sum
+}
+
+/// β_k/(k + c) (or β_k/((k + 3/2)(k + c))) for k = 0…K with (1/4)^K below
+/// the working epsilon (enough for every u ≤ 1/2), cached per precision.
+fn coefficients<T: Real>(like: &T, c: f64, extra: bool) -> std::sync::Arc<Vec<T>> {
+    let kind = 100 + (c * 4.0) as u32 * 2 + extra as u32;
+    let eps = like.eps().to_f64().max(f64::MIN_POSITIVE);
+    let terms = ((eps / 8.0).ln() / 0.25f64.ln()).ceil() as usize + 1;
+    crate::quad::cached(kind, like, terms, || {
+        let mut out = Vec::with_capacity(terms + 1);
+        let mut beta = like.lit(1.0);
+        for k in 0..=terms {
+            let kf = k as f64;
+            if k > 0 {
+                // β_k = β_{k−1} (2k − 3)/(4k), exact integers at any precision.
+                beta = beta * like.lit(2.0 * kf - 3.0) / like.lit(4.0 * kf);
+            }
+            let denom = if extra { like.lit((kf + 1.5) * (kf + c)) } else { like.lit(kf + c) };
+            out.push(beta.clone() / denom);
+        }
+        out
+    })
 }
 
 /// y − sin y for 0 ≤ y ≤ 2.2, by its Taylor series y³/3! − y⁵/5! + …,
