@@ -10,7 +10,7 @@ use std::sync::Arc;
 /// Levels computed before a panel's first error estimate (h = 1/8; 63 points
 /// in f64). Successive tanh–sinh levels converge quadratically, so the
 /// difference of levels 2 and 3 is a sound, if pessimistic, bound for level 3.
-const START_LEVEL: usize = 3;
+const START_LEVEL: usize = 2;
 
 /// Highest level before a panel is bisected instead (f64: h = 1/128).
 fn max_level<T: Real>(like: &T) -> usize {
