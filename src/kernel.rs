@@ -35,9 +35,20 @@ impl<T: Real> Angle<T> {
     }
 }
 
-fn integrand<T: Real>(angle: &Angle<T>, r: &T, s: &T, t: &T) -> T {
-    let x = t.clone() * angle.sin.clone() / (r.lit(2.0) * r.clone());
-    overlap_a(&x) * (-(t.clone() * (angle.abs_cos.clone() + t.lit(1.0)) + s.clone())).exp()
+/// The integrand A(t·k) e^{−(c t + s)} with k = sin ϑ/(2R), c = 1 + |cos ϑ|
+/// computed once per integral.
+struct Integrand<T> {
+    k: T,
+    c: T,
+}
+
+impl<T: Real> Integrand<T> {
+    fn new(angle: &Angle<T>, r: &T) -> Self {
+        Integrand { k: angle.sin.clone() / (r.lit(2.0) * r.clone()), c: angle.abs_cos.clone() + r.lit(1.0) }
+    }
+    fn at(&self, s: &T, t: &T) -> T {
+        overlap_a(&(t.clone() * self.k.clone())) * (-(t.clone() * self.c.clone() + s.clone())).exp()
+    }
 }
 
 /// I(ϑ, R) with its structure given: the inner t-integral ends at the support
@@ -54,8 +65,9 @@ pub fn kernel_integral<T: CheckRule>(angle: &Angle<T>, r: &T, opts: &Options) ->
     } else {
         Domain::semi_infinite(r.lit(0.0)).with_decay(angle.abs_cos.clone() + r.lit(1.0))
     };
+    let g = Integrand::new(angle, r);
     integrate_nested(
-        |s: &T, inner: &Options| integrate(|t: &T| integrand(angle, r, s, t), &inner_domain, inner),
+        |s: &T, inner: &Options| integrate(|t: &T| g.at(s, t), &inner_domain, inner),
         &Domain::semi_infinite(r.lit(0.0)).with_decay(r.lit(1.0)),
         &opts,
     )
@@ -65,8 +77,9 @@ pub fn kernel_integral<T: CheckRule>(angle: &Angle<T>, r: &T, opts: &Options) ->
 pub fn kernel_integral_bare<T: CheckRule>(angle: &Angle<T>, r: &T, opts: &Options) -> Outcome<T> {
     let opts = Options { structure: Structure::Unknown, ..opts.clone() };
     let inner_domain = Domain::semi_infinite(r.lit(0.0));
+    let g = Integrand::new(angle, r);
     integrate_nested(
-        |s: &T, inner: &Options| integrate(|t: &T| integrand(angle, r, s, t), &inner_domain, inner),
+        |s: &T, inner: &Options| integrate(|t: &T| g.at(s, t), &inner_domain, inner),
         &Domain::semi_infinite(r.lit(0.0)),
         &opts,
     )

@@ -50,7 +50,7 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
         /// Repetitions per f64 row (the minimum time is reported).
-        #[arg(long, default_value_t = 5)]
+        #[arg(long, default_value_t = 20)]
         repeats: usize,
     },
 }

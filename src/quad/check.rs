@@ -8,7 +8,7 @@
 //! no flag and may misstate its error by 10¹³ (we never read its estimate: a
 //! panel's error is the difference between the rule on the panel and on its
 //! two halves). MPFR uses Gauss–Legendre with nodes computed at the working
-//! precision, n = prec/3 points, and the panel error |G_n − G_{n/2}|.
+//! precision, n = prec/2 points, and the panel error |G_n − G_{n/2}|.
 
 use super::nodes::gauss_legendre;
 use super::tanh_sinh::sum;

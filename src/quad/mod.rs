@@ -6,32 +6,29 @@
 //! could be given (the best guess travels with it, clearly labelled). The two
 //! cannot be confused: a `Failure` is an `Err`.
 //!
-//! How a result is earned:
+//! How a result is earned (details and limits: `docs/quadrature.md`):
 //! 1. **Pieces.** The interval is cut at the caller's breakpoints; a
-//!    semi-infinite piece [a, ∞) is mapped to [0, 1) by t = a + u/(1 − u).
+//!    semi-infinite piece [a, ∞) is mapped to [0, 1) (rationally, or
+//!    exponentially when the caller declares a decay rate).
 //! 2. **Structure scan** ([`Structure::Unknown`], the default). The integrand
 //!    is sampled on a grid that is geometric towards every piece's ends and
 //!    uniform inside; every change between zero and non-zero is located by
 //!    bisection to the working precision and becomes a breakpoint, and any
 //!    non-finite value is an error. This is how the kink at t = 2R/sin ϑ of the
 //!    paper's kernel (23) is found when nobody passes it.
-//! 3. **Primary rule:** tanh–sinh on each piece, refined level by level
-//!    (error: difference of successive levels, plus the rounding floor, plus
-//!    the propagated error of nested inner integrals), pieces bisected when a
-//!    level cap is reached; global control picks the piece with the largest
-//!    error until Σ errors ≤ max(abs_tol, rel_tol·|I|).
-//! 4. **Cross-check:** the same pieces integrated again by an unrelated rule,
-//!    adaptive bisection in a smoothing substitution (f64: the `quadrature`
-//!    crate's Clenshaw–Curtis, wrapped; MPFR: Gauss–Legendre with nodes
-//!    computed at the working precision). The two must agree within the sum of
-//!    their error bars; the reported bar is at least their difference.
+//! 3. **Primary rule:** tanh–sinh on each piece, refined level by level,
+//!    pieces bisected at a level cap, under global error control.
+//! 4. **Cross-check:** the same pieces integrated again by an unrelated rule
+//!    (f64: the `quadrature` crate's Clenshaw–Curtis, wrapped; MPFR:
+//!    Gauss–Legendre with nodes computed at the working precision), in a
+//!    smoothing substitution. The reported bar is max(e_p, |p − c| + e_c).
 //! 5. **All-zero guard:** if every sample was exactly zero, no bound can be
 //!    given (the support may be narrower than the scan resolves): `Failure`.
 //!
-//! Nesting: an integrand may itself call [`integrate`] and return its
-//! `Estimate` through [`integrate_nested`]; inner error bars are integrated
-//! into the outer one, evaluation counts add up, and an inner `Failure` fails
-//! the outer integral.
+//! Nesting: [`integrate_nested`] runs a scale pass, a primary pass and an
+//! independent check pass (check rule at every level); inner error bars are
+//! integrated into the outer one, evaluation counts add up, and an inner
+//! `Failure` fails the outer integral.
 
 mod check;
 mod nodes;
@@ -233,15 +230,16 @@ pub fn integrate<T: CheckRule, F: FnMut(&T) -> T>(mut f: F, domain: &Domain<T>, 
 /// ∫ f over `domain` where f(x, inner_opts) is itself an integral (or any
 /// value with an error bar), computed with the options it is handed.
 ///
-/// Two passes. A coarse one (outer 10⁻³, inner 10⁻⁵, no cross-check) finds the
-/// scale V₀ of the result; the accurate one then hands the inner integrals
-/// `rel_tol/10` (at least 64 ulps) *and* an absolute tolerance of
-/// `rel_tol·|V₀|/10`, so that
-/// inner integrals far out in a tail, which cannot matter, are not driven
-/// into the rounding noise of their own integrand (e^{−(s+t)} at s = 700 is
-/// only good to ~10⁻¹³ relative in f64). Inner error bars are still the
-/// inner integrals' own estimates, integrated into the outer bar.
-/// An inner `Failure` aborts the outer integral with its reason.
+/// Three passes. A coarse one (outer 10⁻³, inner 10⁻⁵, no cross-check) finds
+/// the scale V₀ of the result. The primary pass (primary rule at every level)
+/// hands the inner integrals `rel_tol/10` (at least 64 ulps) *and* an
+/// absolute tolerance of `rel_tol·|V₀|/10`, so that inner integrals far out
+/// in a tail, which cannot matter, are not driven into the rounding noise of
+/// their own integrand (e^{−(s+t)} at s = 700 is only good to ~10⁻¹³ relative
+/// in f64). The check pass repeats the computation with the check rule at
+/// every level, and the two are reconciled as for a plain integral. Inner
+/// error bars are the inner integrals' own estimates, integrated into the
+/// outer bar. An inner `Failure` aborts the outer integral with its reason.
 pub fn integrate_nested<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(mut f: F, domain: &Domain<T>, opts: &Options) -> Outcome<T> {
     let coarse_outer = Options { rel_tol: opts.rel_tol.max(1e-3), cross_check: false, ..opts.clone() };
     let coarse_inner = Options { rel_tol: opts.rel_tol.max(1e-5), abs_tol: 0.0, cross_check: false, zero_guard: false, ..opts.clone() };

@@ -7,9 +7,8 @@ use super::{goal, Failure, Mapped, Options, Piece, RuleResult};
 use crate::real::Real;
 use std::sync::Arc;
 
-/// Levels computed before a panel's first error estimate (h = 1/8; 63 points
-/// in f64). Successive tanh–sinh levels converge quadratically, so the
-/// difference of levels 2 and 3 is a sound, if pessimistic, bound for level 3.
+/// Levels computed before a panel's first error estimate (h = 1/4; 31 points
+/// in f64): three levels give the two differences d₂, d₁ of the estimate.
 const START_LEVEL: usize = 2;
 
 /// Highest level before a panel is bisected instead (f64: h = 1/128).
