@@ -21,8 +21,13 @@ pub enum SpecialFn {
 }
 
 impl SpecialFn {
-    pub const ALL: [SpecialFn; 5] =
-        [SpecialFn::OverlapA, SpecialFn::OverlapAIntegral, SpecialFn::OverlapAMoment, SpecialFn::ExpIntE1, SpecialFn::ExpIntTail2];
+    pub const ALL: [SpecialFn; 5] = [
+        SpecialFn::OverlapA,
+        SpecialFn::OverlapAIntegral,
+        SpecialFn::OverlapAMoment,
+        SpecialFn::ExpIntE1,
+        SpecialFn::ExpIntTail2,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -61,7 +66,12 @@ impl SpecialFn {
     fn segments(self) -> &'static [Segment] {
         const OVERLAP: &[Segment] = &[
             Segment { label: "x ∈ [1e-300, 0.5], log-spaced", lo: 1e-300, hi: 0.5, spacing: Spacing::Log },
-            Segment { label: "1 − x ∈ [2⁻⁵³, 0.5], log-spaced", lo: 1.1102230246251565e-16, hi: 0.5, spacing: Spacing::LogFromOne },
+            Segment {
+                label: "1 − x ∈ [2⁻⁵³, 0.5], log-spaced",
+                lo: 1.1102230246251565e-16,
+                hi: 0.5,
+                spacing: Spacing::LogFromOne,
+            },
             Segment { label: "x ∈ [0, 1.5], uniform", lo: 0.0, hi: 1.5, spacing: Spacing::Uniform },
         ];
         const EXPINT: &[Segment] = &[
@@ -197,11 +207,13 @@ pub fn sweep(func: SpecialFn, points: usize) -> Vec<SegmentSummary> {
     let per = points.div_ceil(segs.len());
     segs.iter()
         .map(|seg| {
-            let mut errs: Vec<(f64, f64)> =
-                (0..per).into_par_iter().map(|i| {
+            let mut errs: Vec<(f64, f64)> = (0..per)
+                .into_par_iter()
+                .map(|i| {
                     let x = seg.point(i, per);
                     (ulps_at(func, x), x)
-                }).collect();
+                })
+                .collect();
             let (max_ulps, max_at) = errs.iter().copied().fold((0.0, f64::NAN), |a, b| if b.0 > a.0 { b } else { a });
             errs.sort_by(|a, b| a.0.total_cmp(&b.0));
             SegmentSummary {

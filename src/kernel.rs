@@ -118,7 +118,9 @@ pub fn kernel_series_reference(sin_theta: &rug::Float, abs_cos: &rug::Float, r: 
         }
         let term = Float::with_val(p, &power * &beta[parity]) / (n + 1);
         sum += &term;
-        if Float::with_val(p, n) > ct && Float::with_val(p, term.abs_ref()) < eps.clone() * Float::with_val(p, sum.abs_ref()) {
+        if Float::with_val(p, n) > ct
+            && Float::with_val(p, term.abs_ref()) < eps.clone() * Float::with_val(p, sum.abs_ref())
+        {
             break;
         }
         power = -(power * &ct) / (n + 1);

@@ -9,6 +9,9 @@
 //! noise, beside the independent reference tracer (crate `mcrt-reference`).
 //! Units and conventions: `docs/conventions.md`.
 
+// `!(x >= 0)` is how NaN-rejecting range checks are written here, on purpose.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod accuracy;
 pub mod kernel;
 pub mod prec;

@@ -7,7 +7,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "mcrt-noise", version, about = "Noise oracle for multiple-integration-sphere MCRT in scattering media")]
+#[command(
+    name = "mcrt-noise",
+    version,
+    about = "Noise oracle for multiple-integration-sphere MCRT in scattering media"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -77,7 +81,11 @@ fn main() -> ExitCode {
 fn validate(path: &PathBuf) -> Result<(), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let scene = Scene::from_toml_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-    print!("{}", scene.to_toml_string());
+    let text = scene.to_toml_string();
+    print!("{text}");
+    if !text.ends_with('\n') {
+        println!();
+    }
     Ok(())
 }
 

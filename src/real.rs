@@ -71,7 +71,11 @@ pub trait Real:
         self.lit(0.0)
     }
     fn max_of(self, other: Self) -> Self {
-        if other > self { other } else { self }
+        if other > self {
+            other
+        } else {
+            self
+        }
     }
 }
 

@@ -24,7 +24,9 @@ fn validate_reports_every_bad_field_and_exits_non_zero() {
     let dir = std::env::temp_dir().join(format!("mcrt-noise-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("bad.toml");
-    let good = std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml")).unwrap();
+    let good =
+        std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml"))
+            .unwrap();
     std::fs::write(&path, good.replace("q = 0.5", "q = 1.5").replace("albedo = 0.8", "albedo = nan")).unwrap();
     let out = bin().arg("validate").arg(&path).output().unwrap();
     assert!(!out.status.success());
@@ -40,7 +42,8 @@ fn kernel_command_reports_value_bar_and_cost() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
     let value: f64 = text.lines().next().unwrap().strip_prefix("I(1, 1e-3) = ").expect("value line").parse().unwrap();
-    assert!(((value - 1.5828197124289608462e-3) / 1.5828197124289608462e-3).abs() <= 1e-13, "{text}");
+    let reference: f64 = "1.5828197124289608462e-3".parse().unwrap(); // the 20-digit reference
+    assert!(((value - reference) / reference).abs() <= 1e-13, "{text}");
     assert!(text.contains("error bar") && text.contains("evaluations"), "{text}");
 }
 

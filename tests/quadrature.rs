@@ -6,19 +6,29 @@
 //! a 1024-bit quadrature-free series reference (`kernel_series_reference`),
 //! which is itself checked against the 20–25-digit references.
 
-use mcrt_noise::kernel::{kernel_integral, kernel_integral_bare, kernel_series_reference, parse_decimal, Angle, ACCEPTANCE_CASES};
+use mcrt_noise::kernel::{
+    kernel_integral, kernel_integral_bare, kernel_series_reference, parse_decimal, Angle, ACCEPTANCE_CASES,
+};
 use mcrt_noise::quad::{integrate, integrate_nested, Domain, Options};
 use mcrt_noise::special::exp_int_e1;
 use rug::Float;
 
 fn angle_f64(spec: &str, pole: bool) -> Angle<f64> {
     let v = parse_decimal(spec, 53).unwrap().to_f64();
-    if pole { Angle::from_pole(&v) } else { Angle::from_theta(&v) }
+    if pole {
+        Angle::from_pole(&v)
+    } else {
+        Angle::from_theta(&v)
+    }
 }
 
 fn angle_mpfr(spec: &str, pole: bool, bits: u32) -> Angle<Float> {
     let v = parse_decimal(spec, bits).unwrap();
-    if pole { Angle::from_pole(&v) } else { Angle::from_theta(&v) }
+    if pole {
+        Angle::from_pole(&v)
+    } else {
+        Angle::from_theta(&v)
+    }
 }
 
 /// Relative precision of a decimal reference given with `digits` significant digits.
@@ -33,11 +43,17 @@ fn reference_precision(text: &str) -> f64 {
 fn kernel_f64_meets_1e13_on_every_acceptance_case_with_structure_given() {
     for (label, theta, pole, r, reference) in ACCEPTANCE_CASES {
         let r = parse_decimal(r, 53).unwrap().to_f64();
-        let e = kernel_integral(&angle_f64(theta, pole), &r, &Options::rel(1e-13)).unwrap_or_else(|f| panic!("{label}: {f}"));
+        let e = kernel_integral(&angle_f64(theta, pole), &r, &Options::rel(1e-13))
+            .unwrap_or_else(|f| panic!("{label}: {f}"));
         let exact = parse_decimal(reference, 53).unwrap().to_f64();
         let rel = ((e.value - exact) / exact).abs();
         assert!(rel <= 1e-13, "{label}: {} vs {exact}: rel {rel:e}", e.value);
-        assert!((e.value - exact).abs() <= e.error + exact * reference_precision(reference), "{label}: error bar {} too small for actual {}", e.error, (e.value - exact).abs());
+        assert!(
+            (e.value - exact).abs() <= e.error + exact * reference_precision(reference),
+            "{label}: error bar {} too small for actual {}",
+            e.error,
+            (e.value - exact).abs()
+        );
     }
 }
 
@@ -45,7 +61,8 @@ fn kernel_f64_meets_1e13_on_every_acceptance_case_with_structure_given() {
 fn kernel_f64_bare_integrand_finds_the_edge_itself() {
     for (label, theta, pole, r, reference) in ACCEPTANCE_CASES {
         let r = parse_decimal(r, 53).unwrap().to_f64();
-        let e = kernel_integral_bare(&angle_f64(theta, pole), &r, &Options::rel(1e-13)).unwrap_or_else(|f| panic!("{label}: {f}"));
+        let e = kernel_integral_bare(&angle_f64(theta, pole), &r, &Options::rel(1e-13))
+            .unwrap_or_else(|f| panic!("{label}: {f}"));
         let exact = parse_decimal(reference, 53).unwrap().to_f64();
         let rel = ((e.value - exact) / exact).abs();
         assert!(rel <= 1e-13, "{label}: bare {} vs {exact}: rel {rel:e}", e.value);
@@ -72,13 +89,18 @@ fn kernel_mpfr_128_bits_meets_1e30() {
     for (label, theta, pole, r, _) in ACCEPTANCE_CASES {
         let a = angle_mpfr(theta, pole, bits);
         let rr = parse_decimal(r, bits).unwrap();
-        let e = kernel_integral(&a, &rr, &Options::rel(mcrt_noise::report::mpfr_default_tol(bits))).unwrap_or_else(|f| panic!("{label}: {f}"));
+        let e = kernel_integral(&a, &rr, &Options::rel(mcrt_noise::report::mpfr_default_tol(bits)))
+            .unwrap_or_else(|f| panic!("{label}: {f}"));
         let p = 1024;
         let a_ref = angle_mpfr(theta, pole, p);
         let reference = kernel_series_reference(&a_ref.sin, &a_ref.abs_cos, &parse_decimal(r, p).unwrap(), p);
         let rel = (Float::with_val(p, &e.value - &reference) / &reference).abs().to_f64();
         assert!(rel <= 1e-30, "{label}: 128-bit rel error {rel:e}");
-        assert!(rel * reference.to_f64().abs() <= e.error.to_f64() * 1.0001 + 1e-300, "{label}: bar {} below actual error", e.error.to_f64());
+        assert!(
+            rel * reference.to_f64().abs() <= e.error.to_f64() * 1.0001 + 1e-300,
+            "{label}: bar {} below actual error",
+            e.error.to_f64()
+        );
     }
 }
 
@@ -118,7 +140,9 @@ fn semi_infinite_and_nested_three_dimensions() {
     let opts = Options::rel(1e-12);
     let unit = Domain::finite(0.0, 1.0);
     let e = integrate_nested(
-        |x: &f64, o: &Options| integrate_nested(|y: &f64, o2: &Options| integrate(|z: &f64| x + y * z, &unit, o2), &unit, o),
+        |x: &f64, o: &Options| {
+            integrate_nested(|y: &f64, o2: &Options| integrate(|z: &f64| x + y * z, &unit, o2), &unit, o)
+        },
         &unit,
         &opts,
     )
@@ -131,7 +155,12 @@ fn semi_infinite_and_nested_three_dimensions() {
 fn mpfr_nodes_integrate_polynomials_exactly() {
     let bits = 200;
     let one = Float::with_val(bits, 1);
-    let e = integrate(|x: &Float| x.clone() * x.clone() * x.clone() * x.clone(), &Domain::finite(Float::with_val(bits, 0), one.clone()), &Options::rel(1e-55)).unwrap();
+    let e = integrate(
+        |x: &Float| x.clone() * x.clone() * x.clone() * x.clone(),
+        &Domain::finite(Float::with_val(bits, 0), one.clone()),
+        &Options::rel(1e-55),
+    )
+    .unwrap();
     let exact = one / 5u32;
     let rel = (Float::with_val(bits, &e.value - &exact) / &exact).abs().to_f64();
     assert!(rel <= 1e-55, "{rel:e}");

@@ -44,7 +44,24 @@ fn f64_sweep_within_4_ulps_and_pinned() {
 #[test]
 fn generic_code_is_accurate_at_256_bits() {
     let bits = 256;
-    let xs = [1e-300, 1e-20, 1e-3, 0.1, 0.3, 0.49, 0.5, 0.6, 0.75, 0.9, 0.999, 1.0 - 1e-12, 1.0 - 2f64.powi(-53), 2.0, 10.0, 700.0];
+    let xs = [
+        1e-300,
+        1e-20,
+        1e-3,
+        0.1,
+        0.3,
+        0.49,
+        0.5,
+        0.6,
+        0.75,
+        0.9,
+        0.999,
+        1.0 - 1e-12,
+        1.0 - 2f64.powi(-53),
+        2.0,
+        10.0,
+        700.0,
+    ];
     for f in SpecialFn::ALL {
         for &x in &xs {
             let is_overlap = matches!(f, SpecialFn::OverlapA | SpecialFn::OverlapAIntegral | SpecialFn::OverlapAMoment);
@@ -77,7 +94,12 @@ fn special_values_and_domain_edges() {
     assert!(exp_int_e1(&f64::NAN).is_nan());
     assert_eq!(exp_int_tail2(&0.0), f64::INFINITY);
     // Continuity across the internal switch points, to a few ulps.
-    for (f, x) in [(SpecialFn::OverlapA, 0.5), (SpecialFn::OverlapAMoment, 0.75), (SpecialFn::ExpIntE1, 0.5), (SpecialFn::ExpIntTail2, 0.45)] {
+    for (f, x) in [
+        (SpecialFn::OverlapA, 0.5),
+        (SpecialFn::OverlapAMoment, 0.75),
+        (SpecialFn::ExpIntE1, 0.5),
+        (SpecialFn::ExpIntTail2, 0.45),
+    ] {
         let below = f.eval_f64(x - 1e-15);
         let at = f.eval_f64(x);
         assert!(((below - at) / at).abs() < 1e-13, "{} jumps at {x}", f.name());

@@ -16,6 +16,6 @@ mod phase;
 mod validate;
 
 pub use error::{FieldError, SceneError};
+pub use glam::DVec3;
 pub use model::{Camera, Effects, Estimator, Light, Medium, ScatteringOrders, Scene};
 pub use phase::Phase;
-pub use glam::DVec3;

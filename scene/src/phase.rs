@@ -60,7 +60,13 @@ mod tests {
         for i in 0..=n {
             let y = i as f64 * h;
             let mu = 1.0 - 2.0 * y * y;
-            let w = if i == 0 || i == n { 1.0 } else if i % 2 == 1 { 4.0 } else { 2.0 };
+            let w = if i == 0 || i == n {
+                1.0
+            } else if i % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
             sum += w * phase.eval(mu) * mu.powi(moment) * 4.0 * y;
         }
         2.0 * PI * sum * h / 3.0

@@ -33,9 +33,7 @@ impl Checker {
 
     /// `v` finite and `lo < v` (open) or `lo <= v` (closed), and `v <= hi` / `< hi`.
     fn range(&mut self, field: &str, v: f64, lo: (f64, bool), hi: (f64, bool), allowed: &str) -> f64 {
-        let ok = v.is_finite()
-            && if lo.1 { v >= lo.0 } else { v > lo.0 }
-            && if hi.1 { v <= hi.0 } else { v < hi.0 };
+        let ok = v.is_finite() && if lo.1 { v >= lo.0 } else { v > lo.0 } && if hi.1 { v <= hi.0 } else { v < hi.0 };
         if !ok {
             self.push(field, v, allowed);
         }
@@ -170,8 +168,7 @@ impl Scene {
 }
 
 fn medium(c: &mut Checker, m: &MediumFile) -> Medium {
-    let sigma_ext =
-        c.range("medium.sigma_ext", m.sigma_ext, (0.0, false), (f64::INFINITY, false), "finite and > 0");
+    let sigma_ext = c.range("medium.sigma_ext", m.sigma_ext, (0.0, false), (f64::INFINITY, false), "finite and > 0");
     let albedo = c.range("medium.albedo", m.albedo, (0.0, true), (1.0, true), "in [0, 1]");
     let phase = match (m.phase.kind.as_str(), m.phase.g) {
         ("isotropic", None) => Phase::Isotropic,
@@ -210,7 +207,9 @@ fn light(c: &mut Checker, at: &str, l: &LightFile) -> Option<Light> {
     match l.kind.as_str() {
         "point" => {
             require(c, "position", l.position.is_some(), "point");
-            for (name, present) in [("center", l.center.is_some()), ("direction", l.direction.is_some()), ("radius", l.radius.is_some())] {
+            for (name, present) in
+                [("center", l.center.is_some()), ("direction", l.direction.is_some()), ("radius", l.radius.is_some())]
+            {
                 forbid(c, name, present, "point");
             }
             let position = l.position.map(|p| c.vector(&format!("{at}.position"), p)).unwrap_or(DVec3::ZERO);
@@ -218,7 +217,9 @@ fn light(c: &mut Checker, at: &str, l: &LightFile) -> Option<Light> {
         }
         "beam" => {
             forbid(c, "position", l.position.is_some(), "beam");
-            for (name, present) in [("center", l.center.is_some()), ("direction", l.direction.is_some()), ("radius", l.radius.is_some())] {
+            for (name, present) in
+                [("center", l.center.is_some()), ("direction", l.direction.is_some()), ("radius", l.radius.is_some())]
+            {
                 require(c, name, present, "beam");
             }
             let center = l.center.map(|p| c.vector(&format!("{at}.center"), p)).unwrap_or(DVec3::ZERO);
@@ -265,7 +266,11 @@ fn orders(c: &mut Checker, o: &OrdersFile) -> ScatteringOrders {
             ScatteringOrders::All
         }
         OrdersFile::Word(w) => {
-            c.push("effects.scattering_orders", format!("{w:?}"), &format!("an integer in [0, {MAX_ORDERS}] or \"all\""));
+            c.push(
+                "effects.scattering_orders",
+                format!("{w:?}"),
+                &format!("an integer in [0, {MAX_ORDERS}] or \"all\""),
+            );
             ScatteringOrders::All
         }
     }

@@ -77,10 +77,9 @@ fn direction_is_normalised_and_round_trips() {
 
 #[test]
 fn defaults_are_filled_in() {
-    let text = BASE.replace("[effects]\nscattering_orders = 0\n", "").replace(
-        "[medium.phase]\nkind = \"henyey-greenstein\"\ng = 0.0\n",
-        "",
-    );
+    let text = BASE
+        .replace("[effects]\nscattering_orders = 0\n", "")
+        .replace("[medium.phase]\nkind = \"henyey-greenstein\"\ng = 0.0\n", "");
     let s = Scene::from_toml_str(&text).unwrap();
     assert_eq!(s.medium.phase, Phase::Isotropic);
     assert_eq!(s.effects.scattering_orders, ScatteringOrders::Limited(0));

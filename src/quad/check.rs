@@ -47,7 +47,13 @@ pub trait CheckRule: Real + 'static {
     /// The rule's estimate on [s0, s1]; `whole` is its value on the whole
     /// panel if a parent already computed it.
     #[doc(hidden)]
-    fn panel(g: &mut PanelFn<'_, Self>, s0: &Self, s1: &Self, target: &Self, whole: Option<Self>) -> Result<PanelEstimate<Self>, Failure<Self>>;
+    fn panel(
+        g: &mut PanelFn<'_, Self>,
+        s0: &Self,
+        s1: &Self,
+        target: &Self,
+        whole: Option<Self>,
+    ) -> Result<PanelEstimate<Self>, Failure<Self>>;
 }
 
 /// The crate's Clenshaw–Curtis on [s0, s1]: (value, inner bound, ∫|g|).
@@ -91,7 +97,13 @@ impl CheckRule for f64 {
     const CHECK_NAME: &'static str = "Clenshaw-Curtis (quadrature crate)";
     const NEEDS_TARGET: bool = true;
 
-    fn panel(g: &mut PanelFn<'_, f64>, s0: &f64, s1: &f64, target: &f64, whole: Option<f64>) -> Result<PanelEstimate<f64>, Failure<f64>> {
+    fn panel(
+        g: &mut PanelFn<'_, f64>,
+        s0: &f64,
+        s1: &f64,
+        target: &f64,
+        whole: Option<f64>,
+    ) -> Result<PanelEstimate<f64>, Failure<f64>> {
         let whole = match whole {
             Some(w) => w,
             None => clenshaw_curtis(g, *s0, *s1, *target)?.0,
@@ -111,7 +123,12 @@ impl CheckRule for f64 {
 }
 
 /// n-point Gauss–Legendre on [s0, s1]: (value, inner error, ∫|g|).
-fn gauss_legendre_rule(g: &mut PanelFn<'_, Float>, s0: &Float, s1: &Float, n: usize) -> Result<(Float, Float, Float), Failure<Float>> {
+fn gauss_legendre_rule(
+    g: &mut PanelFn<'_, Float>,
+    s0: &Float,
+    s1: &Float,
+    n: usize,
+) -> Result<(Float, Float, Float), Failure<Float>> {
     let nodes = gauss_legendre(s0, n);
     let half = (s1.clone() - s0.clone()) / s0.lit(2.0);
     let mid = (s1.clone() + s0.clone()) / s0.lit(2.0);
@@ -136,7 +153,13 @@ impl CheckRule for Float {
     const CHECK_NAME: &'static str = "Gauss-Legendre (MPFR nodes)";
     const NEEDS_TARGET: bool = false;
 
-    fn panel(g: &mut PanelFn<'_, Float>, s0: &Float, s1: &Float, _target: &Float, _whole: Option<Float>) -> Result<PanelEstimate<Float>, Failure<Float>> {
+    fn panel(
+        g: &mut PanelFn<'_, Float>,
+        s0: &Float,
+        s1: &Float,
+        _target: &Float,
+        _whole: Option<Float>,
+    ) -> Result<PanelEstimate<Float>, Failure<Float>> {
         let n = (Real::prec(s0) as usize / 2).clamp(20, 600);
         let (value, inner_err, abs) = gauss_legendre_rule(g, s0, s1, n)?;
         let (coarse, _, _) = gauss_legendre_rule(g, s0, s1, n / 2)?;
@@ -162,7 +185,11 @@ impl<T: Real> Panel<T> {
 }
 
 /// Integrates all pieces to the goal of `opts`.
-pub(crate) fn adaptive<T: CheckRule>(f: &mut Mapped<'_, '_, T>, pieces: &[Piece<T>], opts: &Options) -> Result<RuleResult<T>, Failure<T>> {
+pub(crate) fn adaptive<T: CheckRule>(
+    f: &mut Mapped<'_, '_, T>,
+    pieces: &[Piece<T>],
+    opts: &Options,
+) -> Result<RuleResult<T>, Failure<T>> {
     let like = pieces[0].a.clone();
     // g(s) = f(x(s)) (b − a) φ'(s), x(s) = a + (b − a) φ(s), φ = 3s² − 2s³.
     let estimate = |piece_idx: usize, s0: &T, s1: &T, target: &T, whole: Option<T>, f: &mut Mapped<'_, '_, T>| {
@@ -218,7 +245,10 @@ pub(crate) fn adaptive<T: CheckRule>(f: &mut Mapped<'_, '_, T>, pieces: &[Piece<
             break;
         }
         if f.tally.calls >= opts.max_evals {
-            return Err(f.fail(format!("evaluation budget {} exhausted by the cross-check", opts.max_evals), Some((value, error))));
+            return Err(f.fail(
+                format!("evaluation budget {} exhausted by the cross-check", opts.max_evals),
+                Some((value, error)),
+            ));
         }
         let p = panels.swap_remove(worst);
         let mid = (p.s0.clone() + p.s1.clone()) / p.s0.lit(2.0);

@@ -108,7 +108,15 @@ impl Rule {
 impl Options {
     /// Relative tolerance `rel_tol`, no absolute floor, unknown structure.
     pub fn rel(rel_tol: f64) -> Options {
-        Options { rel_tol, abs_tol: 0.0, max_evals: 2_000_000, structure: Structure::Unknown, cross_check: true, zero_guard: true, rule: Rule::TanhSinh }
+        Options {
+            rel_tol,
+            abs_tol: 0.0,
+            max_evals: 2_000_000,
+            structure: Structure::Unknown,
+            cross_check: true,
+            zero_guard: true,
+            rule: Rule::TanhSinh,
+        }
     }
 
     pub fn declared(mut self) -> Options {
@@ -220,11 +228,7 @@ pub struct Sample<T> {
 
 /// ∫ f over `domain` for a plain integrand `f(x) -> T`.
 pub fn integrate<T: CheckRule, F: FnMut(&T) -> T>(mut f: F, domain: &Domain<T>, opts: &Options) -> Outcome<T> {
-    integrate_samples(
-        &mut |x: &T| Ok(Sample { error: x.lit(0.0), value: f(x), evaluations: 1 }),
-        domain,
-        opts,
-    )
+    integrate_samples(&mut |x: &T| Ok(Sample { error: x.lit(0.0), value: f(x), evaluations: 1 }), domain, opts)
 }
 
 /// ∫ f over `domain` where f(x, inner_opts) is itself an integral (or any
@@ -240,9 +244,19 @@ pub fn integrate<T: CheckRule, F: FnMut(&T) -> T>(mut f: F, domain: &Domain<T>, 
 /// every level, and the two are reconciled as for a plain integral. Inner
 /// error bars are the inner integrals' own estimates, integrated into the
 /// outer bar. An inner `Failure` aborts the outer integral with its reason.
-pub fn integrate_nested<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(mut f: F, domain: &Domain<T>, opts: &Options) -> Outcome<T> {
+pub fn integrate_nested<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(
+    mut f: F,
+    domain: &Domain<T>,
+    opts: &Options,
+) -> Outcome<T> {
     let coarse_outer = Options { rel_tol: opts.rel_tol.max(1e-3), cross_check: false, ..opts.clone() };
-    let coarse_inner = Options { rel_tol: opts.rel_tol.max(1e-5), abs_tol: 0.0, cross_check: false, zero_guard: false, ..opts.clone() };
+    let coarse_inner = Options {
+        rel_tol: opts.rel_tol.max(1e-5),
+        abs_tol: 0.0,
+        cross_check: false,
+        zero_guard: false,
+        ..opts.clone()
+    };
     let scale = nested_pass(&mut f, domain, &coarse_outer, &coarse_inner)?;
     // Inner integrals get a tenth of the tolerance, but never less than 64
     // ulps: each rule aims at a third of its goal and is floored at 8 eps of
@@ -257,7 +271,8 @@ pub fn integrate_nested<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(mut 
     };
     // Each pass aims at a third of the goal: the final bar is the larger of
     // the primary's and (difference of the passes + the check's bar).
-    let outer = Options { rel_tol: opts.rel_tol / 3.0, abs_tol: opts.abs_tol / 3.0, cross_check: false, ..opts.clone() };
+    let outer =
+        Options { rel_tol: opts.rel_tol / 3.0, abs_tol: opts.abs_tol / 3.0, cross_check: false, ..opts.clone() };
     let mut primary = nested_pass(&mut f, domain, &outer, &inner)?;
     primary.evaluations += scale.evaluations;
     if !opts.cross_check {
@@ -271,7 +286,12 @@ pub fn integrate_nested<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(mut 
     reconcile(primary, Some(check), opts)
 }
 
-fn nested_pass<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(f: &mut F, domain: &Domain<T>, opts: &Options, inner: &Options) -> Outcome<T> {
+fn nested_pass<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(
+    f: &mut F,
+    domain: &Domain<T>,
+    opts: &Options,
+    inner: &Options,
+) -> Outcome<T> {
     integrate_samples(
         &mut |x: &T| {
             let e = f(x, inner).map_err(|fail| Failure {
@@ -310,7 +330,9 @@ impl<T: Real> TailMap<T> {
     fn to_t(&self, a: &T, u: &T) -> (T, T) {
         let one_minus = u.lit(1.0) - u.clone();
         match self {
-            TailMap::Rational => (a.clone() + u.clone() / one_minus.clone(), u.lit(1.0) / (one_minus.clone() * one_minus)),
+            TailMap::Rational => {
+                (a.clone() + u.clone() / one_minus.clone(), u.lit(1.0) / (one_minus.clone() * one_minus))
+            }
             TailMap::Exponential(rate) => {
                 (a.clone() - one_minus.ln() / rate.clone(), u.lit(1.0) / (rate.clone() * one_minus))
             }
@@ -390,7 +412,9 @@ fn integrate_samples<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, 
     // The piece variable: t itself, or u with t = lo + u/(1 − u).
     let tail = match (&domain.hi, &domain.decay) {
         (Some(_), _) => None,
-        (None, Some(rate)) if rate.clone() > rate.lit(0.0) && rate.is_finite() => Some((lo.clone(), TailMap::Exponential(rate.clone()))),
+        (None, Some(rate)) if rate.clone() > rate.lit(0.0) && rate.is_finite() => {
+            Some((lo.clone(), TailMap::Exponential(rate.clone())))
+        }
         (None, _) => Some((lo.clone(), TailMap::Rational)),
     };
     let to_piece_var = |t: &T| -> T {
@@ -407,7 +431,7 @@ fn integrate_samples<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, 
         .breakpoints
         .iter()
         .filter(|p| p.is_finite() && **p > domain.lo && domain.hi.as_ref().is_none_or(|h| *p < h))
-        .map(|p| to_piece_var(p))
+        .map(to_piece_var)
         .collect();
     let mut mapped = Mapped { f, semi: tail.clone(), tally: Tally { all_zero: true, ..Tally::default() } };
 
@@ -512,7 +536,11 @@ fn validate<T: Real>(domain: &Domain<T>, opts: &Options) -> Result<(), Failure<T
     }
     if let Some(hi) = &domain.hi {
         if !hi.is_finite() || !(hi.clone() > domain.lo.clone()) {
-            return Err(bad(format!("upper limit {:e} must be finite and above the lower {:e}", hi.to_f64(), domain.lo.to_f64())));
+            return Err(bad(format!(
+                "upper limit {:e} must be finite and above the lower {:e}",
+                hi.to_f64(),
+                domain.lo.to_f64()
+            )));
         }
     }
     if !(opts.rel_tol >= 0.0 && opts.abs_tol >= 0.0) || (opts.rel_tol == 0.0 && opts.abs_tol == 0.0) {

@@ -2,8 +2,8 @@
 
 use crate::real::Real;
 use std::any::{Any, TypeId};
-use std::collections::HashMap;
 use std::cell::RefCell;
+use std::collections::HashMap;
 use std::sync::Arc;
 
 type Cache = RefCell<HashMap<(TypeId, u32, u32, usize), Arc<dyn Any + Send + Sync>>>;
@@ -14,7 +14,12 @@ thread_local! {
 }
 
 /// Value `make()` cached under (type, precision, kind, n), per thread.
-pub(crate) fn cached<T: Real + 'static, V: Send + Sync + 'static>(kind: u32, like: &T, n: usize, make: impl FnOnce() -> V) -> Arc<V> {
+pub(crate) fn cached<T: Real + 'static, V: Send + Sync + 'static>(
+    kind: u32,
+    like: &T,
+    n: usize,
+    make: impl FnOnce() -> V,
+) -> Arc<V> {
     let key = (TypeId::of::<T>(), like.prec(), kind, n);
     if let Some(v) = CACHE.with(|c| c.borrow().get(&key).cloned()) {
         return v.downcast::<V>().expect("node cache type");

@@ -66,7 +66,12 @@ impl<T: Real> Panel<T> {
 }
 
 /// Adds the nodes of `level` (which must be `p.level + 1`, or 0 for a new panel).
-fn add_level<T: Real>(p: &mut Panel<T>, level: usize, table: &TsTable<T>, f: &mut Mapped<'_, '_, T>) -> Result<(), Failure<T>> {
+fn add_level<T: Real>(
+    p: &mut Panel<T>,
+    level: usize,
+    table: &TsTable<T>,
+    f: &mut Mapped<'_, '_, T>,
+) -> Result<(), Failure<T>> {
     let half = p.half();
     for (i, node) in table.levels[level].iter().enumerate() {
         let centre = level == 0 && i == 0;
@@ -145,10 +150,9 @@ pub(crate) fn integrate<T: Real + 'static>(
             break;
         }
         if f.tally.calls >= opts.max_evals {
-            return Err(f.fail(
-                format!("evaluation budget {} exhausted by tanh-sinh", opts.max_evals),
-                Some((value, error)),
-            ));
+            return Err(
+                f.fail(format!("evaluation budget {} exhausted by tanh-sinh", opts.max_evals), Some((value, error)))
+            );
         }
         if panels[worst].level < top {
             let next = panels[worst].level + 1;
@@ -157,7 +161,9 @@ pub(crate) fn integrate<T: Real + 'static>(
             let p = panels.swap_remove(worst);
             let mid = (p.a.clone() + p.b.clone()) / p.a.lit(2.0);
             if !(mid > p.a && mid < p.b) {
-                return Err(f.fail(format!("panel at {:e} cannot be bisected further", p.a.to_f64()), Some((value, error))));
+                return Err(
+                    f.fail(format!("panel at {:e} cannot be bisected further", p.a.to_f64()), Some((value, error)))
+                );
             }
             panels.push(new_panel(p.a.clone(), mid.clone(), &table, f)?);
             panels.push(new_panel(mid, p.b, &table, f)?);
