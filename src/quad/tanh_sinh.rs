@@ -38,12 +38,13 @@ impl<T: Real> Panel<T> {
     fn h(&self) -> T {
         self.a.powi_like(-(self.level as i32))
     }
-    /// Truncation estimate. With d₁ = |S_k − S_{k−1}| and d₂ = |S_{k−1} − S_{k−2}|,
-    /// tanh–sinh's quadratic convergence (e_k ≈ e_{k−1}²/e_{k−2}·…) gives
-    /// e_k ≈ d₁²/d₂ once the differences shrink (Bailey's estimate); before
-    /// that, d₁. This estimate only steers the refinement and is sharp rather
-    /// than safe: the reported bar also answers to the cross-check's
-    /// conservative one (`reconcile` in `quad`).
+    /// Truncation estimate. With d₁ = |S_k − S_{k−1}| and d₂ = |S_{k−1} − S_{k−2}|:
+    /// e_k ≈ d₁·(d₁/d₂) once the differences shrink, d₁ before. Tanh–sinh's
+    /// error roughly squares per level, so this ratio estimate still lags the
+    /// truth by a level; the sharper exponent model d₁(d₁/d₂)² (Bailey's) was
+    /// tried and stops too early on I(10⁻⁶, 10⁻³) (the cross-check then
+    /// refuses the result). This estimate steers the refinement; the reported
+    /// bar also answers to the cross-check's conservative one (`reconcile`).
     fn quad_err(&self) -> T {
         let d1 = (self.value.clone() - self.prev_value.clone()).abs();
         let d2 = (self.prev_value.clone() - self.prev2_value.clone()).abs();
