@@ -11,8 +11,7 @@
 //! precision, n = prec/2 points, and the panel error |G_n − G_{n/2}|.
 
 use super::nodes::gauss_legendre;
-use super::tanh_sinh::sum;
-use super::{goal, Failure, Mapped, Options, Piece, RuleResult, Sample};
+use super::{control, goal, Failure, Mapped, Options, Piece, RuleResult, Sample};
 use crate::real::Real;
 use rug::Float;
 use std::cell::RefCell;
@@ -175,7 +174,13 @@ struct Panel<T> {
     est: PanelEstimate<T>,
 }
 
-impl<T: Real> Panel<T> {
+impl<T: Real> control::Panel<T> for Panel<T> {
+    fn value(&self) -> T {
+        self.est.value.clone()
+    }
+    fn quad_err(&self) -> T {
+        self.est.quad_err.clone()
+    }
     fn floor(&self) -> T {
         self.s0.eps() * self.s0.lit(8.0) * self.est.abs.clone() + self.s0.underflow_floor()
     }
@@ -230,40 +235,14 @@ pub(crate) fn adaptive<T: CheckRule>(
         let est = estimate(i, &zero, &one, &target, None, f)?;
         panels.push(Panel { piece: i, s0: zero.clone(), s1: one.clone(), est });
     }
-    loop {
-        let value = sum(panels.iter().map(|p| p.est.value.clone()), &like);
-        let error = sum(panels.iter().map(Panel::error), &like);
-        if error <= goal(&value, opts) {
-            break;
-        }
-        let (worst, worst_err) = panels
-            .iter()
-            .enumerate()
-            .map(|(i, p)| (i, p.est.quad_err.clone()))
-            .fold((0, like.lit(-1.0)), |acc, (i, e)| if e > acc.1 { (i, e) } else { acc });
-        if worst_err <= panels[worst].floor() {
-            break;
-        }
-        if f.tally.calls >= opts.max_evals {
-            return Err(f.fail(
-                format!("evaluation budget {} exhausted by the cross-check", opts.max_evals),
-                Some((value, error)),
-            ));
-        }
+    while let Some(worst) = control::next_to_refine(&panels, &like, f, opts, "the cross-check")? {
+        let mid = control::midpoint(&panels[worst].s0, &panels[worst].s1, &panels, f)?;
         let p = panels.swap_remove(worst);
-        let mid = (p.s0.clone() + p.s1.clone()) / p.s0.lit(2.0);
-        if !(mid > p.s0 && mid < p.s1) {
-            return Err(f.fail("cross-check panel cannot be bisected further".into(), Some((value, error))));
-        }
         let [left, right] = p.est.halves;
         let est = estimate(p.piece, &p.s0, &mid, &target, left, f)?;
         panels.push(Panel { piece: p.piece, s0: p.s0, s1: mid.clone(), est });
         let est = estimate(p.piece, &mid, &p.s1, &target, right, f)?;
         panels.push(Panel { piece: p.piece, s0: mid, s1: p.s1, est });
     }
-    Ok(RuleResult {
-        value: sum(panels.iter().map(|p| p.est.value.clone()), &like),
-        error: sum(panels.iter().map(Panel::error), &like),
-        pieces: panels.len(),
-    })
+    Ok(control::result(&panels, &like))
 }

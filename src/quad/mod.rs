@@ -31,6 +31,7 @@
 //! `Failure` fails the outer integral.
 
 mod check;
+mod control;
 mod nodes;
 pub(crate) use nodes::cached;
 mod scan;

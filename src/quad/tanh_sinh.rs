@@ -3,7 +3,7 @@
 //! global error control.
 
 use super::nodes::{tanh_sinh, TsTable};
-use super::{goal, Failure, Mapped, Options, Piece, RuleResult};
+use super::{control, Failure, Mapped, Options, Piece, RuleResult};
 use crate::real::Real;
 use std::sync::Arc;
 
@@ -29,6 +29,21 @@ struct Panel<T> {
     value: T,
     prev_value: T,
     prev2_value: T,
+}
+
+impl<T: Real> control::Panel<T> for Panel<T> {
+    fn value(&self) -> T {
+        self.value.clone()
+    }
+    fn quad_err(&self) -> T {
+        self.quad_err()
+    }
+    fn floor(&self) -> T {
+        self.floor()
+    }
+    fn error(&self) -> T {
+        self.quad_err() + self.inner_err() + self.floor()
+    }
 }
 
 impl<T: Real> Panel<T> {
@@ -60,9 +75,6 @@ impl<T: Real> Panel<T> {
     /// Rounding floor: 8 eps Σ|w f|.
     fn floor(&self) -> T {
         self.a.eps() * self.a.lit(8.0) * self.half().abs() * self.h() * self.abs_sum.clone() + self.a.underflow_floor()
-    }
-    fn error(&self) -> T {
-        self.quad_err() + self.inner_err() + self.floor()
     }
 }
 
@@ -134,49 +146,16 @@ pub(crate) fn integrate<T: Real + 'static>(
     for piece in pieces {
         panels.push(new_panel(piece.a.clone(), piece.b.clone(), &table, f)?);
     }
-    loop {
-        let value = sum(panels.iter().map(|p| p.value.clone()), &like);
-        let error = sum(panels.iter().map(Panel::error), &like);
-        if error <= goal(&value, opts) {
-            break;
-        }
-        // Refine the panel whose truncation estimate is largest, unless every
-        // panel is already at its rounding floor.
-        let (worst, worst_err) = panels
-            .iter()
-            .enumerate()
-            .map(|(i, p)| (i, p.quad_err()))
-            .fold((0, like.lit(-1.0)), |acc, (i, e)| if e > acc.1 { (i, e) } else { acc });
-        if worst_err <= panels[worst].floor() {
-            break;
-        }
-        if f.tally.calls >= opts.max_evals {
-            return Err(
-                f.fail(format!("evaluation budget {} exhausted by tanh-sinh", opts.max_evals), Some((value, error)))
-            );
-        }
+    while let Some(worst) = control::next_to_refine(&panels, &like, f, opts, "tanh-sinh")? {
         if panels[worst].level < top {
             let next = panels[worst].level + 1;
             add_level(&mut panels[worst], next, &table, f)?;
         } else {
+            let mid = control::midpoint(&panels[worst].a, &panels[worst].b, &panels, f)?;
             let p = panels.swap_remove(worst);
-            let mid = (p.a.clone() + p.b.clone()) / p.a.lit(2.0);
-            if !(mid > p.a && mid < p.b) {
-                return Err(
-                    f.fail(format!("panel at {:e} cannot be bisected further", p.a.to_f64()), Some((value, error)))
-                );
-            }
             panels.push(new_panel(p.a.clone(), mid.clone(), &table, f)?);
             panels.push(new_panel(mid, p.b, &table, f)?);
         }
     }
-    Ok(RuleResult {
-        value: sum(panels.iter().map(|p| p.value.clone()), &like),
-        error: sum(panels.iter().map(Panel::error), &like),
-        pieces: panels.len(),
-    })
-}
-
-pub(crate) fn sum<T: Real>(it: impl Iterator<Item = T>, like: &T) -> T {
-    it.fold(like.lit(0.0), |a, b| a + b)
+    Ok(control::result(&panels, &like))
 }

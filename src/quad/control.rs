@@ -1,0 +1,72 @@
+//! Global error control shared by both rules: refine the panel with the
+//! largest truncation estimate until the summed error meets the goal, the
+//! rounding floor is reached, or the budget runs out.
+
+use super::{goal, Failure, Mapped, Options, RuleResult};
+use crate::real::Real;
+
+/// What global control needs to know of a panel.
+pub(crate) trait Panel<T> {
+    fn value(&self) -> T;
+    /// Truncation estimate (what refining the panel can reduce).
+    fn quad_err(&self) -> T;
+    /// Rounding floor of the panel (what refining cannot reduce).
+    fn floor(&self) -> T;
+    /// Total error: truncation + inner bars + floor.
+    fn error(&self) -> T;
+}
+
+/// The next panel to refine, or `None` when the goal is met or no panel can
+/// improve (every truncation estimate at its rounding floor). Fails when the
+/// evaluation budget is spent.
+pub(crate) fn next_to_refine<T: Real, P: Panel<T>>(
+    panels: &[P],
+    like: &T,
+    f: &Mapped<'_, '_, T>,
+    opts: &Options,
+    rule: &str,
+) -> Result<Option<usize>, Failure<T>> {
+    let (value, error) = totals(panels, like);
+    if error <= goal(&value, opts) {
+        return Ok(None);
+    }
+    let (worst, worst_err) = panels
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (i, p.quad_err()))
+        .fold((0, like.lit(-1.0)), |acc, (i, e)| if e > acc.1 { (i, e) } else { acc });
+    if worst_err <= panels[worst].floor() {
+        return Ok(None);
+    }
+    if f.tally.calls >= opts.max_evals {
+        return Err(f.fail(format!("evaluation budget {} exhausted by {rule}", opts.max_evals), Some((value, error))));
+    }
+    Ok(Some(worst))
+}
+
+/// The panel's midpoint, or a failure when it cannot be bisected further.
+pub(crate) fn midpoint<T: Real, P: Panel<T>>(
+    a: &T,
+    b: &T,
+    panels: &[P],
+    f: &Mapped<'_, '_, T>,
+) -> Result<T, Failure<T>> {
+    let mid = (a.clone() + b.clone()) / a.lit(2.0);
+    if mid > *a && mid < *b {
+        return Ok(mid);
+    }
+    let like = a.clone();
+    Err(f.fail(format!("panel at {:e} cannot be bisected further", a.to_f64()), Some(totals(panels, &like))))
+}
+
+/// (Σ values, Σ errors).
+fn totals<T: Real, P: Panel<T>>(panels: &[P], like: &T) -> (T, T) {
+    let zero = like.lit(0.0);
+    panels.iter().fold((zero.clone(), zero), |(v, e), p| (v + p.value(), e + p.error()))
+}
+
+/// The result of a rule once control is done.
+pub(crate) fn result<T: Real, P: Panel<T>>(panels: &[P], like: &T) -> RuleResult<T> {
+    let (value, error) = totals(panels, like);
+    RuleResult { value, error, pieces: panels.len() }
+}
