@@ -14,6 +14,8 @@
 
 pub mod accuracy;
 pub mod kernel;
+pub mod model;
+pub mod oracle;
 pub mod prec;
 pub mod quad;
 pub mod real;

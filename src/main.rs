@@ -1,6 +1,7 @@
 //! `mcrt-noise` command-line interface.
 
 use clap::{Parser, Subcommand};
+use mcrt_noise::oracle::Precision;
 use mcrt_noise::report;
 use mcrt_noise::scene::Scene;
 use std::path::PathBuf;
@@ -21,6 +22,19 @@ struct Cli {
 enum Command {
     /// Parse and validate a scene; print it normalised (defaults filled in) or list its errors.
     Validate { scene: PathBuf },
+    /// Predict the pixel's mean and noise: exact (23), (24), their R → 0 forms, Var L.
+    Oracle {
+        scene: PathBuf,
+        /// `f64` or a number of MPFR bits.
+        #[arg(long, default_value = "f64")]
+        precision: String,
+        /// Relative tolerance of every integral (default 1e-10 in f64, 2^-(bits-22) in MPFR).
+        #[arg(long)]
+        rel_tol: Option<f64>,
+        /// One JSON object instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
     /// Kernel of integral (23), I(ϑ, R), at a chosen precision, with error bar and cost.
     Kernel {
         /// Angle ϑ in radians (decimal; parsed at the working precision).
@@ -63,6 +77,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Validate { scene } => validate(&scene),
+        Command::Oracle { scene, precision, rel_tol, json } => oracle(&scene, &precision, rel_tol, json),
         Command::Kernel { theta, radius, precision, rel_tol, bare } => {
             report::kernel_cli(&theta, &radius, &precision, rel_tol, bare)
         }
@@ -79,12 +94,28 @@ fn main() -> ExitCode {
 }
 
 fn validate(path: &PathBuf) -> Result<(), String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let scene = Scene::from_toml_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let scene = load(path)?;
     let text = scene.to_toml_string();
     print!("{text}");
     if !text.ends_with('\n') {
         println!();
+    }
+    Ok(())
+}
+
+fn load(path: &PathBuf) -> Result<Scene, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    Scene::from_toml_str(&text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn oracle(path: &PathBuf, precision: &str, rel_tol: Option<f64>, json: bool) -> Result<(), String> {
+    let scene = load(path)?;
+    let precision = Precision::parse(precision)?;
+    let report = mcrt_noise::oracle::run(&scene, precision, rel_tol).map_err(|e| format!("{}: {e}", path.display()))?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?);
+    } else {
+        print!("{}", report::oracle_table(&report));
     }
     Ok(())
 }

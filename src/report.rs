@@ -235,3 +235,38 @@ pub fn acceptance_rows_f64() -> Vec<(String, Outcome<f64>, f64)> {
         })
         .collect()
 }
+
+fn pm(v: f64, e: f64) -> String {
+    format!("{v:.10e} ± {e:.1e}")
+}
+
+/// The readable table of `mcrt-noise oracle`.
+pub fn oracle_table(r: &crate::oracle::Report) -> String {
+    let mut s = String::new();
+    let corr = |s: &mut String, name: &str, c: &crate::oracle::Correlation| {
+        writeln!(s, "{name} exact        {}  ({} evaluations)", pm(c.exact.value, c.exact.error), c.exact.evaluations).unwrap();
+        match (&c.asymptotic.value, &c.asymptotic.missing) {
+            (Some(v), _) => {
+                writeln!(s, "{name} R→0 form     {}", pm(*v, c.asymptotic.error.unwrap_or(f64::NAN))).unwrap();
+                writeln!(s, "{name} ratio        {}", pm(c.ratio.unwrap_or(f64::NAN), c.ratio_error.unwrap_or(f64::NAN))).unwrap();
+            }
+            (None, Some(why)) => writeln!(s, "{name} R→0 form     does not exist: {why}").unwrap(),
+            _ => {}
+        }
+    };
+    writeln!(s, "precision {}   rel. tolerance {:.1e}   R = {}   q = {}   N_F = {}   N_B = {}", r.precision, r.rel_tol, r.radius, r.q, r.forward_rays, r.camera_rays).unwrap();
+    writeln!(s, "mean luminance   {}", pm(r.mean_luminance.value, r.mean_luminance.error)).unwrap();
+    corr(&mut s, "(23)", &r.corr23);
+    corr(&mut s, "(24)", &r.corr24);
+    writeln!(s, "Var L (one iteration)  {}", pm(r.variance.exact.value, r.variance.exact.error)).unwrap();
+    writeln!(s, "relative noise Var/L²  {}", pm(r.variance.relative, r.variance.relative_error)).unwrap();
+    match r.variance.relative_asymptotic {
+        Some(v) => writeln!(s, "  R→0 formula (§4.4)   {v:.10e}").unwrap(),
+        None => writeln!(s, "  R→0 formula (§4.4)   does not exist for this scene").unwrap(),
+    }
+    if let Some(d) = r.d {
+        writeln!(s, "D1..D5  {:.6e} {:.6e} {:.6e} {:.6e} {:.6e}", d[0], d[1], d[2], d[3], d[4]).unwrap();
+    }
+    writeln!(s, "evaluations {}   time {:.1} ms", r.evaluations, r.wall_time_ms).unwrap();
+    s
+}

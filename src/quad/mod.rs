@@ -522,12 +522,13 @@ fn reconcile<T: CheckRule>(primary: Estimate<T>, check: Option<Estimate<T>>, opt
 
 /// max(abs_tol, rel_tol·|value|) at the value's precision.
 ///
-/// Never below twice the underflow floor (f64: ~10⁻²⁹⁰ absolute), under
-/// which no relative accuracy exists.
+/// Never below 1024 underflow floors (f64: ~5·10⁻²⁸⁸ absolute, room for the
+/// per-panel floors of hundreds of panels), under which no relative accuracy
+/// exists.
 pub(crate) fn goal<T: Real>(value: &T, opts: &Options) -> T {
     (value.abs() * value.lit(opts.rel_tol))
         .max_of(value.lit(opts.abs_tol))
-        .max_of(value.underflow_floor() * value.lit(4.0))
+        .max_of(value.underflow_floor() * value.lit(1024.0))
 }
 
 fn validate<T: Real>(domain: &Domain<T>, opts: &Options) -> Result<(), Failure<T>> {

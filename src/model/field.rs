@@ -1,0 +1,274 @@
+//! The forward field along the camera ray, only the components the scene has.
+//!
+//! Uncollided light (scattering order 0) from point lights and collimated
+//! beams is a *direction-delta* field: at the camera-ray point x(s) each light
+//! contributes radiance L(x, v) = W(s) δ(v − v(s)), with W(s) its irradiance
+//! across the direction v(s) (flux per unit area) and δ the delta function on
+//! the sphere of directions. Every angular integral of the model then
+//! collapses onto v(s); all that is needed is, per light,
+//!
+//! - μ(s) = cos ϑ(s) = u·v(s) and sin ϑ(s) (ϑ: angle between the forward
+//!   direction and the view direction u, `docs/conventions.md`),
+//! - W(s), and the interval of s where it is non-zero.
+//!
+//! Point light at distance r(s), flux Φ: W = Φ e^{−σ_ext r}/(4π r²).
+//! Beam of radius a, flux Φ, direction v_b: W = Φ/(π a²) e^{−σ_ext d(s)} inside
+//! the beam (d: depth past the emitting disk), 0 outside; W jumps where the
+//! camera ray enters and leaves the beam, which become breakpoints.
+//!
+//! Scattering orders ≥ 1 are smooth fields; they are refused for now with a
+//! clear message (the tracer can still run them).
+
+use super::OracleError;
+use crate::real::Real;
+use mcrt_scene::{DVec3, Light, Phase, ScatteringOrders, Scene};
+
+/// Geometry of one delta component along the camera ray.
+#[derive(Debug, Clone)]
+pub enum Geometry<T> {
+    /// Point light: the camera ray passes it at abscissa `a` (projection of
+    /// the light onto the ray's line) and perpendicular distance `d` ≥ 0.
+    Point { a: T, d: T },
+    /// Beam: constant direction cosine μ = u·v_b, |μ| ≤ 1; `depth0` is the
+    /// depth of the camera origin past the disk, d(s) = depth0 + μ s; the
+    /// camera ray is inside the beam for s in [s_in, s_out] (s_out may be ∞).
+    Beam { mu: T, sin: T, depth0: T, s_in: T, s_out: Option<T> },
+}
+
+/// One light's uncollided contribution along the camera ray.
+#[derive(Debug, Clone)]
+pub struct Component<T> {
+    pub geometry: Geometry<T>,
+    /// Flux Φ of the light.
+    pub flux: T,
+    /// Beam cross-section π a² (unused for points).
+    pub beam_area: T,
+}
+
+/// The forward field along the camera ray: its delta components and the
+/// medium constants the model needs.
+#[derive(Debug, Clone)]
+pub struct Field<T> {
+    pub components: Vec<Component<T>>,
+    pub sigma_ext: T,
+    pub albedo: T,
+    pub phase: Phase,
+    /// Total flux 𝓕 of all lights (paper eq. (5)).
+    pub total_flux: T,
+}
+
+/// What is known at one point x(s) of the camera ray for one component.
+#[derive(Debug, Clone)]
+pub struct Local<T> {
+    /// μ = cos ϑ.
+    pub mu: T,
+    pub sin: T,
+    /// Irradiance across the forward direction.
+    pub w: T,
+}
+
+impl<T: Real> Field<T> {
+    /// Builds the field of `scene` at the precision of `like`.
+    pub fn from_scene(scene: &Scene, like: &T) -> Result<Field<T>, OracleError> {
+        if scene.effects.scattering_orders != ScatteringOrders::Limited(0) {
+            return Err(OracleError::Unsupported(format!(
+                "effects.scattering_orders = {:?}: the oracle models scattering order 0 (uncollided light) only so far; \
+                 orders >= 1 need the smooth single-scattered field (the tracer can run them)",
+                scene.effects.scattering_orders
+            )));
+        }
+        let u = scene.camera.direction;
+        let o = scene.camera.origin;
+        let components = scene
+            .lights
+            .iter()
+            .map(|light| match *light {
+                Light::Point { position, flux } => {
+                    let rel = position - o;
+                    let a = rel.dot(u);
+                    let d = rel.cross(u).length();
+                    Component {
+                        geometry: Geometry::Point { a: like.lit(a), d: like.lit(d) },
+                        flux: like.lit(flux),
+                        beam_area: like.lit(0.0),
+                    }
+                }
+                Light::Beam { center, direction, radius, flux } => {
+                    let mu = u.dot(direction);
+                    let sin = u.cross(direction).length();
+                    let depth0 = (o - center).dot(direction);
+                    let (s_in, s_out) = beam_interval(o - center, u, direction, radius, depth0, mu);
+                    Component {
+                        geometry: Geometry::Beam {
+                            mu: like.lit(mu),
+                            sin: like.lit(sin),
+                            depth0: like.lit(depth0),
+                            s_in: like.lit(s_in),
+                            s_out: s_out.map(|v| like.lit(v)),
+                        },
+                        flux: like.lit(flux),
+                        beam_area: like.lit(std::f64::consts::PI * radius * radius),
+                    }
+                }
+            })
+            .collect();
+        Ok(Field {
+            components,
+            sigma_ext: like.lit(scene.medium.sigma_ext),
+            albedo: like.lit(scene.medium.albedo),
+            phase: scene.medium.phase,
+            total_flux: like.lit(scene.total_flux()),
+        })
+    }
+
+    /// Phase function at the scattering-angle cosine −μ (eq. (5): f(−u, v)).
+    pub fn phase_at(&self, mu: &T) -> T {
+        phase_eval(&self.phase, &-mu.clone())
+    }
+}
+
+impl<T: Real> Component<T> {
+    /// The component at x(s), or `None` where it is zero.
+    pub fn at(&self, s: &T, sigma_ext: &T) -> Option<Local<T>> {
+        match &self.geometry {
+            Geometry::Point { a, d } => {
+                let dx = s.clone() - a.clone();
+                let r2 = dx.clone() * dx.clone() + d.clone() * d.clone();
+                let r = r2.sqrt();
+                let four_pi = s.pi() * s.lit(4.0);
+                let w = self.flux.clone() * (-(sigma_ext.clone() * r.clone())).exp() / (four_pi * r2);
+                Some(Local { mu: dx / r.clone(), sin: d.clone() / r, w })
+            }
+            Geometry::Beam { mu, sin, depth0, s_in, s_out } => {
+                if s.clone() < s_in.clone() || s_out.as_ref().is_some_and(|e| s.clone() > e.clone()) {
+                    return None;
+                }
+                let depth = depth0.clone() + mu.clone() * s.clone();
+                let w = self.flux.clone() * (-(sigma_ext.clone() * depth)).exp() / self.beam_area.clone();
+                Some(Local { mu: mu.clone(), sin: sin.clone(), w })
+            }
+        }
+    }
+
+    /// Where along the camera ray the component is non-zero: [lo, hi) with
+    /// hi = None for ∞.
+    pub fn support(&self, like: &T) -> (T, Option<T>) {
+        match &self.geometry {
+            Geometry::Point { .. } => (like.lit(0.0), None),
+            Geometry::Beam { s_in, s_out, .. } => (s_in.clone(), s_out.clone()),
+        }
+    }
+
+    /// Points where the component is not smooth or has a narrow feature, for
+    /// the quadrature engine: a point light's closest approach a and a ± d·10^k
+    /// (the irradiance is a Lorentzian of width d there); beam edges.
+    pub fn breakpoints(&self) -> Vec<T> {
+        match &self.geometry {
+            Geometry::Point { a, d } => {
+                let mut v = vec![a.clone()];
+                for k in [1.0, 10.0, 100.0] {
+                    v.push(a.clone() - d.clone() * a.lit(k));
+                    v.push(a.clone() + d.clone() * a.lit(k));
+                }
+                v
+            }
+            Geometry::Beam { s_in, s_out, .. } => {
+                let mut v = vec![s_in.clone()];
+                v.extend(s_out.clone());
+                v
+            }
+        }
+    }
+}
+
+/// Phase function at scattering-angle cosine `cos`, at any precision
+/// (the same formulas as `mcrt_scene::Phase::eval`, which the tracer uses).
+pub fn phase_eval<T: Real>(phase: &Phase, cos: &T) -> T {
+    match *phase {
+        Phase::Isotropic => cos.lit(1.0) / (cos.pi() * cos.lit(4.0)),
+        Phase::HenyeyGreenstein { g } => {
+            let g = cos.lit(g);
+            let one = cos.lit(1.0);
+            // (1 − g)² + 2g(1 − cos) for g ≥ 0, (1 + g)² − 2g(1 + cos) else.
+            let denom = if g >= cos.lit(0.0) {
+                (one.clone() - g.clone()) * (one.clone() - g.clone()) + cos.lit(2.0) * g.clone() * (one.clone() - cos.clone())
+            } else {
+                (one.clone() + g.clone()) * (one.clone() + g.clone()) - cos.lit(2.0) * g.clone() * (one.clone() + cos.clone())
+            };
+            (one.clone() - g.clone()) * (one + g) / (cos.pi() * cos.lit(4.0) * denom.clone() * denom.sqrt())
+        }
+    }
+}
+
+/// The interval of s ≥ 0 where the camera ray o + s u is inside the beam:
+/// perpendicular distance to the beam axis ≤ radius and depth ≥ 0. Returns
+/// (s_in, s_out) with s_in ≥ 0; (0, Some(0)) when the ray misses the beam.
+fn beam_interval(
+    rel: DVec3,
+    u: DVec3,
+    v: DVec3,
+    radius: f64,
+    depth0: f64,
+    mu: f64,
+) -> (f64, Option<f64>) {
+    // Perpendicular components: w + s u_perp.
+    let w = rel - v * rel.dot(v);
+    let up = u - v * mu;
+    let (a, b, c) = (up.dot(up), 2.0 * w.dot(up), w.dot(w) - radius * radius);
+    let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
+    if a <= 1e-300 {
+        if c > 0.0 {
+            return (0.0, Some(0.0));
+        }
+    } else {
+        let disc = b * b - 4.0 * a * c;
+        if disc <= 0.0 {
+            return (0.0, Some(0.0));
+        }
+        let sq = disc.sqrt();
+        // Stable roots of a s² + b s + c.
+        let qv = -0.5 * (b + b.signum() * sq);
+        let (r1, r2) = (qv / a, c / qv);
+        lo = lo.max(r1.min(r2));
+        hi = hi.min(r1.max(r2));
+    }
+    // Depth d(s) = depth0 + μ s ≥ 0.
+    if mu > 0.0 {
+        lo = lo.max(-depth0 / mu);
+    } else if mu < 0.0 {
+        hi = hi.min(-depth0 / mu);
+    } else if depth0 < 0.0 {
+        return (0.0, Some(0.0));
+    }
+    if hi <= lo {
+        return (0.0, Some(0.0));
+    }
+    (lo, hi.is_finite().then_some(hi))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn generic_phase_matches_the_scene_crate() {
+        for phase in [Phase::Isotropic, Phase::HenyeyGreenstein { g: 0.9 }, Phase::HenyeyGreenstein { g: -0.5 }] {
+            for i in 0..=100 {
+                let c = -1.0 + 0.02 * i as f64;
+                let (a, b) = (phase_eval(&phase, &c), phase.eval(c));
+                assert!((a - b).abs() <= 4.0 * f64::EPSILON * b, "{phase:?} at {c}: {a} vs {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn beam_interval_crossing_at_right_angles() {
+        use DVec3;
+        // Beam along +x through (−2, 0, 1), radius 0.5; camera along +z from 0.
+        let (o, c) = (DVec3::ZERO, DVec3::new(-2.0, 0.0, 1.0));
+        let (u, v) = (DVec3::Z, DVec3::X);
+        let depth0 = (o - c).dot(v);
+        let (lo, hi) = beam_interval(o - c, u, v, 0.5, depth0, u.dot(v));
+        assert!((lo - 0.5).abs() < 1e-15 && (hi.unwrap() - 1.5).abs() < 1e-15, "{lo} {hi:?}");
+    }
+}

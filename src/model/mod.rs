@@ -1,0 +1,41 @@
+//! The noise model of the seed paper, derived (not copied; `docs/model.md`),
+//! in the order the model flows: scene → [`field`] → [`moments`] →
+//! [`correlations`] → [`noise`].
+//!
+//! Everything is generic over the working precision (`f64` or MPFR); every
+//! integral is computed by the engine in [`crate::quad`] and carries its error
+//! bar.
+
+pub mod correlations;
+pub mod field;
+pub mod moments;
+pub mod noise;
+
+use crate::quad::Failure;
+use std::fmt;
+
+/// Why the oracle cannot answer for a scene.
+#[derive(Debug, Clone)]
+pub enum OracleError {
+    /// The scene asks for an effect the oracle does not model (the tracer may).
+    Unsupported(String),
+    /// An integral did not converge; its reason is carried.
+    Quadrature { what: &'static str, reason: String },
+}
+
+impl fmt::Display for OracleError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            OracleError::Unsupported(msg) => write!(f, "unsupported: {msg}"),
+            OracleError::Quadrature { what, reason } => write!(f, "{what}: {reason}"),
+        }
+    }
+}
+
+impl std::error::Error for OracleError {}
+
+impl OracleError {
+    pub(crate) fn quad<T: crate::real::Real>(what: &'static str) -> impl FnOnce(Failure<T>) -> OracleError {
+        move |f| OracleError::Quadrature { what, reason: f.to_string() }
+    }
+}

@@ -1,0 +1,112 @@
+//! Single-sphere averages over the forward-ray ensemble and the integrals of
+//! them along the camera ray (paper (13), (15)–(17), (19), (20); derivation in
+//! `docs/model.md`).
+//!
+//! For a sphere of radius R at x(s), one forward ray (carrying the total flux
+//! 𝓕) contributes 𝒞 = albedo·f(−μ)·𝓕/(πR²) when it hits (eq. (5), with
+//! σ_sc/σ_ext = albedo). A ray crosses the sphere's projected disk πR² with
+//! direction in dω with probability (L/𝓕)·πR²·dω, so
+//!
+//! - ⟨𝒞⟩(s)  = albedo Σ f(−μ) W           (paper (19), with the albedo it drops)
+//! - ⟨𝒞²⟩(s) = albedo² 𝓕/(πR²) Σ f(−μ)² W  (paper (20), likewise)
+//!
+//! summed over the field's delta components. Spheres lie along the camera ray
+//! with density (σ_ext/q) e^{−σ_ext s} and carry the weight q, so every
+//! single-sphere sum becomes ∫ … σ_ext e^{−σ_ext s} ds.
+
+use super::field::Field;
+use super::OracleError;
+use crate::quad::{integrate, integrate_nested, CheckRule, Domain, Estimate, Options};
+use crate::real::Real;
+
+/// ⟨𝒞⟩(s): mean contribution of one forward ray to a sphere at x(s).
+pub fn mean_contribution<T: Real>(field: &Field<T>, s: &T) -> T {
+    let mut sum = s.lit(0.0);
+    for c in &field.components {
+        if let Some(l) = c.at(s, &field.sigma_ext) {
+            sum = sum + field.phase_at(&l.mu) * l.w;
+        }
+    }
+    field.albedo.clone() * sum
+}
+
+/// ⟨𝒞²⟩(s) for spheres of radius `r`.
+pub fn second_moment<T: Real>(field: &Field<T>, s: &T, r: &T) -> T {
+    let mut sum = s.lit(0.0);
+    for c in &field.components {
+        if let Some(l) = c.at(s, &field.sigma_ext) {
+            let f = field.phase_at(&l.mu);
+            sum = sum + f.clone() * f * l.w;
+        }
+    }
+    field.albedo.clone() * field.albedo.clone() * field.total_flux.clone() * sum / (s.pi() * r.clone() * r.clone())
+}
+
+/// [0, ∞) along the camera ray with every component's breakpoints and the
+/// attenuation e^{−σ_ext s} declared as the decay.
+pub fn ray_domain<T: Real>(field: &Field<T>, lo: &T, hi: Option<&T>) -> Domain<T> {
+    let mut d = match hi {
+        Some(h) => Domain::finite(lo.clone(), h.clone()),
+        None => Domain::semi_infinite(lo.clone()).with_decay(field.sigma_ext.clone()),
+    };
+    for c in &field.components {
+        d = d.with_breakpoints(c.breakpoints());
+    }
+    d
+}
+
+/// ∫₀^∞ σ e^{−σ s} g(s) ds for a plain g.
+fn along_ray<T: CheckRule>(
+    field: &Field<T>,
+    what: &'static str,
+    opts: &Options,
+    g: impl Fn(&T) -> T,
+) -> Result<Estimate<T>, OracleError> {
+    let sigma = field.sigma_ext.clone();
+    let zero = sigma.lit(0.0);
+    integrate(|s: &T| sigma.clone() * (-(sigma.clone() * s.clone())).exp() * g(s), &ray_domain(field, &zero, None), opts)
+        .map_err(OracleError::quad(what))
+}
+
+/// Mean pixel luminance ⟨⟨L⟩⟩ = ∫ σ e^{−σs} ⟨𝒞⟩(s) ds (paper (15)).
+pub fn mean_luminance<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
+    along_ray(field, "mean luminance (15)", opts, |s| mean_contribution(field, s))
+}
+
+/// M₂ = ∫ σ e^{−σs} ⟨𝒞²⟩(s) ds, the single-sphere part of (16).
+pub fn m2<T: CheckRule>(field: &Field<T>, r: &T, opts: &Options) -> Result<Estimate<T>, OracleError> {
+    along_ray(field, "∫⟨𝒞²⟩ of (16)", opts, |s| second_moment(field, s, r))
+}
+
+/// P = ∫ σ e^{−σs} ⟨𝒞⟩(s)² ds, the single-sphere part of (17).
+pub fn p_single<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
+    along_ray(field, "∫⟨𝒞⟩² of (17)", opts, |s| {
+        let m = mean_contribution(field, s);
+        m.clone() * m
+    })
+}
+
+/// Q = ∫∫_{t>0} ⟨𝒞⟩(s)⟨𝒞⟩(s+t) σ² e^{−σ(s+t)} ds dt, the pair part of (17),
+/// computed with p = s + t as ∫₀^∞ σ e^{−σp} ⟨𝒞⟩(p) [∫₀^p σ ⟨𝒞⟩(s) ds] dp.
+pub fn q_pair<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
+    let sigma = field.sigma_ext.clone();
+    let zero = sigma.lit(0.0);
+    integrate_nested(
+        |p: &T, inner: &Options| {
+            // The outer factor goes inside, so the inner integral *is* the
+            // outer integrand and the inner tolerances apply to it directly.
+            let outer = sigma.clone() * (-(sigma.clone() * p.clone())).exp() * mean_contribution(field, p);
+            if !(p.clone() > zero.clone()) || outer.is_zero() {
+                return integrate(|_: &T| p.lit(0.0), &Domain::finite(p.lit(0.0), p.lit(1.0)), &inner.clone().declared());
+            }
+            integrate(
+                |s: &T| outer.clone() * sigma.clone() * mean_contribution(field, s),
+                &ray_domain(field, &zero, Some(p)),
+                inner,
+            )
+        },
+        &ray_domain(field, &zero, None),
+        opts,
+    )
+    .map_err(OracleError::quad("∫∫⟨𝒞⟩⟨𝒞⟩ of (17)"))
+}

@@ -1,0 +1,151 @@
+//! The pixel variance of one iteration, (7)–(9), from the integrals of
+//! [`super::moments`] and [`super::correlations`], exactly and in the R → 0
+//! form of §4.4 with D₁…D₅ made explicit.
+//!
+//! With μ = ⟨⟨Ĉ⟩⟩ (15), A′ = ⟨⟨Ĉ²⟩⟩ = q M₂ + 2(1−q) C₂₃ (16),
+//! B′ = ⟨⟨Ĉ⟩_F²⟩_B = q P + 2(1−q) Q (17), C′ = ⟨⟨Ĉ⟩_B²⟩_F = C₂₄ (18):
+//!
+//! Var L = (A′ − μ²)/(N_F N_B) + (1/N_B)(1 − 1/N_F)(B′ − μ²) + (1/N_F)(1 − 1/N_B)(C′ − μ²)
+//!
+//! (7)–(9) exactly. The paper's total in §4.4 keeps only −μ²/(N_F N_B) of the
+//! three −μ² terms; the relative-noise formula there inherits it. Here
+//!
+//! Var L/μ² ≈ (1/(R² N_F)) [(q D₁ + σR(1−q) D₂)/N_B + (1 − 1/N_B) σR D₃]
+//!          + (1/N_B)(1 − 1/N_F)(q D₄ + (1−q) D₅) + 1/(N_F N_B) − 1/N_F − 1/N_B
+//!
+//! with D₁ = R² M₂/μ², D₂ = 2R C₂₃^asym/(σμ²), D₃ = R C₂₄^asym/(σμ²),
+//! D₄ = P/μ², D₅ = 2Q/μ²: all independent of R, q and the ray counts.
+
+use super::correlations::{self, Which};
+use super::field::Field;
+use super::moments;
+use super::OracleError;
+use crate::quad::{CheckRule, Estimate, Options};
+use crate::real::Real;
+
+/// A value with its error bar.
+#[derive(Debug, Clone)]
+pub struct Valued<T> {
+    pub value: T,
+    pub error: T,
+}
+
+impl<T: Real> From<&Estimate<T>> for Valued<T> {
+    fn from(e: &Estimate<T>) -> Self {
+        Valued { value: e.value.clone(), error: e.error.clone() }
+    }
+}
+
+/// Every integral of the model for one scene.
+#[derive(Debug, Clone)]
+pub struct Integrals<T> {
+    /// ⟨⟨L⟩⟩ (15).
+    pub mean: Estimate<T>,
+    pub m2: Estimate<T>,
+    pub p: Estimate<T>,
+    pub q: Estimate<T>,
+    pub c23: Estimate<T>,
+    pub c24: Estimate<T>,
+    /// (25), (26), or why they do not exist.
+    pub c23_asym: Result<Estimate<T>, String>,
+    pub c24_asym: Result<Estimate<T>, String>,
+}
+
+impl<T: CheckRule> Integrals<T> {
+    /// Computes all integrals for spheres of radius `r`.
+    pub fn compute(field: &Field<T>, r: &T, opts: &Options) -> Result<Integrals<T>, OracleError> {
+        let opts = opts.clone().declared();
+        Ok(Integrals {
+            mean: moments::mean_luminance(field, &opts)?,
+            m2: moments::m2(field, r, &opts)?,
+            p: moments::p_single(field, &opts)?,
+            q: moments::q_pair(field, &opts)?,
+            c23: correlations::exact(field, r, Which::Eq23, &opts)?,
+            c24: correlations::exact(field, r, Which::Eq24, &opts)?,
+            c23_asym: correlations::asymptotic(field, r, Which::Eq23, &opts)?,
+            c24_asym: correlations::asymptotic(field, r, Which::Eq24, &opts)?,
+        })
+    }
+
+    /// Total evaluations of the integrand over all integrals.
+    pub fn evaluations(&self) -> u64 {
+        let asym = |a: &Result<Estimate<T>, String>| a.as_ref().map_or(0, |e| e.evaluations);
+        self.mean.evaluations
+            + self.m2.evaluations
+            + self.p.evaluations
+            + self.q.evaluations
+            + self.c23.evaluations
+            + self.c24.evaluations
+            + asym(&self.c23_asym)
+            + asym(&self.c24_asym)
+    }
+}
+
+/// Estimator parameters as numbers of the working precision.
+#[derive(Debug, Clone)]
+pub struct Counts<T> {
+    pub q: T,
+    pub n_f: T,
+    pub n_b: T,
+}
+
+/// Var L from μ, A′ (via M₂, C₂₃), B′ (via P, Q), C′ (= C₂₄), with the error
+/// bar propagated linearly from every integral's bar.
+pub fn variance<T: Real>(
+    mean: &Valued<T>,
+    m2: &Valued<T>,
+    c23: &Valued<T>,
+    p: &Valued<T>,
+    q_pair: &Valued<T>,
+    c24: &Valued<T>,
+    n: &Counts<T>,
+) -> Valued<T> {
+    let one = mean.value.lit(1.0);
+    let two = mean.value.lit(2.0);
+    let (q, nf, nb) = (n.q.clone(), n.n_f.clone(), n.n_b.clone());
+    let one_minus_q = one.clone() - q.clone();
+    let nfnb = nf.clone() * nb.clone();
+    let w_a = one.clone() / nfnb.clone();
+    let w_b = one.clone() / nb.clone() - one.clone() / nfnb.clone();
+    let w_c = one.clone() / nf.clone() - one.clone() / nfnb.clone();
+    let w_mu2 = one.clone() / nfnb - one.clone() / nb - one / nf;
+    let a = q.clone() * m2.value.clone() + two.clone() * one_minus_q.clone() * c23.value.clone();
+    let b = q.clone() * p.value.clone() + two.clone() * one_minus_q.clone() * q_pair.value.clone();
+    let mu2 = mean.value.clone() * mean.value.clone();
+    let value = w_a.clone() * a + w_b.clone() * b + w_c.clone() * c24.value.clone() + w_mu2.clone() * mu2;
+    let err_a = q.clone() * m2.error.clone() + two.clone() * one_minus_q.clone() * c23.error.clone();
+    let err_b = q * p.error.clone() + two.clone() * one_minus_q * q_pair.error.clone();
+    let error = w_a.abs() * err_a
+        + w_b.abs() * err_b
+        + w_c.abs() * c24.error.clone()
+        + w_mu2.abs() * two * mean.value.abs() * mean.error.clone();
+    Valued { value, error }
+}
+
+/// D₁…D₅ of the asymptotic relative-noise formula (see the module doc).
+pub fn d_constants<T: Real>(ints: &Integrals<T>, r: &T, sigma: &T) -> Option<[T; 5]> {
+    let (c23a, c24a) = (ints.c23_asym.as_ref().ok()?, ints.c24_asym.as_ref().ok()?);
+    let mu2 = ints.mean.value.clone() * ints.mean.value.clone();
+    let two = r.lit(2.0);
+    Some([
+        r.clone() * r.clone() * ints.m2.value.clone() / mu2.clone(),
+        two.clone() * r.clone() * c23a.value.clone() / (sigma.clone() * mu2.clone()),
+        r.clone() * c24a.value.clone() / (sigma.clone() * mu2.clone()),
+        ints.p.value.clone() / mu2.clone(),
+        two * ints.q.value.clone() / mu2,
+    ])
+}
+
+/// The asymptotic relative noise from D₁…D₅ (corrected constant term).
+pub fn relative_from_d<T: Real>(d: &[T; 5], r: &T, sigma: &T, n: &Counts<T>) -> T {
+    let one = r.lit(1.0);
+    let (q, nf, nb) = (n.q.clone(), n.n_f.clone(), n.n_b.clone());
+    let sr = sigma.clone() * r.clone();
+    let head = (q.clone() * d[0].clone() + sr.clone() * (one.clone() - q.clone()) * d[1].clone()) / nb.clone()
+        + (one.clone() - one.clone() / nb.clone()) * sr * d[2].clone();
+    head / (r.clone() * r.clone() * nf.clone())
+        + (one.clone() / nb.clone()) * (one.clone() - one.clone() / nf.clone()) * (q.clone() * d[3].clone() + (one.clone() - q) * d[4].clone())
+        + one.clone() / (nf.clone() * nb.clone())
+        - one.clone() / nf
+        - one / nb
+}

@@ -1,0 +1,193 @@
+//! The oracle end to end: scene → field → integrals → variance, at a chosen
+//! precision, as a serialisable report (`mcrt-noise oracle SCENE --json`).
+
+use crate::model::field::Field;
+use crate::model::noise::{d_constants, relative_from_d, variance, Counts, Integrals, Valued};
+use crate::model::OracleError;
+use crate::quad::{CheckRule, Estimate, Options};
+use crate::real::Real;
+use mcrt_scene::Scene;
+use serde::Serialize;
+use std::time::Instant;
+
+/// Working precision of an oracle run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Precision {
+    F64,
+    Bits(u32),
+}
+
+impl Precision {
+    /// Parses `f64` or a number of bits in [32, 4096].
+    pub fn parse(text: &str) -> Result<Precision, String> {
+        if text == "f64" {
+            return Ok(Precision::F64);
+        }
+        match text.parse::<u32>() {
+            Ok(b) if (32..=4096).contains(&b) => Ok(Precision::Bits(b)),
+            _ => Err(format!("--precision {text:?}: must be `f64` or a number of bits in [32, 4096]")),
+        }
+    }
+
+    /// Default relative tolerance: 1e-10 in f64, 2^{−(bits − 22)} in MPFR.
+    pub fn default_tol(self) -> f64 {
+        match self {
+            Precision::F64 => 1e-10,
+            Precision::Bits(b) => crate::report::mpfr_default_tol(b),
+        }
+    }
+}
+
+/// A value and its error bar, in f64 for reports.
+#[derive(Debug, Clone, Serialize)]
+pub struct ValueError {
+    pub value: f64,
+    pub error: f64,
+}
+
+/// A quadrature result for reports.
+#[derive(Debug, Clone, Serialize)]
+pub struct Integral {
+    pub value: f64,
+    pub error: f64,
+    pub evaluations: u64,
+}
+
+/// An asymptotic form: its value, or why it does not exist.
+#[derive(Debug, Clone, Serialize)]
+pub struct Asymptotic {
+    pub value: Option<f64>,
+    pub error: Option<f64>,
+    /// Set when the form does not exist for the scene.
+    pub missing: Option<String>,
+}
+
+/// Exact and asymptotic forms of a correlation integral and their ratio.
+#[derive(Debug, Clone, Serialize)]
+pub struct Correlation {
+    pub exact: Integral,
+    pub asymptotic: Asymptotic,
+    /// exact / asymptotic (→ 1 as R → 0).
+    pub ratio: Option<f64>,
+    pub ratio_error: Option<f64>,
+}
+
+/// The variance of one iteration.
+#[derive(Debug, Clone, Serialize)]
+pub struct Variance {
+    /// Var L for one iteration with the scene's N_F, N_B, q, R.
+    pub exact: ValueError,
+    /// Var L / ⟨⟨L⟩⟩².
+    pub relative: f64,
+    pub relative_error: f64,
+    /// The §4.4 formula with D₁…D₅ (corrected constant term), if (25), (26) exist.
+    pub relative_asymptotic: Option<f64>,
+}
+
+/// Everything the oracle says about one scene.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    pub precision: String,
+    pub rel_tol: f64,
+    pub radius: f64,
+    pub q: f64,
+    pub forward_rays: u64,
+    pub camera_rays: u64,
+    pub mean_luminance: ValueError,
+    pub corr23: Correlation,
+    pub corr24: Correlation,
+    pub variance: Variance,
+    /// ∫σe^{−σs}⟨𝒞²⟩, ∫σe^{−σs}⟨𝒞⟩², ∫∫⟨𝒞⟩⟨𝒞⟩: the other parts of (16), (17).
+    pub m2: Integral,
+    pub p: Integral,
+    pub q_pair: Integral,
+    /// D₁…D₅ of §4.4, if the asymptotic forms exist.
+    pub d: Option<[f64; 5]>,
+    pub evaluations: u64,
+    pub wall_time_ms: f64,
+}
+
+fn integral<T: Real>(e: &Estimate<T>) -> Integral {
+    Integral { value: e.value.to_f64(), error: e.error.to_f64(), evaluations: e.evaluations }
+}
+
+fn correlation<T: Real>(exact: &Estimate<T>, asym: &Result<Estimate<T>, String>) -> Correlation {
+    match asym {
+        Ok(a) => {
+            let ratio = exact.value.clone() / a.value.clone();
+            let rel = exact.error.clone() / exact.value.abs() + a.error.clone() / a.value.abs();
+            Correlation {
+                exact: integral(exact),
+                asymptotic: Asymptotic { value: Some(a.value.to_f64()), error: Some(a.error.to_f64()), missing: None },
+                ratio: Some(ratio.to_f64()),
+                ratio_error: Some((ratio.abs() * rel).to_f64()),
+            }
+        }
+        Err(why) => Correlation {
+            exact: integral(exact),
+            asymptotic: Asymptotic { value: None, error: None, missing: Some(why.clone()) },
+            ratio: None,
+            ratio_error: None,
+        },
+    }
+}
+
+/// Runs the oracle on `scene` at the precision of `like` with `rel_tol`.
+pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: String) -> Result<Report, OracleError> {
+    let t0 = Instant::now();
+    let field = Field::from_scene(scene, like)?;
+    let r = like.lit(scene.estimator.radius);
+    let ints = Integrals::compute(&field, &r, &Options::rel(rel_tol))?;
+    let counts = Counts {
+        q: like.lit(scene.estimator.q),
+        n_f: like.lit(scene.estimator.forward_rays as f64),
+        n_b: like.lit(scene.estimator.camera_rays as f64),
+    };
+    let mean = Valued::from(&ints.mean);
+    let var = variance(
+        &mean,
+        &Valued::from(&ints.m2),
+        &Valued::from(&ints.c23),
+        &Valued::from(&ints.p),
+        &Valued::from(&ints.q),
+        &Valued::from(&ints.c24),
+        &counts,
+    );
+    let mu2 = mean.value.clone() * mean.value.clone();
+    let relative = var.value.clone() / mu2.clone();
+    let relative_error = var.error.clone() / mu2.clone() + relative.abs() * like.lit(2.0) * mean.error.clone() / mean.value.abs();
+    let d = d_constants(&ints, &r, &field.sigma_ext);
+    let relative_asymptotic = d.as_ref().map(|d| relative_from_d(d, &r, &field.sigma_ext, &counts).to_f64());
+    Ok(Report {
+        precision: label,
+        rel_tol,
+        radius: scene.estimator.radius,
+        q: scene.estimator.q,
+        forward_rays: scene.estimator.forward_rays,
+        camera_rays: scene.estimator.camera_rays,
+        mean_luminance: ValueError { value: ints.mean.value.to_f64(), error: ints.mean.error.to_f64() },
+        corr23: correlation(&ints.c23, &ints.c23_asym),
+        corr24: correlation(&ints.c24, &ints.c24_asym),
+        variance: Variance {
+            exact: ValueError { value: var.value.to_f64(), error: var.error.to_f64() },
+            relative: relative.to_f64(),
+            relative_error: relative_error.to_f64(),
+            relative_asymptotic,
+        },
+        m2: integral(&ints.m2),
+        p: integral(&ints.p),
+        q_pair: integral(&ints.q),
+        d: d.map(|d| d.map(|v| v.to_f64())),
+        evaluations: ints.evaluations(),
+        wall_time_ms: t0.elapsed().as_secs_f64() * 1e3,
+    })
+}
+
+/// Runs the oracle at `precision` with its default tolerance (or `rel_tol`).
+pub fn run(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -> Result<Report, OracleError> {
+    let tol = rel_tol.unwrap_or(precision.default_tol());
+    match precision {
+        Precision::F64 => run_with(scene, &0.0f64, tol, "f64".into()),
+        Precision::Bits(b) => run_with(scene, &rug::Float::with_val(b, 0), tol, format!("{b} bits")),
+    }
+}
