@@ -115,7 +115,7 @@ pub fn cost_markdown(repeats: usize) -> Result<String, String> {
     writeln!(s).unwrap();
     writeln!(s, "Targets of issue 2: f64 at 1e−13 under 0.5 ms; 128 bits under 50 ms (for comparison, on this machine: mpmath at 30 digits ~2 s with the kink given, SciPy nquad ~10 ms at 1e−13 with the integral split by hand).").unwrap();
     writeln!(s).unwrap();
-    writeln!(s, "Where the MPFR time goes (callgrind, 128 bits): `mpfr_acos` (via `mpfr_atan`) 56 %, `mpfr_exp` 20 %, everything else (engine, allocation) under a quarter. One A(x)·e^{{−…}} costs ≈ 3.9 µs in transcendentals alone (acos 2.6 µs, exp 1.2 µs). The evaluation count is set by the two independent passes the engine owes every reported number: tanh–sinh needs ~141 nodes per dimension at 10⁻³² and Gauss–Legendre 96 (n = 64 and 32 in the smoothing substitution), so ≈ 141² + 96² ≈ 29 000 evaluations with the scale pass, i.e. ≥ 80 ms of transcendentals before any overhead. The 50 ms target is not reached with the cross-check in place.").unwrap();
+    writeln!(s, "Where the MPFR time goes (callgrind, 128 bits): `mpfr_acos` (via `mpfr_atan`) 56 %, `mpfr_exp` 20 %, everything else (engine, allocation) under a quarter. One A(x)·e^{{−…}} costs ≈ 3.9 µs in transcendentals alone (acos 2.6 µs, exp 1.2 µs). The evaluation count (table) is set by the two independent passes the engine owes every reported number: at 10⁻³² tanh–sinh needs ~140–280 nodes per dimension and Gauss–Legendre 96 (n = 64 and 32 in the smoothing substitution), so ≥ 140² + 96² ≈ 29 000 evaluations, i.e. ≥ 110 ms of transcendentals before any overhead. The 50 ms target is not reached with the cross-check in place.").unwrap();
     Ok(s)
 }
 

@@ -29,6 +29,7 @@ struct Panel<T> {
     value: T,
     prev_value: T,
     prev2_value: T,
+    prev3_value: T,
 }
 
 impl<T: Real> control::Panel<T> for Panel<T> {
@@ -63,8 +64,13 @@ impl<T: Real> Panel<T> {
     fn quad_err(&self) -> T {
         let d1 = (self.value.clone() - self.prev_value.clone()).abs();
         let d2 = (self.prev_value.clone() - self.prev2_value.clone()).abs();
-        if d1 < d2 {
-            d1.clone() * d1 / d2
+        let d3 = (self.prev2_value.clone() - self.prev3_value.clone()).abs();
+        // Only once three differences shrink, and then with the larger
+        // (older) of the last two ratios: a single small difference can be a
+        // coincidence of the error's sign pattern.
+        if self.level >= 3 && d1 < d2 && d2 < d3 {
+            let ratio = (d1.clone() / d2.clone()).max_of(d2 / d3);
+            d1 * ratio
         } else {
             d1
         }
@@ -107,6 +113,7 @@ fn add_level<T: Real>(
         }
     }
     p.level = level;
+    p.prev3_value = p.prev2_value.clone();
     p.prev2_value = p.prev_value.clone();
     p.prev_value = p.value.clone();
     p.value = p.half() * p.h() * p.sum.clone();
@@ -122,7 +129,8 @@ fn new_panel<T: Real>(a: T, b: T, table: &TsTable<T>, f: &mut Mapped<'_, '_, T>)
         abs_sum: zero.clone(),
         value: zero.clone(),
         prev_value: zero.clone(),
-        prev2_value: zero,
+        prev2_value: zero.clone(),
+        prev3_value: zero,
         a,
         b,
     };
