@@ -77,6 +77,8 @@ pub struct Correlation {
 pub struct Variance {
     /// Var L for one iteration with the scene's N_F, N_B, q, R.
     pub exact: ValueError,
+    /// log₁₀ Var L (meaningful where `exact.value` underflows f64).
+    pub log10: f64,
     /// Var L / ⟨⟨L⟩⟩².
     pub relative: f64,
     pub relative_error: f64,
@@ -94,6 +96,8 @@ pub struct Report {
     pub forward_rays: u64,
     pub camera_rays: u64,
     pub mean_luminance: ValueError,
+    /// log₁₀ of the mean luminance (meaningful where `value` underflows f64).
+    pub mean_luminance_log10: f64,
     pub corr23: Correlation,
     pub corr24: Correlation,
     pub variance: Variance,
@@ -101,30 +105,38 @@ pub struct Report {
     pub m2: Integral,
     pub p: Integral,
     pub q_pair: Integral,
+    /// c₀ = σ_ext × shortest light path to the camera ray: integrals are
+    /// computed with W·e^{c₀} and scaled back for this report.
+    pub attenuation_shift: f64,
     /// D₁…D₅ of §4.4, if the asymptotic forms exist.
     pub d: Option<[f64; 5]>,
     pub evaluations: u64,
     pub wall_time_ms: f64,
 }
 
-fn integral<T: Real>(e: &Estimate<T>) -> Integral {
-    Integral { value: e.value.to_f64(), error: e.error.to_f64(), evaluations: e.evaluations }
-}
-
-fn correlation<T: Real>(exact: &Estimate<T>, asym: &Result<Estimate<T>, String>) -> Correlation {
+fn correlation<T: Real>(exact: &Estimate<T>, asym: &Result<Estimate<T>, String>, k: &T) -> Correlation {
+    let scaled = |e: &Estimate<T>| Integral {
+        value: (e.value.clone() * k.clone()).to_f64(),
+        error: (e.error.clone() * k.clone()).to_f64(),
+        evaluations: e.evaluations,
+    };
     match asym {
         Ok(a) => {
             let ratio = exact.value.clone() / a.value.clone();
             let rel = exact.error.clone() / exact.value.abs() + a.error.clone() / a.value.abs();
             Correlation {
-                exact: integral(exact),
-                asymptotic: Asymptotic { value: Some(a.value.to_f64()), error: Some(a.error.to_f64()), missing: None },
+                exact: scaled(exact),
+                asymptotic: Asymptotic {
+                    value: Some((a.value.clone() * k.clone()).to_f64()),
+                    error: Some((a.error.clone() * k.clone()).to_f64()),
+                    missing: None,
+                },
                 ratio: Some(ratio.to_f64()),
                 ratio_error: Some((ratio.abs() * rel).to_f64()),
             }
         }
         Err(why) => Correlation {
-            exact: integral(exact),
+            exact: scaled(exact),
             asymptotic: Asymptotic { value: None, error: None, missing: Some(why.clone()) },
             ratio: None,
             ratio_error: None,
@@ -143,6 +155,9 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
         n_f: like.lit(scene.estimator.forward_rays as f64),
         n_b: like.lit(scene.estimator.camera_rays as f64),
     };
+    // The field carries W·e^{c₀}; k = e^{−c₀} restores absolute values.
+    let k = (-field.shift.clone()).exp();
+    let inv_k = field.shift.exp();
     let mean = Valued::from(&ints.mean);
     let var = variance(
         &mean,
@@ -152,11 +167,26 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
         &Valued::from(&ints.q),
         &Valued::from(&ints.c24),
         &counts,
+        &k,
     );
+    // Var/μ² = (Var e^{c₀}) e^{c₀} / μ_shifted².
     let mu2 = mean.value.clone() * mean.value.clone();
-    let relative = var.value.clone() / mu2.clone();
-    let relative_error = var.error.clone() / mu2.clone() + relative.abs() * like.lit(2.0) * mean.error.clone() / mean.value.abs();
-    let d = d_constants(&ints, &r, &field.sigma_ext);
+    let relative = var.value.clone() * inv_k.clone() / mu2.clone();
+    let relative_error = var.error.clone() * inv_k.clone() / mu2.clone()
+        + relative.abs() * like.lit(2.0) * mean.error.clone() / mean.value.abs();
+    let d = d_constants(&ints, &r, &field.sigma_ext, &inv_k);
+    let unshift = |e: &Estimate<T>| Integral {
+        value: (e.value.clone() * k.clone()).to_f64(),
+        error: (e.error.clone() * k.clone()).to_f64(),
+        evaluations: e.evaluations,
+    };
+    let unshift2 = |e: &Estimate<T>| Integral {
+        value: (e.value.clone() * k.clone() * k.clone()).to_f64(),
+        error: (e.error.clone() * k.clone() * k.clone()).to_f64(),
+        evaluations: e.evaluations,
+    };
+    let log10 = |v: &T| v.abs().ln().to_f64() / std::f64::consts::LN_10;
+    let shift_log10 = field.shift.to_f64() / std::f64::consts::LN_10;
     let relative_asymptotic = d.as_ref().map(|d| relative_from_d(d, &r, &field.sigma_ext, &counts).to_f64());
     Ok(Report {
         precision: label,
@@ -165,18 +195,24 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
         q: scene.estimator.q,
         forward_rays: scene.estimator.forward_rays,
         camera_rays: scene.estimator.camera_rays,
-        mean_luminance: ValueError { value: ints.mean.value.to_f64(), error: ints.mean.error.to_f64() },
-        corr23: correlation(&ints.c23, &ints.c23_asym),
-        corr24: correlation(&ints.c24, &ints.c24_asym),
+        mean_luminance: ValueError {
+            value: (ints.mean.value.clone() * k.clone()).to_f64(),
+            error: (ints.mean.error.clone() * k.clone()).to_f64(),
+        },
+        mean_luminance_log10: log10(&ints.mean.value) - shift_log10,
+        corr23: correlation(&ints.c23, &ints.c23_asym, &k),
+        corr24: correlation(&ints.c24, &ints.c24_asym, &k),
         variance: Variance {
-            exact: ValueError { value: var.value.to_f64(), error: var.error.to_f64() },
+            exact: ValueError { value: (var.value.clone() * k.clone()).to_f64(), error: (var.error.clone() * k.clone()).to_f64() },
+            log10: log10(&var.value) - shift_log10,
             relative: relative.to_f64(),
             relative_error: relative_error.to_f64(),
             relative_asymptotic,
         },
-        m2: integral(&ints.m2),
-        p: integral(&ints.p),
-        q_pair: integral(&ints.q),
+        m2: unshift(&ints.m2),
+        p: unshift2(&ints.p),
+        q_pair: unshift2(&ints.q),
+        attenuation_shift: field.shift.to_f64(),
         d: d.map(|d| d.map(|v| v.to_f64())),
         evaluations: ints.evaluations(),
         wall_time_ms: t0.elapsed().as_secs_f64() * 1e3,

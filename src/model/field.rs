@@ -43,6 +43,9 @@ pub struct Component<T> {
     pub flux: T,
     /// Beam cross-section π a² (unused for points).
     pub beam_area: T,
+    /// The field's common attenuation shift c₀ (see [`Field::shift`]):
+    /// W is computed as W·e^{c₀}.
+    pub shift: T,
 }
 
 /// The forward field along the camera ray: its delta components and the
@@ -55,6 +58,13 @@ pub struct Field<T> {
     pub phase: Phase,
     /// Total flux 𝓕 of all lights (paper eq. (5)).
     pub total_flux: T,
+    /// c₀ = σ_ext × the shortest path light → x(s) → camera over s ≥ 0 (for
+    /// a point light the distance light–camera, since s + r(s) grows with s).
+    /// Every W is carried as W·e^{c₀}, so that σ_ext·r of several hundred
+    /// (where e^{−σr} and its square underflow f64) keeps full relative
+    /// accuracy; quantities linear in W are scaled by e^{c₀}, quadratic ones
+    /// by e^{2c₀}.
+    pub shift: T,
 }
 
 /// What is known at one point x(s) of the camera ray for one component.
@@ -79,6 +89,8 @@ impl<T: Real> Field<T> {
         }
         let u = scene.camera.direction;
         let o = scene.camera.origin;
+        let sigma = scene.medium.sigma_ext;
+        let shift = like.lit(sigma * shortest_path(scene));
         let components = scene
             .lights
             .iter()
@@ -91,6 +103,7 @@ impl<T: Real> Field<T> {
                         geometry: Geometry::Point { a: like.lit(a), d: like.lit(d) },
                         flux: like.lit(flux),
                         beam_area: like.lit(0.0),
+                        shift: shift.clone(),
                     }
                 }
                 Light::Beam { center, direction, radius, flux } => {
@@ -108,6 +121,7 @@ impl<T: Real> Field<T> {
                         },
                         flux: like.lit(flux),
                         beam_area: like.lit(std::f64::consts::PI * radius * radius),
+                        shift: shift.clone(),
                     }
                 }
             })
@@ -118,6 +132,7 @@ impl<T: Real> Field<T> {
             albedo: like.lit(scene.medium.albedo),
             phase: scene.medium.phase,
             total_flux: like.lit(scene.total_flux()),
+            shift,
         })
     }
 
@@ -136,7 +151,7 @@ impl<T: Real> Component<T> {
                 let r2 = dx.clone() * dx.clone() + d.clone() * d.clone();
                 let r = r2.sqrt();
                 let four_pi = s.pi() * s.lit(4.0);
-                let w = self.flux.clone() * (-(sigma_ext.clone() * r.clone())).exp() / (four_pi * r2);
+                let w = self.flux.clone() * (self.shift.clone() - sigma_ext.clone() * r.clone()).exp() / (four_pi * r2);
                 Some(Local { mu: dx / r.clone(), sin: d.clone() / r, w })
             }
             Geometry::Beam { mu, sin, depth0, s_in, s_out } => {
@@ -144,7 +159,7 @@ impl<T: Real> Component<T> {
                     return None;
                 }
                 let depth = depth0.clone() + mu.clone() * s.clone();
-                let w = self.flux.clone() * (-(sigma_ext.clone() * depth)).exp() / self.beam_area.clone();
+                let w = self.flux.clone() * (self.shift.clone() - sigma_ext.clone() * depth).exp() / self.beam_area.clone();
                 Some(Local { mu: mu.clone(), sin: sin.clone(), w })
             }
         }
@@ -197,6 +212,33 @@ pub fn phase_eval<T: Real>(phase: &Phase, cos: &T) -> T {
             };
             (one.clone() - g.clone()) * (one + g) / (cos.pi() * cos.lit(4.0) * denom.clone() * denom.sqrt())
         }
+    }
+}
+
+/// The shortest path from any light via the camera ray to the camera,
+/// min over s ≥ 0 of (s + path from the light to x(s)): for a point light the
+/// distance light–camera (s + r(s) grows with s), for a beam s + depth(s) at
+/// the entry point (it grows with s as 1 + μ ≥ 0); 0 when no light reaches
+/// the ray.
+fn shortest_path(scene: &Scene) -> f64 {
+    let (u, o) = (scene.camera.direction, scene.camera.origin);
+    let paths = scene.lights.iter().filter_map(|light| match *light {
+        Light::Point { position, .. } => Some((position - o).length()),
+        Light::Beam { center, direction, radius, .. } => {
+            let mu = u.dot(direction);
+            let depth0 = (o - center).dot(direction);
+            let (s_in, s_out) = beam_interval(o - center, u, direction, radius, depth0, mu);
+            if s_out == Some(s_in) {
+                return None;
+            }
+            Some(s_in + (depth0 + mu * s_in).max(0.0))
+        }
+    });
+    let shortest = paths.fold(f64::INFINITY, f64::min);
+    if shortest.is_finite() {
+        shortest.max(0.0)
+    } else {
+        0.0
     }
 }
 
