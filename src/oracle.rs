@@ -203,7 +203,10 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
         corr23: correlation(&ints.c23, &ints.c23_asym, &k),
         corr24: correlation(&ints.c24, &ints.c24_asym, &k),
         variance: Variance {
-            exact: ValueError { value: (var.value.clone() * k.clone()).to_f64(), error: (var.error.clone() * k.clone()).to_f64() },
+            exact: ValueError {
+                value: (var.value.clone() * k.clone()).to_f64(),
+                error: (var.error.clone() * k.clone()).to_f64(),
+            },
             log10: log10(&var.value) - shift_log10,
             relative: relative.to_f64(),
             relative_error: relative_error.to_f64(),

@@ -244,17 +244,28 @@ fn pm(v: f64, e: f64) -> String {
 pub fn oracle_table(r: &crate::oracle::Report) -> String {
     let mut s = String::new();
     let corr = |s: &mut String, name: &str, c: &crate::oracle::Correlation| {
-        writeln!(s, "{name} exact        {}  ({} evaluations)", pm(c.exact.value, c.exact.error), c.exact.evaluations).unwrap();
+        writeln!(s, "{name} exact        {}  ({} evaluations)", pm(c.exact.value, c.exact.error), c.exact.evaluations)
+            .unwrap();
         match (&c.asymptotic.value, &c.asymptotic.missing) {
             (Some(v), _) => {
                 writeln!(s, "{name} R→0 form     {}", pm(*v, c.asymptotic.error.unwrap_or(f64::NAN))).unwrap();
-                writeln!(s, "{name} ratio        {}", pm(c.ratio.unwrap_or(f64::NAN), c.ratio_error.unwrap_or(f64::NAN))).unwrap();
+                writeln!(
+                    s,
+                    "{name} ratio        {}",
+                    pm(c.ratio.unwrap_or(f64::NAN), c.ratio_error.unwrap_or(f64::NAN))
+                )
+                .unwrap();
             }
             (None, Some(why)) => writeln!(s, "{name} R→0 form     does not exist: {why}").unwrap(),
             _ => {}
         }
     };
-    writeln!(s, "precision {}   rel. tolerance {:.1e}   R = {}   q = {}   N_F = {}   N_B = {}", r.precision, r.rel_tol, r.radius, r.q, r.forward_rays, r.camera_rays).unwrap();
+    writeln!(
+        s,
+        "precision {}   rel. tolerance {:.1e}   R = {}   q = {}   N_F = {}   N_B = {}",
+        r.precision, r.rel_tol, r.radius, r.q, r.forward_rays, r.camera_rays
+    )
+    .unwrap();
     writeln!(s, "mean luminance   {}", pm(r.mean_luminance.value, r.mean_luminance.error)).unwrap();
     corr(&mut s, "(23)", &r.corr23);
     corr(&mut s, "(24)", &r.corr24);

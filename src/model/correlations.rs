@@ -42,20 +42,51 @@ pub enum Which {
 /// K = 2 albedo² 𝓕/(π² R²).
 fn k_factor<T: Real>(field: &Field<T>, r: &T) -> T {
     let pi = r.pi();
-    r.lit(2.0) * field.albedo.clone() * field.albedo.clone() * field.total_flux.clone() / (pi.clone() * pi * r.clone() * r.clone())
+    r.lit(2.0) * field.albedo.clone() * field.albedo.clone() * field.total_flux.clone()
+        / (pi.clone() * pi * r.clone() * r.clone())
+}
+
+/// ⟨𝒞(s)𝒞(s+t)⟩ at one pair of sphere positions (s = field.center + x),
+/// t ≥ 0: K Σ f(−μ)² W A(t sin ϑ/2R) e^{−σ t|μ|}, with μ, W taken at the
+/// sphere the ray meets first. At t = 0 it equals ⟨𝒞²⟩(s) (A(0) = π/2),
+/// which the tests check.
+pub fn pointwise<T: Real>(field: &Field<T>, s: &T, t: &T, r: &T) -> T {
+    let k = k_factor(field, r);
+    let two_r = r.lit(2.0) * r.clone();
+    let far = s.clone() + t.clone();
+    let mut sum = s.lit(0.0);
+    for c in &field.components {
+        for (x, forward) in [(s, true), (&far, false)] {
+            let Some(l) = c.at(x, &field.sigma_ext) else { continue };
+            if (l.mu >= s.lit(0.0)) != forward {
+                continue;
+            }
+            let f = field.phase_at(&l.mu);
+            let overlap = overlap_a(&(t.clone() * l.sin.clone() / two_r.clone()));
+            sum = sum + f.clone() * f * l.w * overlap * (-(field.sigma_ext.clone() * t.clone() * l.mu.abs())).exp();
+        }
+    }
+    k * sum
 }
 
 /// The s-range of a component where the first-met sphere is the nearer one
 /// (μ ≥ 0, `forward` = true) or the farther one (μ < 0).
 fn first_sphere_range<T: Real>(c: &Component<T>, forward: bool, like: &T) -> Option<(T, Option<T>)> {
-    let (lo, hi) = c.support(like);
+    let (lo, hi) = c.support();
     let (lo, hi) = match &c.geometry {
         Geometry::Point { a, .. } => {
+            let a = c.x_of(a);
             if forward {
                 (lo.max_of(a.clone()), hi)
             } else {
                 let top = a.clone();
-                (lo, Some(match hi { Some(h) if h < top => h, _ => top }))
+                (
+                    lo,
+                    Some(match hi {
+                        Some(h) if h < top => h,
+                        _ => top,
+                    }),
+                )
             }
         }
         Geometry::Beam { mu, .. } => {
@@ -78,6 +109,7 @@ pub fn exact<T: CheckRule>(field: &Field<T>, r: &T, which: Which, opts: &Options
     for c in &field.components {
         for forward in [true, false] {
             let Some((lo, hi)) = first_sphere_range(c, forward, &like) else { continue };
+            let lo = lo.max_of(field.x_camera());
             let e = one_term(field, c, r, which, forward, &lo, hi.as_ref(), opts)?;
             total = Some(match total {
                 None => e,
@@ -119,13 +151,22 @@ fn one_term<T: CheckRule>(
             let zero = x.lit(0.0);
             let local = c.at(x, &sigma);
             let Some(l) = local else {
-                return integrate(|_: &T| x.lit(0.0), &Domain::finite(zero.clone(), x.lit(1.0)), &inner.clone().declared());
+                return integrate(
+                    |_: &T| x.lit(0.0),
+                    &Domain::finite(zero.clone(), x.lit(1.0)),
+                    &inner.clone().declared(),
+                );
             };
             let f = field.phase_at(&l.mu);
             // Outer weight σ² e^{−σx} (23) or σ² e^{−2σx} (24), times K f² W.
             let decay = if which == Which::Eq24 { x.lit(2.0) } else { x.lit(1.0) };
-            let outer = k.clone() * sigma.clone() * sigma.clone() * (-(decay * sigma.clone() * x.clone())).exp()
-                * f.clone() * f * l.w.clone();
+            let outer = k.clone()
+                * sigma.clone()
+                * sigma.clone()
+                * (-(decay * sigma.clone() * field.s_of(x))).exp()
+                * f.clone()
+                * f
+                * l.w.clone();
             // Inner exponent rate: e^{−rate t}.
             let abs_mu = l.mu.abs();
             let rate = match (which, forward) {
@@ -136,21 +177,36 @@ fn one_term<T: CheckRule>(
             let edge = two_r.clone() / l.sin.clone();
             let mut top = if edge.is_finite() { Some(edge) } else { None };
             if !forward {
+                // The nearer sphere s − t must lie at s − t ≥ 0.
+                let s_abs = field.s_of(x);
                 top = Some(match top {
-                    Some(t) if t < x.clone() => t,
-                    _ => x.clone(),
+                    Some(t) if t < s_abs => t,
+                    _ => s_abs,
                 });
             }
             let scale = l.sin.clone() / two_r.clone();
-            let g = |t: &T| outer.clone() * overlap_a(&(t.clone() * scale.clone())) * (-(rate.clone() * t.clone())).exp();
+            let g =
+                |t: &T| outer.clone() * overlap_a(&(t.clone() * scale.clone())) * (-(rate.clone() * t.clone())).exp();
             let inner_opts = inner.clone().declared();
+            // Where T ≫ 1/rate (sin ϑ → 0), the integrand lives in the first
+            // few decay lengths of a long interval: breakpoints at 1, 10, 100,
+            // 1000 decay lengths keep every piece's content spread over it
+            // (a rule sampling a long piece coarsely would otherwise see only
+            // the e^{−rate·t} edge at its start).
+            let lengths: Vec<T> = if rate > x.lit(0.0) {
+                [1.0, 10.0, 100.0, 1000.0].iter().map(|k| x.lit(*k) / rate.clone()).collect()
+            } else {
+                Vec::new()
+            };
             match top {
-                Some(t_max) if t_max > zero => integrate(g, &Domain::finite(zero, t_max), &inner_opts),
+                Some(t_max) if t_max > zero => {
+                    integrate(g, &Domain::finite(zero, t_max).with_breakpoints(lengths), &inner_opts)
+                }
                 Some(_) => integrate(|_: &T| x.lit(0.0), &Domain::finite(zero, x.lit(1.0)), &inner_opts),
                 None => integrate(g, &Domain::semi_infinite(zero).with_decay(rate.clone()), &inner_opts),
             }
         },
-        &ray_domain(field, lo, hi).with_breakpoints(if forward { None } else { reach_kink(c, r, lo, hi) }),
+        &ray_domain(field, lo, hi).with_breakpoints(if forward { None } else { reach_kink(field, c, r, lo, hi) }),
         opts,
     )
     .map_err(OracleError::quad(what))
@@ -160,17 +216,13 @@ fn one_term<T: CheckRule>(
 /// the outer integrand has a kink where p = T(p), i.e. p sin ϑ(p) = 2R.
 /// p sin ϑ(p) grows with p on the backward range (for a point light
 /// p d/r(p), r decreasing towards a), so the root is found by bisection.
-fn reach_kink<T: Real>(c: &Component<T>, r: &T, lo: &T, hi: Option<&T>) -> Option<T> {
+fn reach_kink<T: Real>(field: &Field<T>, c: &Component<T>, r: &T, lo: &T, hi: Option<&T>) -> Option<T> {
     let two_r = r.lit(2.0) * r.clone();
     let hi = hi?.clone();
-    let g = |p: &T| -> T {
-        match &c.geometry {
-            Geometry::Point { a, d } => {
-                let dx = p.clone() - a.clone();
-                p.clone() * d.clone() / (dx.clone() * dx + d.clone() * d.clone()).sqrt() - two_r.clone()
-            }
-            Geometry::Beam { sin, .. } => p.clone() * sin.clone() - two_r.clone(),
-        }
+    // In x: s(x) sin ϑ(x) − 2R.
+    let g = |x: &T| -> T {
+        let l = c.at(x, &field.sigma_ext).map(|l| l.sin).unwrap_or_else(|| x.lit(0.0));
+        field.s_of(x) * l - two_r.clone()
     };
     let (mut a, mut b) = (lo.clone(), hi);
     if !(g(&a) < r.lit(0.0) && g(&b) > r.lit(0.0)) {
@@ -216,23 +268,23 @@ pub fn asymptotic<T: CheckRule>(
     };
     let front = coeff * field.albedo.clone() * field.albedo.clone() * field.total_flux.clone() * sigma.clone()
         / (r.lit(3.0) * pi.clone() * pi * r.clone());
-    let zero = r.lit(0.0);
+    let x0 = field.x_camera();
     let what = match which {
         Which::Eq23 => "asymptotic (25)",
         Which::Eq24 => "asymptotic (26)",
     };
     integrate(
-        |s: &T| {
-            let mut h = s.lit(0.0);
+        |x: &T| {
+            let mut h = x.lit(0.0);
             for c in &field.components {
-                if let Some(l) = c.at(s, &sigma) {
+                if let Some(l) = c.at(x, &sigma) {
                     let f = field.phase_at(&l.mu);
                     h = h + f.clone() * f * l.w / l.sin;
                 }
             }
-            front.clone() * sigma.clone() * (-(decay.clone() * sigma.clone() * s.clone())).exp() * h
+            front.clone() * sigma.clone() * (-(decay.clone() * sigma.clone() * field.s_of(x))).exp() * h
         },
-        &ray_domain(field, &zero, None),
+        &ray_domain(field, &x0, None),
         opts,
     )
     .map(Ok)

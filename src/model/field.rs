@@ -46,6 +46,8 @@ pub struct Component<T> {
     /// The field's common attenuation shift c₀ (see [`Field::shift`]):
     /// W is computed as W·e^{c₀}.
     pub shift: T,
+    /// The field's [`Field::center`].
+    pub center: T,
 }
 
 /// The forward field along the camera ray: its delta components and the
@@ -65,6 +67,12 @@ pub struct Field<T> {
     /// accuracy; quantities linear in W are scaled by e^{c₀}, quadratic ones
     /// by e^{2c₀}.
     pub shift: T,
+    /// Origin of the integration variable x = s − center along the camera
+    /// ray: the closest approach of the point light nearest to the ray (if
+    /// one lies ahead), so that its Lorentzian peak 1/((s − a)² + d²) is
+    /// resolved in x, where s − a = x exactly, not in s, whose rounding
+    /// (ulp(a)) would swamp a width d of 10⁻⁶.
+    pub center: T,
 }
 
 /// What is known at one point x(s) of the camera ray for one component.
@@ -91,6 +99,7 @@ impl<T: Real> Field<T> {
         let o = scene.camera.origin;
         let sigma = scene.medium.sigma_ext;
         let shift = like.lit(sigma * shortest_path(scene));
+        let x_origin = like.lit(ray_center(scene));
         let components = scene
             .lights
             .iter()
@@ -104,6 +113,7 @@ impl<T: Real> Field<T> {
                         flux: like.lit(flux),
                         beam_area: like.lit(0.0),
                         shift: shift.clone(),
+                        center: x_origin.clone(),
                     }
                 }
                 Light::Beam { center, direction, radius, flux } => {
@@ -122,6 +132,7 @@ impl<T: Real> Field<T> {
                         flux: like.lit(flux),
                         beam_area: like.lit(std::f64::consts::PI * radius * radius),
                         shift: shift.clone(),
+                        center: x_origin.clone(),
                     }
                 }
             })
@@ -133,7 +144,18 @@ impl<T: Real> Field<T> {
             phase: scene.medium.phase,
             total_flux: like.lit(scene.total_flux()),
             shift,
+            center: x_origin,
         })
+    }
+
+    /// The x of the camera (s = 0).
+    pub fn x_camera(&self) -> T {
+        -self.center.clone()
+    }
+
+    /// s = center + x.
+    pub fn s_of(&self, x: &T) -> T {
+        self.center.clone() + x.clone()
     }
 
     /// Phase function at the scattering-angle cosine −μ (eq. (5): f(−u, v)).
@@ -143,11 +165,14 @@ impl<T: Real> Field<T> {
 }
 
 impl<T: Real> Component<T> {
-    /// The component at x(s), or `None` where it is zero.
-    pub fn at(&self, s: &T, sigma_ext: &T) -> Option<Local<T>> {
+    /// The component at the camera-ray point s = center + x, or `None` where
+    /// it is zero.
+    pub fn at(&self, x: &T, sigma_ext: &T) -> Option<Local<T>> {
+        let s = self.center.clone() + x.clone();
         match &self.geometry {
             Geometry::Point { a, d } => {
-                let dx = s.clone() - a.clone();
+                // (center − a) is exactly 0 for the centred light.
+                let dx = (self.center.clone() - a.clone()) + x.clone();
                 let r2 = dx.clone() * dx.clone() + d.clone() * d.clone();
                 let r = r2.sqrt();
                 let four_pi = s.pi() * s.lit(4.0);
@@ -159,37 +184,55 @@ impl<T: Real> Component<T> {
                     return None;
                 }
                 let depth = depth0.clone() + mu.clone() * s.clone();
-                let w = self.flux.clone() * (self.shift.clone() - sigma_ext.clone() * depth).exp() / self.beam_area.clone();
+                let w =
+                    self.flux.clone() * (self.shift.clone() - sigma_ext.clone() * depth).exp() / self.beam_area.clone();
                 Some(Local { mu: mu.clone(), sin: sin.clone(), w })
             }
         }
     }
 
-    /// Where along the camera ray the component is non-zero: [lo, hi) with
-    /// hi = None for ∞.
-    pub fn support(&self, like: &T) -> (T, Option<T>) {
+    /// Where along the camera ray the component is non-zero, in x: [lo, hi)
+    /// with hi = None for ∞.
+    pub fn support(&self) -> (T, Option<T>) {
+        let c = self.center.clone();
         match &self.geometry {
-            Geometry::Point { .. } => (like.lit(0.0), None),
-            Geometry::Beam { s_in, s_out, .. } => (s_in.clone(), s_out.clone()),
+            Geometry::Point { .. } => (-c, None),
+            Geometry::Beam { s_in, s_out, .. } => (s_in.clone() - c.clone(), s_out.clone().map(|v| v - c)),
         }
     }
 
+    /// The x of s (for this component's geometry constants, given in s).
+    pub fn x_of(&self, s: &T) -> T {
+        s.clone() - self.center.clone()
+    }
+
     /// Points where the component is not smooth or has a narrow feature, for
-    /// the quadrature engine: a point light's closest approach a and a ± d·10^k
-    /// (the irradiance is a Lorentzian of width d there); beam edges.
+    /// the quadrature engine: a point light's closest approach a and
+    /// a ± d·10^k up to the scale max(1, |a|) (the irradiance is a Lorentzian
+    /// of width d there, and falls like 1/(s − a)² beyond: each graded piece
+    /// then spans a bounded dynamic range); beam edges.
     pub fn breakpoints(&self) -> Vec<T> {
         match &self.geometry {
             Geometry::Point { a, d } => {
+                // a in x: exactly 0 for the centred light.
+                let a = &(a.clone() - self.center.clone());
                 let mut v = vec![a.clone()];
-                for k in [1.0, 10.0, 100.0] {
-                    v.push(a.clone() - d.clone() * a.lit(k));
-                    v.push(a.clone() + d.clone() * a.lit(k));
+                let scale = a.abs().max_of(a.lit(1.0));
+                let mut step = d.clone();
+                for _ in 0..24 {
+                    if !(step < scale) || step.is_zero() {
+                        break;
+                    }
+                    v.push(a.clone() - step.clone());
+                    v.push(a.clone() + step.clone());
+                    step = step * a.lit(10.0);
                 }
+                v.push(a.clone() + scale.clone());
                 v
             }
             Geometry::Beam { s_in, s_out, .. } => {
-                let mut v = vec![s_in.clone()];
-                v.extend(s_out.clone());
+                let mut v = vec![self.x_of(s_in)];
+                v.extend(s_out.as_ref().map(|e| self.x_of(e)));
                 v
             }
         }
@@ -206,13 +249,36 @@ pub fn phase_eval<T: Real>(phase: &Phase, cos: &T) -> T {
             let one = cos.lit(1.0);
             // (1 − g)² + 2g(1 − cos) for g ≥ 0, (1 + g)² − 2g(1 + cos) else.
             let denom = if g >= cos.lit(0.0) {
-                (one.clone() - g.clone()) * (one.clone() - g.clone()) + cos.lit(2.0) * g.clone() * (one.clone() - cos.clone())
+                (one.clone() - g.clone()) * (one.clone() - g.clone())
+                    + cos.lit(2.0) * g.clone() * (one.clone() - cos.clone())
             } else {
-                (one.clone() + g.clone()) * (one.clone() + g.clone()) - cos.lit(2.0) * g.clone() * (one.clone() + cos.clone())
+                (one.clone() + g.clone()) * (one.clone() + g.clone())
+                    - cos.lit(2.0) * g.clone() * (one.clone() + cos.clone())
             };
             (one.clone() - g.clone()) * (one + g) / (cos.pi() * cos.lit(4.0) * denom.clone() * denom.sqrt())
         }
     }
+}
+
+/// The centre of the integration variable: the abscissa a of the point
+/// light ahead of the camera that comes closest to the ray relative to its
+/// distance (smallest d/max(1, a)), or 0.
+fn ray_center(scene: &Scene) -> f64 {
+    let (u, o) = (scene.camera.direction, scene.camera.origin);
+    let mut best: Option<(f64, f64)> = None;
+    for light in &scene.lights {
+        if let Light::Point { position, .. } = *light {
+            let rel = position - o;
+            let a = rel.dot(u);
+            if a > 0.0 {
+                let closeness = rel.cross(u).length() / a.max(1.0);
+                if best.is_none_or(|(c, _)| closeness < c) {
+                    best = Some((closeness, a));
+                }
+            }
+        }
+    }
+    best.map_or(0.0, |(_, a)| a)
 }
 
 /// The shortest path from any light via the camera ray to the camera,
@@ -245,14 +311,7 @@ fn shortest_path(scene: &Scene) -> f64 {
 /// The interval of s ≥ 0 where the camera ray o + s u is inside the beam:
 /// perpendicular distance to the beam axis ≤ radius and depth ≥ 0. Returns
 /// (s_in, s_out) with s_in ≥ 0; (0, Some(0)) when the ray misses the beam.
-fn beam_interval(
-    rel: DVec3,
-    u: DVec3,
-    v: DVec3,
-    radius: f64,
-    depth0: f64,
-    mu: f64,
-) -> (f64, Option<f64>) {
+fn beam_interval(rel: DVec3, u: DVec3, v: DVec3, radius: f64, depth0: f64, mu: f64) -> (f64, Option<f64>) {
     // Perpendicular components: w + s u_perp.
     let w = rel - v * rel.dot(v);
     let up = u - v * mu;

@@ -19,7 +19,8 @@ use super::OracleError;
 use crate::quad::{integrate, integrate_nested, CheckRule, Domain, Estimate, Options};
 use crate::real::Real;
 
-/// ⟨𝒞⟩(s): mean contribution of one forward ray to a sphere at x(s).
+/// ⟨𝒞⟩ at s = field.center + x: mean contribution of one forward ray to a
+/// sphere there.
 pub fn mean_contribution<T: Real>(field: &Field<T>, s: &T) -> T {
     let mut sum = s.lit(0.0);
     for c in &field.components {
@@ -30,7 +31,7 @@ pub fn mean_contribution<T: Real>(field: &Field<T>, s: &T) -> T {
     field.albedo.clone() * sum
 }
 
-/// ⟨𝒞²⟩(s) for spheres of radius `r`.
+/// ⟨𝒞²⟩ at s = field.center + x for spheres of radius `r`.
 pub fn second_moment<T: Real>(field: &Field<T>, s: &T, r: &T) -> T {
     let mut sum = s.lit(0.0);
     for c in &field.components {
@@ -42,8 +43,8 @@ pub fn second_moment<T: Real>(field: &Field<T>, s: &T, r: &T) -> T {
     field.albedo.clone() * field.albedo.clone() * field.total_flux.clone() * sum / (s.pi() * r.clone() * r.clone())
 }
 
-/// [0, ∞) along the camera ray with every component's breakpoints and the
-/// attenuation e^{−σ_ext s} declared as the decay.
+/// [lo, hi) in x along the camera ray with every component's breakpoints
+/// and the attenuation e^{−σ_ext s} declared as the tail's decay.
 pub fn ray_domain<T: Real>(field: &Field<T>, lo: &T, hi: Option<&T>) -> Domain<T> {
     let mut d = match hi {
         Some(h) => Domain::finite(lo.clone(), h.clone()),
@@ -63,9 +64,13 @@ fn along_ray<T: CheckRule>(
     g: impl Fn(&T) -> T,
 ) -> Result<Estimate<T>, OracleError> {
     let sigma = field.sigma_ext.clone();
-    let zero = sigma.lit(0.0);
-    integrate(|s: &T| sigma.clone() * (-(sigma.clone() * s.clone())).exp() * g(s), &ray_domain(field, &zero, None), opts)
-        .map_err(OracleError::quad(what))
+    let x0 = field.x_camera();
+    integrate(
+        |x: &T| sigma.clone() * (-(sigma.clone() * field.s_of(x))).exp() * g(x),
+        &ray_domain(field, &x0, None),
+        opts,
+    )
+    .map_err(OracleError::quad(what))
 }
 
 /// Mean pixel luminance ⟨⟨L⟩⟩ = ∫ σ e^{−σs} ⟨𝒞⟩(s) ds (paper (15)).
@@ -90,22 +95,26 @@ pub fn p_single<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estima
 /// computed with p = s + t as ∫₀^∞ σ e^{−σp} ⟨𝒞⟩(p) [∫₀^p σ ⟨𝒞⟩(s) ds] dp.
 pub fn q_pair<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
     let sigma = field.sigma_ext.clone();
-    let zero = sigma.lit(0.0);
+    let x0 = field.x_camera();
     integrate_nested(
         |p: &T, inner: &Options| {
             // The outer factor goes inside, so the inner integral *is* the
             // outer integrand and the inner tolerances apply to it directly.
-            let outer = sigma.clone() * (-(sigma.clone() * p.clone())).exp() * mean_contribution(field, p);
-            if !(p.clone() > zero.clone()) || outer.is_zero() {
-                return integrate(|_: &T| p.lit(0.0), &Domain::finite(p.lit(0.0), p.lit(1.0)), &inner.clone().declared());
+            let outer = sigma.clone() * (-(sigma.clone() * field.s_of(p))).exp() * mean_contribution(field, p);
+            if !(p.clone() > x0.clone()) || outer.is_zero() {
+                return integrate(
+                    |_: &T| p.lit(0.0),
+                    &Domain::finite(p.lit(0.0), p.lit(1.0)),
+                    &inner.clone().declared(),
+                );
             }
             integrate(
                 |s: &T| outer.clone() * sigma.clone() * mean_contribution(field, s),
-                &ray_domain(field, &zero, Some(p)),
+                &ray_domain(field, &x0, Some(p)),
                 inner,
             )
         },
-        &ray_domain(field, &zero, None),
+        &ray_domain(field, &x0, None),
         opts,
     )
     .map_err(OracleError::quad("∫∫⟨𝒞⟩⟨𝒞⟩ of (17)"))

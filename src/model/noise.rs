@@ -149,7 +149,9 @@ pub fn relative_from_d<T: Real>(d: &[T; 5], r: &T, sigma: &T, n: &Counts<T>) -> 
     let head = (q.clone() * d[0].clone() + sr.clone() * (one.clone() - q.clone()) * d[1].clone()) / nb.clone()
         + (one.clone() - one.clone() / nb.clone()) * sr * d[2].clone();
     head / (r.clone() * r.clone() * nf.clone())
-        + (one.clone() / nb.clone()) * (one.clone() - one.clone() / nf.clone()) * (q.clone() * d[3].clone() + (one.clone() - q) * d[4].clone())
+        + (one.clone() / nb.clone())
+            * (one.clone() - one.clone() / nf.clone())
+            * (q.clone() * d[3].clone() + (one.clone() - q) * d[4].clone())
         + one.clone() / (nf.clone() * nb.clone())
         - one.clone() / nf
         - one / nb

@@ -182,7 +182,7 @@ impl<T: Real> control::Panel<T> for Panel<T> {
         self.est.quad_err.clone()
     }
     fn floor(&self) -> T {
-        self.s0.eps() * self.s0.lit(8.0) * self.est.abs.clone() + self.s0.underflow_floor()
+        self.s0.eps() * self.s0.lit(8.0) * self.est.abs.clone() + self.s0.underflow_floor() / self.s0.lit(1024.0)
     }
     fn error(&self) -> T {
         self.est.quad_err.clone() + self.est.inner_err.clone() + self.floor()

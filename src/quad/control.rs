@@ -65,8 +65,10 @@ fn totals<T: Real, P: Panel<T>>(panels: &[P], like: &T) -> (T, T) {
     panels.iter().fold((zero.clone(), zero), |(v, e), p| (v + p.value(), e + p.error()))
 }
 
-/// The result of a rule once control is done.
+/// The result of a rule once control is done. Its bar includes one
+/// underflow floor for the whole integral (the panels carry 1/1024 of it
+/// each, only to stop refining below it).
 pub(crate) fn result<T: Real, P: Panel<T>>(panels: &[P], like: &T) -> RuleResult<T> {
     let (value, error) = totals(panels, like);
-    RuleResult { value, error, pieces: panels.len() }
+    RuleResult { value, error: error + like.underflow_floor(), pieces: panels.len() }
 }

@@ -259,21 +259,25 @@ pub fn integrate_nested<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(
         ..opts.clone()
     };
     let scale = nested_pass(&mut f, domain, &coarse_outer, &coarse_inner)?;
-    // Inner integrals get a tenth of the tolerance, but never less than 64
-    // ulps: each rule aims at a third of its goal and is floored at 8 eps of
-    // rounding, so tighter inner goals are unreachable, not more accurate.
+    // Inner integrals get a twentieth of the tolerance, but never less than
+    // 64 ulps: each rule aims at a quarter of its goal and is floored at
+    // 8 eps of rounding, so tighter inner goals are unreachable, not more
+    // accurate. Their absolute tolerance is a twentieth of the outer goal
+    // spread over the outer domain's effective length, since inner errors
+    // add up along it.
     let inner_floor = 64.0 * domain.lo.eps().to_f64();
+    let outer_goal = (opts.rel_tol * scale.value.abs().to_f64()).max(opts.abs_tol);
     let inner = Options {
-        rel_tol: (opts.rel_tol * 0.1).max(inner_floor),
-        abs_tol: (opts.rel_tol * scale.value.abs().to_f64()).max(opts.abs_tol) * 0.1,
+        rel_tol: (opts.rel_tol / 20.0).max(inner_floor),
+        abs_tol: outer_goal / (20.0 * effective_length(domain)),
         zero_guard: false,
         cross_check: false,
         ..opts.clone()
     };
-    // Each pass aims at a third of the goal: the final bar is the larger of
+    // Each pass aims at a quarter of the goal: the final bar is the larger of
     // the primary's and (difference of the passes + the check's bar).
     let outer =
-        Options { rel_tol: opts.rel_tol / 3.0, abs_tol: opts.abs_tol / 3.0, cross_check: false, ..opts.clone() };
+        Options { rel_tol: opts.rel_tol / 4.0, abs_tol: opts.abs_tol / 4.0, cross_check: false, ..opts.clone() };
     let mut primary = nested_pass(&mut f, domain, &outer, &inner)?;
     primary.evaluations += scale.evaluations;
     if !opts.cross_check {
@@ -285,6 +289,19 @@ pub fn integrate_nested<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(
     let check = nested_pass(&mut f, domain, &Options { rule: other, ..outer }, &Options { rule: other, ..inner })?;
     primary.evaluations += check.evaluations;
     reconcile(primary, Some(check), opts)
+}
+
+/// Length over which an outer integrand's inner errors add up: the span to
+/// the last breakpoint (or the upper limit), plus the decay length of a
+/// semi-infinite tail (1 when none is declared).
+fn effective_length<T: Real>(domain: &Domain<T>) -> f64 {
+    let lo = domain.lo.to_f64();
+    let last = domain.breakpoints.iter().map(Real::to_f64).filter(|p| p.is_finite()).fold(lo, f64::max);
+    let span = match &domain.hi {
+        Some(hi) => hi.to_f64() - lo,
+        None => last - lo + domain.decay.as_ref().map_or(1.0, |d| 1.0 / d.to_f64()),
+    };
+    span.max(f64::MIN_POSITIVE)
 }
 
 fn nested_pass<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(
@@ -438,12 +455,8 @@ fn split_tail<T: Real>(domain: &Domain<T>) -> Option<T> {
 /// relative goal can be below the rounding noise of a nested inner integral).
 fn integrate_split<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, b: T, opts: &Options) -> Outcome<T> {
     let half = Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() };
-    let head = Domain {
-        lo: domain.lo.clone(),
-        hi: Some(b.clone()),
-        breakpoints: domain.breakpoints.clone(),
-        decay: None,
-    };
+    let head =
+        Domain { lo: domain.lo.clone(), hi: Some(b.clone()), breakpoints: domain.breakpoints.clone(), decay: None };
     let tail = Domain { lo: b, hi: None, breakpoints: Vec::new(), decay: domain.decay.clone() };
     // The all-zero guard judges the whole domain: a zero tail is ordinary.
     let h = integrate_pieces(f, &head, &Options { zero_guard: false, ..half.clone() })?;
@@ -509,11 +522,11 @@ fn integrate_pieces<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, o
     let pieces: Vec<Piece<T>> =
         edges.windows(2).filter(|w| w[0] < w[1]).map(|w| Piece { a: w[0].clone(), b: w[1].clone() }).collect();
 
-    // Each rule aims at a third of the goal (see `reconcile`).
-    let third = Options { rel_tol: opts.rel_tol / 3.0, abs_tol: opts.abs_tol / 3.0, ..opts.clone() };
+    // Each rule aims at a quarter of the goal (see `reconcile`).
+    let quarter = Options { rel_tol: opts.rel_tol / 4.0, abs_tol: opts.abs_tol / 4.0, ..opts.clone() };
     let run = |rule: Rule, mapped: &mut Mapped<'_, '_, T>| match rule {
-        Rule::TanhSinh => tanh_sinh::integrate(mapped, &pieces, &third),
-        Rule::Check => check::adaptive(mapped, &pieces, &third),
+        Rule::TanhSinh => tanh_sinh::integrate(mapped, &pieces, &quarter),
+        Rule::Check => check::adaptive(mapped, &pieces, &quarter),
     };
     let primary = run(opts.rule, &mut mapped)?;
     let check = if opts.cross_check { Some(run(opts.rule.other(), &mut mapped)?) } else { None };
@@ -542,7 +555,8 @@ fn integrate_pieces<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, o
 /// The reported bar is max(e_p, |p − c| + e_c): the check's bar e_c is the
 /// conservative one (a bisection difference), so |p − exact| ≤ |p − c| + e_c
 /// whenever the check is right, whatever the primary's own estimate e_p.
-/// Each rule aims at a third of the goal, so two sound results always fit.
+/// Each rule aims at a quarter of the goal: two sound results fit, with room
+/// for the primary's sharp estimate to be short by a factor 2.
 fn reconcile<T: CheckRule>(primary: Estimate<T>, check: Option<Estimate<T>>, opts: &Options) -> Outcome<T> {
     let goal = goal(&primary.value, opts);
     let fail = |reason: String, bar: T, p: &Estimate<T>| Failure {

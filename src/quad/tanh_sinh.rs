@@ -80,7 +80,8 @@ impl<T: Real> Panel<T> {
     }
     /// Rounding floor: 8 eps Σ|w f|.
     fn floor(&self) -> T {
-        self.a.eps() * self.a.lit(8.0) * self.half().abs() * self.h() * self.abs_sum.clone() + self.a.underflow_floor()
+        self.a.eps() * self.a.lit(8.0) * self.half().abs() * self.h() * self.abs_sum.clone()
+            + self.a.underflow_floor() / self.a.lit(1024.0)
     }
 }
 

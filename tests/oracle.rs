@@ -1,0 +1,193 @@
+//! The oracle: consistency of the model, convergence of the R → 0 forms,
+//! f64 against MPFR, hard cases.
+//!
+//! Tolerance policy: agreement between precisions is judged against the sum
+//! of the two error bars (nothing wider); convergence tests use the first-order
+//! behaviour the derivation predicts (`docs/model.md`): |1 − ratio| shrinks by
+//! a factor 10 ± 2 per decade of R.
+
+use mcrt_noise::model::correlations::pointwise;
+use mcrt_noise::model::field::Field;
+use mcrt_noise::model::moments::second_moment;
+use mcrt_noise::oracle::{run, Precision, Report};
+use mcrt_scene::Scene;
+use std::path::Path;
+
+const ORDER0_SCENES: [&str; 4] = ["point-isotropic", "point-hg-forward", "point-hg-backward", "beam-isotropic"];
+
+fn scene(name: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(format!("{name}.toml"));
+    Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn with_radius(mut s: Scene, r: f64) -> Scene {
+    s.estimator.radius = r;
+    s
+}
+
+fn oracle(s: &Scene) -> Report {
+    run(s, Precision::F64, None).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn correlation_at_zero_separation_is_the_second_moment() {
+    for name in ORDER0_SCENES {
+        let s = scene(name);
+        let field = Field::from_scene(&s, &0.0f64).unwrap();
+        let r = s.estimator.radius;
+        // x = s − field.center; the identity holds at every point.
+        for x in [-0.9, -0.5, 0.0, 0.1, 0.3, 1.0, 5.0] {
+            let (c, m) = (pointwise(&field, &x, &0.0, &r), second_moment(&field, &x, &r));
+            assert!((c - m).abs() <= 1e-14 * m.abs(), "{name} s={x}: {c} vs {m}");
+        }
+    }
+}
+
+#[test]
+fn asymptotic_forms_converge_at_first_order() {
+    for name in ORDER0_SCENES {
+        let gaps: Vec<[f64; 2]> = [1e-2, 1e-3, 1e-4]
+            .iter()
+            .map(|&r| {
+                let rep = oracle(&with_radius(scene(name), r));
+                [1.0 - rep.corr23.ratio.unwrap(), 1.0 - rep.corr24.ratio.unwrap()]
+            })
+            .collect();
+        for k in 0..2 {
+            for w in gaps.windows(2) {
+                let factor = w[0][k] / w[1][k];
+                assert!((8.0..=12.0).contains(&factor), "{name} ({}) gap {:e} -> {:e}", 23 + k, w[0][k], w[1][k]);
+            }
+            assert!(gaps[2][k].abs() <= 2e-3, "{name}: |1 - ratio| = {:e} at R = 1e-4", gaps[2][k]);
+        }
+    }
+}
+
+#[test]
+fn f64_and_128_bits_agree_within_their_bars() {
+    for name in ORDER0_SCENES {
+        let s = scene(name);
+        let a = oracle(&s);
+        let b = run(&s, Precision::Bits(128), None).unwrap_or_else(|e| panic!("{name} at 128 bits: {e}"));
+        let close = |x: f64, ex: f64, y: f64, ey: f64, what: &str| {
+            assert!((x - y).abs() <= ex + ey, "{name} {what}: f64 {x:e} ± {ex:e} vs 128-bit {y:e} ± {ey:e}");
+        };
+        close(a.mean_luminance.value, a.mean_luminance.error, b.mean_luminance.value, b.mean_luminance.error, "mean");
+        close(a.corr23.exact.value, a.corr23.exact.error, b.corr23.exact.value, b.corr23.exact.error, "(23)");
+        close(a.corr24.exact.value, a.corr24.exact.error, b.corr24.exact.value, b.corr24.exact.error, "(24)");
+        close(a.variance.exact.value, a.variance.exact.error, b.variance.exact.value, b.variance.exact.error, "Var");
+    }
+}
+
+/// Every hard case converges to finite numbers with finite bars.
+fn assert_sane(rep: &Report, what: &str) {
+    let finite = [
+        rep.mean_luminance.value,
+        rep.corr23.exact.value,
+        rep.corr24.exact.value,
+        rep.variance.exact.value,
+        rep.variance.relative,
+        rep.variance.relative_error,
+    ];
+    assert!(finite.iter().all(|v| v.is_finite()), "{what}: {finite:?}");
+    assert!(rep.variance.relative > 0.0, "{what}: relative noise {}", rep.variance.relative);
+    assert!(rep.variance.relative_error <= 1e-6 * rep.variance.relative, "{what}: bar {}", rep.variance.relative_error);
+}
+
+#[test]
+fn hard_cases_stay_finite_and_converged() {
+    let base = scene("point-isotropic");
+    assert_sane(&oracle(&with_radius(base.clone(), 1e-10)), "R = 1e-10");
+    for q in [1e-3, 1.0] {
+        let mut s = base.clone();
+        s.estimator.q = q;
+        assert_sane(&oracle(&s), &format!("q = {q}"));
+    }
+    let mut s = base.clone();
+    s.estimator.forward_rays = 1;
+    s.estimator.camera_rays = 1;
+    assert_sane(&oracle(&s), "N_F = N_B = 1");
+    for g in [0.99, -0.99] {
+        let mut s = base.clone();
+        s.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g };
+        assert_sane(&oracle(&s), &format!("g = {g}"));
+    }
+    // σ_ext × (light–camera distance) = 700: e^{-σr} and its square underflow f64.
+    let mut s = base.clone();
+    s.medium.sigma_ext = 700.0 / 2f64.sqrt();
+    let rep = oracle(&s);
+    assert!(rep.variance.relative.is_finite() && rep.variance.relative > 1e290, "σr = 700: {}", rep.variance.relative);
+    assert!(rep.mean_luminance_log10 < -290.0 && rep.mean_luminance_log10.is_finite());
+}
+
+/// A light 10⁻⁶ from the camera line: its irradiance is a Lorentzian of
+/// width 10⁻⁶ and height 10¹² along the ray, well inside one sphere radius.
+/// At the default 1e-10 the two rules disagree by ~5e-10 there (the engine
+/// says NOT CONVERGED); at 1e-9 both the value and its bar are sound: the
+/// correlation integrals agree with runs at 1e-4…1e-7 to their bars.
+#[test]
+fn light_nearly_on_the_camera_line() {
+    for (pos, label) in [([1e-6, 0.0, 2.0], "ahead (θ → π)"), ([1e-6, 0.0, -2.0], "behind (θ → 0)")] {
+        let mut s = scene("point-isotropic");
+        s.lights[0] = mcrt_scene::Light::Point { position: mcrt_scene::DVec3::from_array(pos), flux: 1.0 };
+        let fine = run(&s, Precision::F64, Some(1e-9)).unwrap_or_else(|e| panic!("{label}: {e}"));
+        assert_sane(&fine, label);
+        let coarse = run(&s, Precision::F64, Some(1e-6)).unwrap_or_else(|e| panic!("{label}: {e}"));
+        let (a, b) = (&fine.corr23.exact, &coarse.corr23.exact);
+        assert!(
+            (a.value - b.value).abs() <= a.error + b.error,
+            "{label}: {} ± {} vs {} ± {}",
+            a.value,
+            a.error,
+            b.value,
+            b.error
+        );
+    }
+}
+
+#[test]
+fn light_on_the_line_behind_the_camera_has_no_asymptotic_form() {
+    let mut s = scene("point-isotropic");
+    s.lights[0] = mcrt_scene::Light::Point { position: mcrt_scene::DVec3::new(0.0, 0.0, -2.0), flux: 1.0 };
+    let rep = oracle(&s);
+    assert!(rep.corr23.asymptotic.missing.as_deref().unwrap_or("").contains("does not exist"));
+    assert!(rep.variance.relative_asymptotic.is_none());
+    assert_sane(&rep, "light on the line behind");
+}
+
+#[test]
+fn orders_beyond_zero_are_refused_clearly() {
+    let err = run(&scene("point-isotropic-order1"), Precision::F64, None).unwrap_err().to_string();
+    assert!(err.contains("scattering_orders") && err.contains("order 0"), "{err}");
+}
+
+/// The `oracle --json` numbers of every order-0 bundled scene, pinned at
+/// 8 significant digits (error bars: their decade). Evaluation counts and
+/// times are left out: they follow engine tuning, not the model.
+#[test]
+fn oracle_reports_are_pinned() {
+    let sig = |v: f64| format!("{v:.7e}");
+    let decade = |v: f64| if v > 0.0 { format!("<= 1e{}", v.log10().ceil() as i32) } else { "0".into() };
+    for name in ORDER0_SCENES {
+        let r = oracle(&scene(name));
+        let mut out = String::new();
+        out.push_str(&format!("mean_luminance {} ({})\n", sig(r.mean_luminance.value), decade(r.mean_luminance.error)));
+        for (label, c) in [("corr23", &r.corr23), ("corr24", &r.corr24)] {
+            out.push_str(&format!("{label}.exact {} ({})\n", sig(c.exact.value), decade(c.exact.error)));
+            out.push_str(&format!("{label}.asymptotic {}\n", c.asymptotic.value.map_or("none".into(), sig)));
+            out.push_str(&format!("{label}.ratio {}\n", c.ratio.map_or("none".into(), sig)));
+        }
+        out.push_str(&format!("variance.exact {} ({})\n", sig(r.variance.exact.value), decade(r.variance.exact.error)));
+        out.push_str(&format!("variance.relative {}\n", sig(r.variance.relative)));
+        out.push_str(&format!(
+            "variance.relative_asymptotic {}\n",
+            r.variance.relative_asymptotic.map_or("none".into(), sig)
+        ));
+        if let Some(d) = r.d {
+            out.push_str(&format!("D1..D5 {}\n", d.iter().map(|v| sig(*v)).collect::<Vec<_>>().join(" ")));
+        }
+        insta::with_settings!({snapshot_path => "../snapshots", prepend_module_to_snapshot => false}, {
+            insta::assert_snapshot!(format!("oracle_{name}"), out);
+        });
+    }
+}
