@@ -21,5 +21,6 @@ pub mod quad;
 pub mod real;
 pub mod report;
 pub mod special;
+pub mod sweep;
 
 pub use mcrt_scene as scene;

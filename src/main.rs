@@ -53,6 +53,23 @@ enum Command {
         #[arg(long)]
         bare: bool,
     },
+    /// Exact/asymptotic ratios of (23), (24) as R → 0, with the fitted order.
+    Sweep {
+        scene: PathBuf,
+        /// Comma-separated radii, e.g. 1e-1,1e-2,1e-3.
+        #[arg(long, value_delimiter = ',', default_values_t = mcrt_noise::sweep::DOC_RADII)]
+        radii: Vec<f64>,
+        /// One JSON object instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Regenerate docs/asymptotic-checks.md (and its SVG figures) from the bundled scenes.
+    AsymptoticChecks {
+        #[arg(long, default_value = "docs/asymptotic-checks.md")]
+        out: PathBuf,
+        #[arg(long, default_value = "scenes")]
+        scenes: PathBuf,
+    },
     /// Measure the f64 special functions against MPFR and write the table.
     Accuracy {
         /// Points per function.
@@ -80,6 +97,11 @@ fn main() -> ExitCode {
         Command::Oracle { scene, precision, rel_tol, json } => oracle(&scene, &precision, rel_tol, json),
         Command::Kernel { theta, radius, precision, rel_tol, bare } => {
             report::kernel_cli(&theta, &radius, &precision, rel_tol, bare)
+        }
+        Command::Sweep { scene, radii, json } => sweep(&scene, &radii, json),
+        Command::AsymptoticChecks { out, scenes } => {
+            let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
+            write_or_print(mcrt_noise::sweep::asymptotic_checks_markdown(&scenes, &figures), Some(out))
         }
         Command::Accuracy { points, out } => write_or_print(report::accuracy_markdown(points), out),
         Command::Cost { out, repeats } => write_or_print(report::cost_markdown(repeats), out),
@@ -116,6 +138,24 @@ fn oracle(path: &PathBuf, precision: &str, rel_tol: Option<f64>, json: bool) -> 
         println!("{}", serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?);
     } else {
         print!("{}", report::oracle_table(&report));
+    }
+    Ok(())
+}
+
+fn sweep(path: &PathBuf, radii: &[f64], json: bool) -> Result<(), String> {
+    if let Some(bad) = radii.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
+        return Err(format!("--radii: {bad} is not a radius (finite and > 0)"));
+    }
+    let scene = load(path)?;
+    let rows = mcrt_noise::sweep::sweep(&scene, radii)?;
+    if json {
+        let order = |k: usize| {
+            mcrt_noise::sweep::fit_order(&rows, |r| if k == 0 { (r.ratio23, r.ratio23_error) } else { (r.ratio24, r.ratio24_error) }, 4)
+        };
+        let out = serde_json::json!({ "rows": rows, "order23": order(0), "order24": order(1) });
+        println!("{}", serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?);
+    } else {
+        print!("{}", mcrt_noise::sweep::table(&rows));
     }
     Ok(())
 }

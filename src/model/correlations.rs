@@ -14,14 +14,18 @@
 //! (The paper's (21) has A(t sin ϑ/R), no factor 2 and p = t for cos ϑ < 0.)
 //! At t = 0 this gives ⟨𝒞²⟩ back (A(0) = π/2), a check the paper's form fails.
 //!
-//! Integrals, with J the inner t-integral over [0, T), T = 2R/sin ϑ:
-//! - (23) = K Σ [∫_{μ(s)≥0} σ² e^{−σs} f²W(s) ∫ A e^{−σt(1+μ)} dt ds
-//!              + ∫_{μ(p)<0} σ² e^{−σp} f²W(p) ∫_{t<p} A e^{−σt|μ|} dt dp]
-//! - (24) = 2K Σ [∫_{μ≥0} σ² e^{−2σs} f²W ∫ A e^{−σt(1+μ)} dt ds
-//!              + ∫_{μ<0} σ² e^{−2σp} f²W ∫_{t<p} A e^{σt(1−|μ|)} dt dp]
-//! - R → 0: ∫₀^T A dt = 4R/(3 sin ϑ), so with H̃(s) = Σ f²W/sin ϑ,
-//!   (25) ≈ (8 albedo² 𝓕 σ/(3π² R)) ∫ σ e^{−σs} H̃ ds,
-//!   (26) ≈ (16 albedo² 𝓕 σ/(3π² R)) ∫ σ e^{−2σs} H̃ ds.
+//! Integrals, with the inner t-integral over [0, T), T = 2R/sin ϑ:
+//!
+//! ```text
+//! (23) = K Σ [ ∫_{μ(s)≥0} σ² e^{−σs}  f²W(s) ∫ A e^{−σt(1+μ)} dt ds
+//!            + ∫_{μ(p)<0} σ² e^{−σp}  f²W(p) ∫_{t<p} A e^{−σt|μ|} dt dp ]
+//! (24) = 2K Σ [ ∫_{μ≥0}   σ² e^{−2σs} f²W ∫ A e^{−σt(1+μ)} dt ds
+//!             + ∫_{μ<0}   σ² e^{−2σp} f²W ∫_{t<p} A e^{σt(1−|μ|)} dt dp ]
+//! ```
+//!
+//! For R → 0, ∫₀^T A dt = 4R/(3 sin ϑ), so with H̃(s) = Σ f²W/sin ϑ,
+//! (25) ≈ (8 albedo² 𝓕 σ/(3π² R)) ∫ σ e^{−σs} H̃ ds and
+//! (26) ≈ (16 albedo² 𝓕 σ/(3π² R)) ∫ σ e^{−2σs} H̃ ds.
 
 use super::field::{Component, Field, Geometry};
 use super::moments::ray_domain;
