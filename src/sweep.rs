@@ -102,9 +102,15 @@ pub fn table(rows: &[Row]) -> String {
         .unwrap();
     }
     for (name, pick) in [("(23)", 0usize), ("(24)", 1)] {
-        let order = fit_order(rows, |r| if pick == 0 { (r.ratio23, r.ratio23_error) } else { (r.ratio24, r.ratio24_error) }, 4);
+        let order =
+            fit_order(rows, |r| if pick == 0 { (r.ratio23, r.ratio23_error) } else { (r.ratio24, r.ratio24_error) }, 4);
         match order {
-            Some(o) => writeln!(s, "\nFitted order of |1 − ratio| for {name}: {:.4} ± {:.1e} ({} smallest resolved radii)", o.order, o.std_error, o.points).unwrap(),
+            Some(o) => writeln!(
+                s,
+                "\nFitted order of |1 − ratio| for {name}: {:.4} ± {:.1e} ({} smallest resolved radii)",
+                o.order, o.std_error, o.points
+            )
+            .unwrap(),
             None => writeln!(s, "\nFitted order for {name}: too few resolved points").unwrap(),
         }
     }
@@ -135,7 +141,10 @@ pub const DOC_RADII: [f64; 8] = [1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8]
 
 /// The generated `docs/asymptotic-checks.md`, writing one SVG per scene into
 /// `figures_dir` (referenced relative to the document as `figures/…`).
-pub fn asymptotic_checks_markdown(scenes_dir: &std::path::Path, figures_dir: &std::path::Path) -> Result<String, String> {
+pub fn asymptotic_checks_markdown(
+    scenes_dir: &std::path::Path,
+    figures_dir: &std::path::Path,
+) -> Result<String, String> {
     let mut names: Vec<_> = std::fs::read_dir(scenes_dir)
         .map_err(|e| format!("{}: {e}", scenes_dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -163,7 +172,14 @@ pub fn asymptotic_checks_markdown(scenes_dir: &std::path::Path, figures_dir: &st
                 writeln!(s, "\n| R | remainder (23): exact − R→0 | remainder (24): exact − R→0 |").unwrap();
                 writeln!(s, "|---:|---:|---:|").unwrap();
                 for r in &rows {
-                    writeln!(s, "| {:.0e} | {:.3e} | {:.3e} |", r.radius, r.corr23_exact - r.corr23_asymptotic, r.corr24_exact - r.corr24_asymptotic).unwrap();
+                    writeln!(
+                        s,
+                        "| {:.0e} | {:.3e} | {:.3e} |",
+                        r.radius,
+                        r.corr23_exact - r.corr23_asymptotic,
+                        r.corr24_exact - r.corr24_asymptotic
+                    )
+                    .unwrap();
                 }
                 let svg = figure(&name, &rows)?;
                 let file = figures_dir.join(format!("asymptotic-{name}.svg"));
@@ -171,7 +187,13 @@ pub fn asymptotic_checks_markdown(scenes_dir: &std::path::Path, figures_dir: &st
                 writeln!(s, "\n![|1 − ratio| against R, {name}](figures/asymptotic-{name}.svg)").unwrap();
                 let at = |r0: f64| rows.iter().find(|r| r.radius == r0);
                 if let Some(r) = at(1e-3) {
-                    writeln!(s, "\nAt R = 1e−3: |1 − ratio| = {:.2e} for (23), {:.2e} for (24).", (1.0 - r.ratio23).abs(), (1.0 - r.ratio24).abs()).unwrap();
+                    writeln!(
+                        s,
+                        "\nAt R = 1e−3: |1 − ratio| = {:.2e} for (23), {:.2e} for (24).",
+                        (1.0 - r.ratio23).abs(),
+                        (1.0 - r.ratio24).abs()
+                    )
+                    .unwrap();
                 }
             }
             Err(e) => writeln!(s, "Not computed: {e}").unwrap(),

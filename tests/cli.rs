@@ -55,3 +55,68 @@ fn unconverged_kernel_is_loud() {
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.contains("NOT CONVERGED"), "{err}");
 }
+
+#[test]
+fn oracle_json_has_the_documented_keys() {
+    let out = bin()
+        .args(["oracle", "scenes/point-isotropic.toml", "--json"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for path in [
+        "/mean_luminance/value",
+        "/mean_luminance/error",
+        "/corr23/exact/value",
+        "/corr23/exact/error",
+        "/corr23/exact/evaluations",
+        "/corr23/asymptotic/value",
+        "/corr23/asymptotic/error",
+        "/corr23/ratio",
+        "/corr24/exact/value",
+        "/corr24/asymptotic/value",
+        "/corr24/ratio",
+        "/variance/exact/value",
+        "/variance/exact/error",
+        "/variance/relative",
+        "/variance/relative_asymptotic",
+        "/evaluations",
+        "/wall_time_ms",
+    ] {
+        let x = v.pointer(path).unwrap_or_else(|| panic!("missing {path}"));
+        assert!(x.as_f64().is_some_and(f64::is_finite), "{path} = {x}");
+    }
+}
+
+#[test]
+fn oracle_refuses_order_one_loudly() {
+    let out = bin()
+        .args(["oracle", "scenes/point-isotropic-order1.toml"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(out.stdout.is_empty());
+    assert!(String::from_utf8(out.stderr).unwrap().contains("scattering_orders"));
+}
+
+#[test]
+fn sweep_prints_ratios_and_order() {
+    let out = bin()
+        .args(["sweep", "scenes/beam-isotropic.toml", "--radii", "1e-2,1e-3,1e-4,1e-5", "--json"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let order = v.pointer("/order23/order").and_then(|x| x.as_f64()).unwrap();
+    let err = v.pointer("/order23/std_error").and_then(|x| x.as_f64()).unwrap();
+    assert!((order - 1.0).abs() <= 0.01 && err < 0.01, "order {order} ± {err}");
+    let bad = bin()
+        .args(["sweep", "scenes/beam-isotropic.toml", "--radii", "1e-2,-1"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+}
