@@ -114,12 +114,18 @@ pub struct Report {
     pub wall_time_ms: f64,
 }
 
-fn correlation<T: Real>(exact: &Estimate<T>, asym: &Result<Estimate<T>, String>, k: &T) -> Correlation {
-    let scaled = |e: &Estimate<T>| Integral {
-        value: (e.value.clone() * k.clone()).to_f64(),
-        error: (e.error.clone() * k.clone()).to_f64(),
+/// An estimate of the shifted field scaled back by `factor` (e^{−c₀} for
+/// quantities linear in W, e^{−2c₀} for quadratic ones), for the report.
+fn scaled<T: Real>(e: &Estimate<T>, factor: &T) -> Integral {
+    Integral {
+        value: (e.value.clone() * factor.clone()).to_f64(),
+        error: (e.error.clone() * factor.clone()).to_f64(),
         evaluations: e.evaluations,
-    };
+    }
+}
+
+fn correlation<T: Real>(exact: &Estimate<T>, asym: &Result<Estimate<T>, String>, k: &T) -> Correlation {
+    let scaled = |e: &Estimate<T>| scaled(e, k);
     match asym {
         Ok(a) => {
             let ratio = exact.value.clone() / a.value.clone();
@@ -175,16 +181,7 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
     let relative_error = var.error.clone() * inv_k.clone() / mu2.clone()
         + relative.abs() * like.lit(2.0) * mean.error.clone() / mean.value.abs();
     let d = d_constants(&ints, &r, &field.sigma_ext, &inv_k);
-    let unshift = |e: &Estimate<T>| Integral {
-        value: (e.value.clone() * k.clone()).to_f64(),
-        error: (e.error.clone() * k.clone()).to_f64(),
-        evaluations: e.evaluations,
-    };
-    let unshift2 = |e: &Estimate<T>| Integral {
-        value: (e.value.clone() * k.clone() * k.clone()).to_f64(),
-        error: (e.error.clone() * k.clone() * k.clone()).to_f64(),
-        evaluations: e.evaluations,
-    };
+    let k2 = k.clone() * k.clone();
     let log10 = |v: &T| v.abs().ln().to_f64() / std::f64::consts::LN_10;
     let shift_log10 = field.shift.to_f64() / std::f64::consts::LN_10;
     let relative_asymptotic = d.as_ref().map(|d| relative_from_d(d, &r, &field.sigma_ext, &counts).to_f64());
@@ -212,9 +209,9 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
             relative_error: relative_error.to_f64(),
             relative_asymptotic,
         },
-        m2: unshift(&ints.m2),
-        p: unshift2(&ints.p),
-        q_pair: unshift2(&ints.q),
+        m2: scaled(&ints.m2, &k),
+        p: scaled(&ints.p, &k2),
+        q_pair: scaled(&ints.q, &k2),
         attenuation_shift: field.shift.to_f64(),
         d: d.map(|d| d.map(|v| v.to_f64())),
         evaluations: ints.evaluations(),
