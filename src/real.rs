@@ -29,8 +29,6 @@ pub trait Real:
     const CAN_RAISE_PRECISION: bool;
     /// The value `v` at this value's precision.
     fn lit(&self, v: f64) -> Self;
-    /// A value of the given precision (ignored for f64).
-    fn with_prec(v: f64, prec: u32) -> Self;
     /// Unit roundoff 2^(1−prec).
     fn eps(&self) -> Self {
         self.lit(2f64).powi_like(1 - self.prec() as i32)
@@ -85,9 +83,6 @@ impl Real for f64 {
         f64::MANTISSA_DIGITS
     }
     fn lit(&self, v: f64) -> Self {
-        v
-    }
-    fn with_prec(v: f64, _prec: u32) -> Self {
         v
     }
     fn underflow_floor(&self) -> Self {
@@ -156,9 +151,6 @@ impl Real for Float {
     }
     fn lit(&self, v: f64) -> Self {
         Float::with_val(Float::prec(self), v)
-    }
-    fn with_prec(v: f64, prec: u32) -> Self {
-        Float::with_val(prec, v)
     }
     fn powi_like(&self, k: i32) -> Self {
         Float::with_val(Float::prec(self), Float::i_exp(1, k))

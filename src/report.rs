@@ -182,7 +182,6 @@ fn row<E: std::fmt::Display>(
 fn print_outcome<T: crate::real::Real>(
     label: &str,
     out: &Outcome<T>,
-    digits: usize,
     show: impl Fn(&T) -> String,
     dt: Duration,
 ) -> Result<(), String> {
@@ -197,7 +196,6 @@ fn print_outcome<T: crate::real::Real>(
                 e.found_breakpoints,
                 dt.as_secs_f64() * 1e3
             );
-            let _ = digits;
             Ok(())
         }
         Err(f) => Err(format!("{label}: {f}")),
@@ -206,44 +204,40 @@ fn print_outcome<T: crate::real::Real>(
 
 /// The `kernel` command.
 pub fn kernel_cli(theta: &str, radius: &str, precision: &str, rel_tol: Option<f64>, bare: bool) -> Result<(), String> {
-    let run_f64 = precision == "f64";
-    let bits: u32 = if run_f64 {
-        53
-    } else {
-        precision
-            .parse()
-            .map_err(|_| format!("--precision {precision:?}: must be `f64` or a number of bits in [32, 4096]"))?
-    };
-    if !(32..=4096).contains(&bits) {
-        return Err(format!("--precision {bits}: must be `f64` or a number of bits in [32, 4096]"));
-    }
+    use crate::oracle::Precision;
     let label = format!("I({theta}, {radius})");
-    if run_f64 {
-        let tol = rel_tol.unwrap_or(1e-13);
-        let angle = Angle::from_theta(&parse_decimal(theta, 53)?.to_f64());
-        let r = parse_decimal(radius, 53)?.to_f64();
-        check_kernel_args(angle.sin, r)?;
-        let t0 = Instant::now();
-        let out = if bare {
-            kernel_integral_bare(&angle, &r, &Options::rel(tol))
-        } else {
-            kernel_integral(&angle, &r, &Options::rel(tol))
-        };
-        print_outcome(&label, &out, 17, |v| format!("{v:.17e}"), t0.elapsed())
-    } else {
-        let tol = rel_tol.unwrap_or_else(|| mpfr_default_tol(bits));
-        let angle = Angle::from_theta(&parse_decimal(theta, bits)?);
-        let r = parse_decimal(radius, bits)?;
-        check_kernel_args(angle.sin.to_f64(), r.to_f64())?;
-        let t0 = Instant::now();
-        let out = if bare {
-            kernel_integral_bare(&angle, &r, &Options::rel(tol))
-        } else {
-            kernel_integral(&angle, &r, &Options::rel(tol))
-        };
-        let digits = (bits as f64 * std::f64::consts::LOG10_2) as usize;
-        print_outcome(&label, &out, digits, |v| v.to_string_radix(10, Some(digits)), t0.elapsed())
+    match Precision::parse(precision)? {
+        Precision::F64 => {
+            let angle = Angle::from_theta(&parse_decimal(theta, 53)?.to_f64());
+            let r = parse_decimal(radius, 53)?.to_f64();
+            let out = run_kernel(&angle, &r, rel_tol.unwrap_or(1e-13), bare)?;
+            print_outcome(&label, &out.0, |v| format!("{v:.17e}"), out.1)
+        }
+        Precision::Bits(bits) => {
+            let angle = Angle::from_theta(&parse_decimal(theta, bits)?);
+            let r = parse_decimal(radius, bits)?;
+            let out = run_kernel(&angle, &r, rel_tol.unwrap_or_else(|| mpfr_default_tol(bits)), bare)?;
+            let digits = (bits as f64 * std::f64::consts::LOG10_2) as usize;
+            print_outcome(&label, &out.0, |v| v.to_string_radix(10, Some(digits)), out.1)
+        }
     }
+}
+
+/// I(ϑ, R), structure given or bare, with its wall time.
+fn run_kernel<T: crate::quad::CheckRule>(
+    angle: &Angle<T>,
+    r: &T,
+    tol: f64,
+    bare: bool,
+) -> Result<(Outcome<T>, Duration), String> {
+    check_kernel_args(angle.sin.to_f64(), r.to_f64())?;
+    let t0 = Instant::now();
+    let out = if bare {
+        kernel_integral_bare(angle, r, &Options::rel(tol))
+    } else {
+        kernel_integral(angle, r, &Options::rel(tol))
+    };
+    Ok((out, t0.elapsed()))
 }
 
 fn check_kernel_args(sin_theta: f64, r: f64) -> Result<(), String> {
