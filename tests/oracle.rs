@@ -217,3 +217,35 @@ fn sweep_tables_are_pinned() {
         });
     }
 }
+
+/// A beam crossing the camera ray at right angles has μ = 0 and a constant
+/// irradiance W on [s_in, s_out], so every integral has a closed form, with
+/// the inner separation integral J = ∫₀^{2R} A(t/2R) e^{−σt} dt from the
+/// quadrature-free series (`kernel_series_reference`, c = 1):
+/// mean = albedo f W (e^{−s_in} − e^{−s_out}), (23) = K f² W (e^{−s_in} − e^{−s_out}) J,
+/// (24) = K f² W (e^{−2s_in} − e^{−2s_out}) J, (25) = 8 albedo² 𝓕 f² W (e^{−s_in} − e^{−s_out})/(3π²R),
+/// with σ = 1, f = 1/4π, K = 2 albedo² 𝓕/(π²R²). Tolerance: the oracle's own bars.
+#[test]
+fn beam_at_right_angles_matches_closed_forms() {
+    use mcrt_noise::kernel::kernel_series_reference;
+    use rug::Float;
+    use std::f64::consts::PI;
+    let s = scene("beam-isotropic");
+    let rep = oracle(&s);
+    let (albedo, flux, r) = (s.medium.albedo, s.total_flux(), s.estimator.radius);
+    let f = 1.0 / (4.0 * PI);
+    let w = flux / (PI * 0.5 * 0.5) * (-2.0f64).exp(); // depth 2 inside the beam
+    let (s_in, s_out) = (0.5f64, 1.5f64);
+    let k = 2.0 * albedo * albedo * flux / (PI * PI * r * r);
+    let j = kernel_series_reference(&Float::with_val(256, 1), &Float::with_val(256, 0), &Float::with_val(256, r), 256).to_f64();
+    let e1 = (-s_in).exp() - (-s_out).exp();
+    let e2 = (-2.0 * s_in).exp() - (-2.0 * s_out).exp();
+    let check = |what: &str, got: f64, bar: f64, want: f64| {
+        assert!((got - want).abs() <= bar + 4.0 * f64::EPSILON * want.abs(), "{what}: {got:e} ± {bar:e} vs closed form {want:e}");
+    };
+    check("mean", rep.mean_luminance.value, rep.mean_luminance.error, albedo * f * w * e1);
+    check("(23)", rep.corr23.exact.value, rep.corr23.exact.error, k * f * f * w * e1 * j);
+    check("(24)", rep.corr24.exact.value, rep.corr24.exact.error, k * f * f * w * e2 * j);
+    let asym = 8.0 * albedo * albedo * flux * f * f * w * e1 / (3.0 * PI * PI * r);
+    check("(25)", rep.corr23.asymptotic.value.unwrap(), rep.corr23.asymptotic.error.unwrap(), asym);
+}
