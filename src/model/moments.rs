@@ -16,7 +16,9 @@
 
 use super::field::Field;
 use super::OracleError;
-use crate::quad::{integrate, integrate_nested, CheckRule, Domain, Estimate, Options};
+use crate::quad::{integrate, integrate_nested, CheckRule, Domain, Estimate, Failure, Options, Rule};
+use std::cell::RefCell;
+use std::collections::HashMap;
 use crate::real::Real;
 
 /// ⟨𝒞⟩ at s = field.center + x: mean contribution of one forward ray to a
@@ -92,30 +94,89 @@ pub fn p_single<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estima
 }
 
 /// Q = ∫∫_{t>0} ⟨𝒞⟩(s)⟨𝒞⟩(s+t) σ² e^{−σ(s+t)} ds dt, the pair part of (17),
-/// computed with p = s + t as ∫₀^∞ σ e^{−σp} ⟨𝒞⟩(p) [∫₀^p σ ⟨𝒞⟩(s) ds] dp.
+/// computed with p = s + t as ∫₀^∞ σ e^{−σp} ⟨𝒞⟩(p) G(p) dp,
+/// G(p) = ∫₀^p σ ⟨𝒞⟩(s) ds.
+///
+/// G is cumulative: rather than integrating from the camera again at every
+/// outer node, G(p) = G(p′) + ∫_{p′}^{p} σ⟨𝒞⟩ from the nearest p′ < p already
+/// known, whose bar it inherits. The memory is kept per pass (rule and
+/// tolerances), so the check pass builds its own G with its own rule and the
+/// two passes stay independent.
 pub fn q_pair<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
     let sigma = field.sigma_ext.clone();
     let x0 = field.x_camera();
+    let memory: RefCell<HashMap<PassKey, Vec<Known<T>>>> = RefCell::new(HashMap::new());
     integrate_nested(
         |p: &T, inner: &Options| {
-            // The outer factor goes inside, so the inner integral *is* the
-            // outer integrand and the inner tolerances apply to it directly.
             let outer = sigma.clone() * (-(sigma.clone() * field.s_of(p))).exp() * mean_contribution(field, p);
             if !(p.clone() > x0.clone()) || outer.is_zero() {
-                return integrate(
-                    |_: &T| p.lit(0.0),
-                    &Domain::finite(p.lit(0.0), p.lit(1.0)),
-                    &inner.clone().declared(),
-                );
+                return integrate(|_: &T| p.lit(0.0), &Domain::finite(p.lit(0.0), p.lit(1.0)), &inner.clone().declared());
             }
-            integrate(
-                |s: &T| outer.clone() * sigma.clone() * mean_contribution(field, s),
-                &ray_domain(field, &x0, Some(p)),
-                inner,
-            )
+            let mut memory = memory.borrow_mut();
+            let known = memory.entry(PassKey::of(inner)).or_insert_with(|| vec![Known::start(&x0)]);
+            let g = cumulative(field, known, p, inner)?;
+            Ok(Estimate {
+                value: outer.clone() * g.value.clone(),
+                error: outer.abs() * g.error.clone(),
+                check_value: outer * g.value,
+                evaluations: g.evaluations,
+                pieces: 1,
+                found_breakpoints: 0,
+                rule: inner.rule,
+            })
         },
         &ray_domain(field, &x0, None),
         opts,
     )
     .map_err(OracleError::quad("∫∫⟨𝒞⟩⟨𝒞⟩ of (17)"))
+}
+
+/// The options of a pass, as a hashable key.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+struct PassKey(Rule, u64, u64);
+
+impl PassKey {
+    fn of(o: &Options) -> Self {
+        PassKey(o.rule, o.rel_tol.to_bits(), o.abs_tol.to_bits())
+    }
+}
+
+/// G at a point already computed: value, bar, evaluations spent on it.
+#[derive(Debug, Clone)]
+struct Known<T> {
+    at: T,
+    value: T,
+    error: T,
+}
+
+impl<T: Real> Known<T> {
+    fn start(x0: &T) -> Self {
+        Known { at: x0.clone(), value: x0.lit(0.0), error: x0.lit(0.0) }
+    }
+}
+
+/// G(p) from the nearest known point below p (kept sorted), with the short
+/// integral's tolerance a thousandth of the inner one so that a chain of many
+/// pieces stays within the inner budget.
+fn cumulative<T: CheckRule>(field: &Field<T>, known: &mut Vec<Known<T>>, p: &T, inner: &Options) -> Result<Estimate<T>, Failure<T>> {
+    let idx = known.partition_point(|k| k.at <= *p);
+    let base = known[idx - 1].clone();
+    if base.at == *p {
+        return Ok(Estimate {
+            value: base.value.clone(),
+            error: base.error,
+            check_value: base.value,
+            evaluations: 0,
+            pieces: 0,
+            found_breakpoints: 0,
+            rule: inner.rule,
+        });
+    }
+    let sigma = field.sigma_ext.clone();
+    let short = Options { abs_tol: inner.abs_tol / 1000.0, ..inner.clone() };
+    let piece = integrate(|s: &T| sigma.clone() * mean_contribution(field, s), &ray_domain(field, &base.at, Some(p)), &short)?;
+    let value = base.value + piece.value.clone();
+    let error = base.error + piece.error.clone();
+    known.insert(idx, Known { at: p.clone(), value: value.clone(), error: error.clone() });
+    Ok(Estimate { value: value.clone(), error, check_value: value, ..piece })
 }

@@ -81,7 +81,7 @@ pub struct Options {
 }
 
 /// The two quadrature rules of the engine.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Rule {
     /// Tanh–sinh, refined level by level (the default primary rule).
     #[default]
