@@ -93,22 +93,35 @@ fn add_level<T: Real>(
     f: &mut Mapped<'_, '_, T>,
 ) -> Result<(), Failure<T>> {
     let half = p.half();
-    // A node closer to an end than a few ulps of the ends' magnitude cannot
-    // be placed there (it would round onto the end): it is placed at that
-    // distance instead, keeping its weight. For a panel short against its
-    // position, say [−1, −1 + 10⁻¹²], dropping such nodes would lose a
-    // different share of the weight at every level (7 % here) and the level
-    // differences would never converge; moving them by a few ulps changes a
-    // smooth integrand by nothing representable.
-    let reach = p.a.abs().max_of(p.b.abs()) * p.a.eps() * p.a.lit(4.0);
+    // A node closer to an end than a few ulps of that end's magnitude cannot
+    // be placed there (it would round onto the end). If its weight is below
+    // eps it is dropped; otherwise it is placed at that distance, keeping its
+    // weight. Both rules depend on the node alone, so every level treats the
+    // ends alike and the level differences converge. (On a panel short
+    // against its position, say [−1, −1 + 10⁻¹²], dropping all such nodes
+    // would lose a different 7 % of the weight at every level.) An end at 0
+    // has no such zone: nodes approach it down to the underflow.
+    let reach = |end: &T| end.abs() * end.eps() * end.lit(4.0);
+    let (reach_a, reach_b) = (reach(&p.a), reach(&p.b));
+    let negligible = p.a.eps();
+    let place = |end: &T, offset: &T, reach: &T, toward_b: bool, comp: &T| -> Option<T> {
+        let off = if offset < reach {
+            if *comp < negligible || !(reach.clone() < half.clone()) {
+                return None;
+            }
+            reach.clone()
+        } else {
+            offset.clone()
+        };
+        Some(if toward_b { end.clone() + off } else { end.clone() - off })
+    };
     for (i, node) in table.levels[level].iter().enumerate() {
         let centre = level == 0 && i == 0;
         let offset = half.clone() * node.comp.clone();
-        let offset = if offset < reach && reach < half { reach.clone() } else { offset };
         let points = if centre {
             [Some((p.a.clone() + p.b.clone()) / p.a.lit(2.0)), None]
         } else {
-            [Some(p.a.clone() + offset.clone()), Some(p.b.clone() - offset)]
+            [place(&p.a, &offset, &reach_a, true, &node.comp), place(&p.b, &offset, &reach_b, false, &node.comp)]
         };
         for x in points.into_iter().flatten() {
             // Far nodes may round onto (or past) an end: their weight is
