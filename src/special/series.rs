@@ -15,12 +15,34 @@ pub(crate) fn sqrt_half_series<T: Real>(u: &T, c: f64, extra: bool) -> T {
     let eps = u.eps().to_f64().max(f64::MIN_POSITIVE);
     let ratio = (u.to_f64() / 2.0).max(f64::MIN_POSITIVE);
     let terms = ((eps / 8.0).ln() / ratio.ln()).ceil().clamp(1.0, 100_000.0) as usize;
-    let coeffs = coefficients(u, c, extra);
-    let mut sum = u.lit(0.0);
-    for coeff in coeffs[..=terms.min(coeffs.len() - 1)].iter().rev() {
-        sum = sum * u.clone() + coeff.clone();
+    let horner = |coeffs: &[T]| {
+        let mut sum = u.lit(0.0);
+        for coeff in coeffs[..=terms.min(coeffs.len() - 1)].iter().rev() {
+            sum = sum * u.clone() + coeff.clone();
+        }
+        sum
+    };
+    // f64 is the hot path of the oracle's inner loops: its three tables are
+    // built once per process, not looked up per call.
+    if let Some(table) = f64_table(c, extra) {
+        if let Some(coeffs) = (table as &dyn std::any::Any).downcast_ref::<Vec<T>>() {
+            return horner(coeffs);
+        }
     }
-    sum
+    horner(&coefficients(u, c, extra))
+}
+
+/// The f64 coefficient tables of the three series in use, built once.
+fn f64_table(c: f64, extra: bool) -> Option<&'static Vec<f64>> {
+    use std::sync::OnceLock;
+    static TABLES: [OnceLock<Vec<f64>>; 3] = [OnceLock::new(), OnceLock::new(), OnceLock::new()];
+    let slot = match (c, extra) {
+        (1.5, false) => 0,
+        (2.5, true) => 1,
+        (3.5, true) => 2,
+        _ => return None,
+    };
+    Some(TABLES[slot].get_or_init(|| coefficients(&0.0f64, c, extra).as_ref().clone()))
 }
 
 /// β_k/(k + c) (or β_k/((k + 3/2)(k + c))) for k = 0…K with (1/4)^K below
