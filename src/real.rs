@@ -44,6 +44,8 @@ pub trait Real:
     fn sqrt(&self) -> Self;
     fn exp(&self) -> Self;
     fn ln(&self) -> Self;
+    /// ln(1 + x), accurate for small x.
+    fn ln_1p(&self) -> Self;
     fn sin(&self) -> Self;
     fn cos(&self) -> Self;
     fn asin(&self) -> Self;
@@ -115,6 +117,9 @@ impl Real for f64 {
     fn ln(&self) -> Self {
         f64::ln(*self)
     }
+    fn ln_1p(&self) -> Self {
+        f64::ln_1p(*self)
+    }
     fn sin(&self) -> Self {
         f64::sin(*self)
     }
@@ -178,6 +183,9 @@ impl Real for Float {
     }
     fn ln(&self) -> Self {
         self.clone().ln()
+    }
+    fn ln_1p(&self) -> Self {
+        self.clone().ln_1p()
     }
     fn sin(&self) -> Self {
         self.clone().sin()

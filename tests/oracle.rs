@@ -249,3 +249,16 @@ fn beam_at_right_angles_matches_closed_forms() {
     let asym = 8.0 * albedo * albedo * flux * f * f * w * e1 / (3.0 * PI * PI * r);
     check("(25)", rep.corr23.asymptotic.value.unwrap(), rep.corr23.asymptotic.error.unwrap(), asym);
 }
+
+#[test]
+fn a_beam_that_misses_the_camera_ray_gets_a_clear_answer() {
+    let mut s = scene("beam-isotropic");
+    s.lights[0] = mcrt_scene::Light::Beam {
+        center: mcrt_scene::DVec3::new(-2.0, 3.0, 1.0),
+        direction: mcrt_scene::DVec3::X,
+        radius: 0.5,
+        flux: 1.0,
+    };
+    let err = run(&s, Precision::F64, None).unwrap_err().to_string();
+    assert!(err.contains("meets no light"), "{err}");
+}

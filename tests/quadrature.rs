@@ -165,3 +165,12 @@ fn mpfr_nodes_integrate_polynomials_exactly() {
     let rel = (Float::with_val(bits, &e.value - &exact) / &exact).abs().to_f64();
     assert!(rel <= 1e-55, "{rel:e}");
 }
+
+#[test]
+fn exponential_tail_map_never_lands_on_the_lower_limit() {
+    // NaN exactly at t = 0: an open rule must never evaluate there, which the
+    // exponential map once did (1 − u rounded to 1 for u < 1e-16).
+    let f = |t: &f64| if *t == 0.0 { f64::NAN } else { (-t).exp() };
+    let e = integrate(f, &Domain::semi_infinite(0.0).with_decay(1.0), &Options::rel(1e-13)).unwrap();
+    assert!((e.value - 1.0).abs() <= 1e-13, "{}", e.value);
+}

@@ -180,7 +180,9 @@ impl<T: Real> Component<T> {
                 Some(Local { mu: dx / r.clone(), sin: d.clone() / r, w })
             }
             Geometry::Beam { mu, sin, depth0, s_in, s_out } => {
-                if s.clone() < s_in.clone() || s_out.as_ref().is_some_and(|e| s.clone() > e.clone()) {
+                // [s_in, s_out]; an empty interval (the ray misses the beam) is
+                // stored as s_out = s_in and holds no point.
+                if s.clone() < s_in.clone() || s_out.as_ref().is_some_and(|e| s.clone() > e.clone() || e == s_in) {
                     return None;
                 }
                 let depth = depth0.clone() + mu.clone() * s.clone();

@@ -351,8 +351,10 @@ impl<T: Real> TailMap<T> {
             TailMap::Rational => {
                 (a.clone() + u.clone() / one_minus.clone(), u.lit(1.0) / (one_minus.clone() * one_minus))
             }
+            // ln(1 − u) as ln1p(−u): near u = 0 the plain form rounds 1 − u
+            // to 1 and puts nodes exactly on the lower limit.
             TailMap::Exponential(rate) => {
-                (a.clone() - one_minus.ln() / rate.clone(), u.lit(1.0) / (rate.clone() * one_minus))
+                (a.clone() - (-u.clone()).ln_1p() / rate.clone(), u.lit(1.0) / (rate.clone() * one_minus))
             }
         }
     }
