@@ -237,11 +237,15 @@ fn beam_at_right_angles_matches_closed_forms() {
     let w = flux / (PI * 0.5 * 0.5) * (-2.0f64).exp(); // depth 2 inside the beam
     let (s_in, s_out) = (0.5f64, 1.5f64);
     let k = 2.0 * albedo * albedo * flux / (PI * PI * r * r);
-    let j = kernel_series_reference(&Float::with_val(256, 1), &Float::with_val(256, 0), &Float::with_val(256, r), 256).to_f64();
+    let j = kernel_series_reference(&Float::with_val(256, 1), &Float::with_val(256, 0), &Float::with_val(256, r), 256)
+        .to_f64();
     let e1 = (-s_in).exp() - (-s_out).exp();
     let e2 = (-2.0 * s_in).exp() - (-2.0 * s_out).exp();
     let check = |what: &str, got: f64, bar: f64, want: f64| {
-        assert!((got - want).abs() <= bar + 4.0 * f64::EPSILON * want.abs(), "{what}: {got:e} ± {bar:e} vs closed form {want:e}");
+        assert!(
+            (got - want).abs() <= bar + 4.0 * f64::EPSILON * want.abs(),
+            "{what}: {got:e} ± {bar:e} vs closed form {want:e}"
+        );
     };
     check("mean", rep.mean_luminance.value, rep.mean_luminance.error, albedo * f * w * e1);
     check("(23)", rep.corr23.exact.value, rep.corr23.exact.error, k * f * f * w * e1 * j);

@@ -17,9 +17,9 @@
 use super::field::Field;
 use super::OracleError;
 use crate::quad::{integrate, integrate_nested, CheckRule, Domain, Estimate, Failure, Options, Rule};
+use crate::real::Real;
 use std::cell::RefCell;
 use std::collections::HashMap;
-use crate::real::Real;
 
 /// ⟨𝒞⟩ at s = field.center + x: mean contribution of one forward ray to a
 /// sphere there.
@@ -110,7 +110,11 @@ pub fn q_pair<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate
         |p: &T, inner: &Options| {
             let outer = sigma.clone() * (-(sigma.clone() * field.s_of(p))).exp() * mean_contribution(field, p);
             if !(p.clone() > x0.clone()) || outer.is_zero() {
-                return integrate(|_: &T| p.lit(0.0), &Domain::finite(p.lit(0.0), p.lit(1.0)), &inner.clone().declared());
+                return integrate(
+                    |_: &T| p.lit(0.0),
+                    &Domain::finite(p.lit(0.0), p.lit(1.0)),
+                    &inner.clone().declared(),
+                );
             }
             let mut memory = memory.borrow_mut();
             let known = memory.entry(PassKey::of(inner)).or_insert_with(|| vec![Known::start(&x0)]);
@@ -158,7 +162,12 @@ impl<T: Real> Known<T> {
 /// G(p) from the nearest known point below p (kept sorted), with the short
 /// integral's tolerance a thousandth of the inner one so that a chain of many
 /// pieces stays within the inner budget.
-fn cumulative<T: CheckRule>(field: &Field<T>, known: &mut Vec<Known<T>>, p: &T, inner: &Options) -> Result<Estimate<T>, Failure<T>> {
+fn cumulative<T: CheckRule>(
+    field: &Field<T>,
+    known: &mut Vec<Known<T>>,
+    p: &T,
+    inner: &Options,
+) -> Result<Estimate<T>, Failure<T>> {
     let idx = known.partition_point(|k| k.at <= *p);
     let base = known[idx - 1].clone();
     if base.at == *p {
@@ -174,7 +183,8 @@ fn cumulative<T: CheckRule>(field: &Field<T>, known: &mut Vec<Known<T>>, p: &T, 
     }
     let sigma = field.sigma_ext.clone();
     let short = Options { abs_tol: inner.abs_tol / 1000.0, ..inner.clone() };
-    let piece = integrate(|s: &T| sigma.clone() * mean_contribution(field, s), &ray_domain(field, &base.at, Some(p)), &short)?;
+    let piece =
+        integrate(|s: &T| sigma.clone() * mean_contribution(field, s), &ray_domain(field, &base.at, Some(p)), &short)?;
     let value = base.value + piece.value.clone();
     let error = base.error + piece.error.clone();
     known.insert(idx, Known { at: p.clone(), value: value.clone(), error: error.clone() });
