@@ -51,9 +51,11 @@ fn k_factor<T: Real>(field: &Field<T>, r: &T) -> T {
 }
 
 /// ⟨𝒞(s)𝒞(s+t)⟩ at one pair of sphere positions (s = field.center + x),
-/// t ≥ 0: K Σ f(−μ)² W A(t sin ϑ/2R) e^{−σ t|μ|}, with μ, W taken at the
-/// sphere the ray meets first. At t = 0 it equals ⟨𝒞²⟩(s) (A(0) = π/2),
-/// which the tests check.
+/// paper (21), (22). Domain: t ≥ 0, R > 0. Value K Σ f(−μ)² W A(t sin ϑ/2R)
+/// e^{−σ t|μ|}, with μ, W taken at the sphere the ray meets first. Deviations
+/// (E2, E3, E5): factor 2 in K (overlap 2R²A), A's argument l/2R, first
+/// sphere s + t backwards. At t = 0 it equals ⟨𝒞²⟩(s) (A(0) = π/2), which
+/// the tests check.
 pub fn pointwise<T: Real>(field: &Field<T>, s: &T, t: &T, r: &T) -> T {
     let k = k_factor(field, r);
     let two_r = r.lit(2.0) * r.clone();
@@ -106,7 +108,10 @@ fn first_sphere_range<T: Real>(c: &Component<T>, forward: bool, like: &T) -> Opt
     }
 }
 
-/// Exact integral (23) or (24), summed over the field's components.
+/// Exact integral (23) or (24) (appendix), summed over the field's
+/// components, with the corrected correlation of [`pointwise`]. Domain:
+/// R > 0; uncollided fields. Fails (`OracleError::Unsupported`) when no
+/// light reaches the camera ray.
 pub fn exact<T: CheckRule>(field: &Field<T>, r: &T, which: Which, opts: &Options) -> Result<Estimate<T>, OracleError> {
     let like = r.clone();
     let mut total: Option<Estimate<T>> = None;
@@ -246,9 +251,10 @@ fn reach_kink<T: Real>(field: &Field<T>, c: &Component<T>, r: &T, lo: &T, hi: Op
     Some(b)
 }
 
-/// Asymptotic (R → 0) value of (23) or (24), or `None` with the reason when
-/// it does not exist (a component seen along the view direction: sin ϑ ≡ 0,
-/// where ∫∫ h dϑ dφ diverges).
+/// Asymptotic (R → 0) value of (23) or (24), the forms (25), (26), or `Err`
+/// with the reason when it does not exist (a component seen along the view
+/// direction: sin ϑ ≡ 0, where ∫∫ h dϑ dφ diverges). Deviation: twice the
+/// paper's (25), (26) and with albedo² (E6, E7).
 pub fn asymptotic<T: CheckRule>(
     field: &Field<T>,
     r: &T,

@@ -22,7 +22,8 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 /// ⟨𝒞⟩ at s = field.center + x: mean contribution of one forward ray to a
-/// sphere there.
+/// sphere there, paper (19). Domain: any x (0 where no light reaches).
+/// Deviation: carries the albedo σ_sc/σ_ext of (5), which (19) drops (E7).
 pub fn mean_contribution<T: Real>(field: &Field<T>, s: &T) -> T {
     let mut sum = s.lit(0.0);
     for c in &field.components {
@@ -33,7 +34,8 @@ pub fn mean_contribution<T: Real>(field: &Field<T>, s: &T) -> T {
     field.albedo.clone() * sum
 }
 
-/// ⟨𝒞²⟩ at s = field.center + x for spheres of radius `r`.
+/// ⟨𝒞²⟩ at s = field.center + x for spheres of radius `r` > 0, paper (20).
+/// Deviation: carries albedo² (E7).
 pub fn second_moment<T: Real>(field: &Field<T>, s: &T, r: &T) -> T {
     let mut sum = s.lit(0.0);
     for c in &field.components {

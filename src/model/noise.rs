@@ -89,7 +89,7 @@ pub struct Counts<T> {
     pub n_b: T,
 }
 
-/// Var L·e^{c₀} from the *shifted* integrals (every W carried as W·e^{c₀},
+/// Var L of one iteration, (7)–(9), as Var L·e^{c₀} from the *shifted* integrals (every W carried as W·e^{c₀},
 /// `Field::shift`): μ, M₂, C₂₃, C₂₄ are then e^{c₀} times their values, P, Q
 /// e^{2c₀} times, and `k` = e^{−c₀}. The error bar is propagated linearly
 /// from every integral's bar.
@@ -126,7 +126,8 @@ pub fn variance<T: Real>(
     Valued { value, error }
 }
 
-/// D₁…D₅ of the asymptotic relative-noise formula (see the module doc), from
+/// D₁…D₅ of the asymptotic relative-noise formula at the end of §4.4 (the
+/// paper leaves them implicit; definitions in the module doc), from
 /// the shifted integrals; `inv_k` = e^{c₀} undoes the shift of D₁…D₃.
 pub fn d_constants<T: Real>(ints: &Integrals<T>, r: &T, sigma: &T, inv_k: &T) -> Option<[T; 5]> {
     let (c23a, c24a) = (ints.c23_asym.as_ref().ok()?, ints.c24_asym.as_ref().ok()?);
@@ -141,7 +142,8 @@ pub fn d_constants<T: Real>(ints: &Integrals<T>, r: &T, sigma: &T, inv_k: &T) ->
     ])
 }
 
-/// The asymptotic relative noise from D₁…D₅ (corrected constant term).
+/// The asymptotic relative noise of §4.4 from D₁…D₅. Deviation: the
+/// constant term is 1/(N_F N_B) − 1/N_F − 1/N_B, not −1/(N_F N_B) (E8).
 pub fn relative_from_d<T: Real>(d: &[T; 5], r: &T, sigma: &T, n: &Counts<T>) -> T {
     let one = r.lit(1.0);
     let (q, nf, nb) = (n.q.clone(), n.n_f.clone(), n.n_b.clone());
