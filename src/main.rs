@@ -85,7 +85,7 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
         /// Repetitions per f64 row (the minimum time is reported).
-        #[arg(long, default_value_t = 20)]
+        #[arg(long, default_value_t = 50)]
         repeats: usize,
     },
 }
