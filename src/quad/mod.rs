@@ -32,6 +32,8 @@
 
 mod check;
 mod control;
+mod mapped;
+mod nested;
 mod nodes;
 pub(crate) use nodes::cached;
 mod scan;
@@ -39,6 +41,8 @@ mod tanh_sinh;
 
 use crate::real::Real;
 pub use check::CheckRule;
+pub(crate) use mapped::{Mapped, Piece, TailMap};
+pub use nested::integrate_nested;
 use std::fmt;
 
 /// What the caller knows of the integrand's structure.
@@ -232,199 +236,8 @@ pub fn integrate<T: CheckRule, F: FnMut(&T) -> T>(mut f: F, domain: &Domain<T>, 
     integrate_samples(&mut |x: &T| Ok(Sample { error: x.lit(0.0), value: f(x), evaluations: 1 }), domain, opts)
 }
 
-/// ∫ f over `domain` where f(x, inner_opts) is itself an integral (or any
-/// value with an error bar), computed with the options it is handed.
-///
-/// Three passes. A coarse one (outer 10⁻³, inner 10⁻⁵, no cross-check) finds
-/// the scale V₀ of the result. The primary pass (primary rule at every level)
-/// hands the inner integrals `rel_tol/10` (at least 64 ulps) *and* an
-/// absolute tolerance of `rel_tol·|V₀|/10`, so that inner integrals far out
-/// in a tail, which cannot matter, are not driven into the rounding noise of
-/// their own integrand (e^{−(s+t)} at s = 700 is only good to ~10⁻¹³ relative
-/// in f64). The check pass repeats the computation with the check rule at
-/// every level, and the two are reconciled as for a plain integral. Inner
-/// error bars are the inner integrals' own estimates, integrated into the
-/// outer bar. An inner `Failure` aborts the outer integral with its reason.
-pub fn integrate_nested<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(
-    mut f: F,
-    domain: &Domain<T>,
-    opts: &Options,
-) -> Outcome<T> {
-    let coarse_outer = Options { rel_tol: opts.rel_tol.max(1e-3), cross_check: false, ..opts.clone() };
-    let coarse_inner = Options {
-        rel_tol: opts.rel_tol.max(1e-5),
-        abs_tol: 0.0,
-        cross_check: false,
-        zero_guard: false,
-        ..opts.clone()
-    };
-    let scale = nested_pass(&mut f, domain, &coarse_outer, &coarse_inner)?;
-    // Inner integrals get a twentieth of the tolerance, but never less than
-    // 64 ulps: each rule aims at a quarter of its goal and is floored at
-    // 8 eps of rounding, so tighter inner goals are unreachable, not more
-    // accurate. Their absolute tolerance is a twentieth of the outer goal
-    // spread over the outer domain's effective length, since inner errors
-    // add up along it.
-    let inner_floor = 64.0 * domain.lo.eps().to_f64();
-    let outer_goal = (opts.rel_tol * scale.value.abs().to_f64()).max(opts.abs_tol);
-    let inner = Options {
-        rel_tol: (opts.rel_tol / 20.0).max(inner_floor),
-        abs_tol: outer_goal / (20.0 * effective_length(domain)),
-        zero_guard: false,
-        cross_check: false,
-        ..opts.clone()
-    };
-    // Each pass aims at a quarter of the goal: the final bar is the larger of
-    // the primary's and (difference of the passes + the check's bar).
-    let outer =
-        Options { rel_tol: opts.rel_tol / 4.0, abs_tol: opts.abs_tol / 4.0, cross_check: false, ..opts.clone() };
-    let mut primary = nested_pass(&mut f, domain, &outer, &inner)?;
-    primary.evaluations += scale.evaluations;
-    if !opts.cross_check {
-        return reconcile(primary, None, opts);
-    }
-    // The second pass is independent at every level: the check rule outside
-    // and inside.
-    let other = opts.rule.other();
-    let check = nested_pass(&mut f, domain, &Options { rule: other, ..outer }, &Options { rule: other, ..inner })?;
-    primary.evaluations += check.evaluations;
-    reconcile(primary, Some(check), opts)
-}
-
-/// Length over which an outer integrand's inner errors add up: the span to
-/// the last breakpoint (or the upper limit), plus the decay length of a
-/// semi-infinite tail (1 when none is declared).
-fn effective_length<T: Real>(domain: &Domain<T>) -> f64 {
-    let lo = domain.lo.to_f64();
-    let last = domain.breakpoints.iter().map(Real::to_f64).filter(|p| p.is_finite()).fold(lo, f64::max);
-    let span = match &domain.hi {
-        Some(hi) => hi.to_f64() - lo,
-        None => last - lo + domain.decay.as_ref().map_or(1.0, |d| 1.0 / d.to_f64()),
-    };
-    span.max(f64::MIN_POSITIVE)
-}
-
-fn nested_pass<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(
-    f: &mut F,
-    domain: &Domain<T>,
-    opts: &Options,
-    inner: &Options,
-) -> Outcome<T> {
-    integrate_samples(
-        &mut |x: &T| {
-            let e = f(x, inner).map_err(|fail| Failure {
-                reason: format!("inner integral at x = {:e}: {}", x.to_f64(), fail.reason),
-                best_guess: None,
-                error_estimate: None,
-                evaluations: fail.evaluations,
-            })?;
-            Ok(Sample { value: e.value, error: e.error, evaluations: e.evaluations })
-        },
-        domain,
-        opts,
-    )
-}
-
 /// The integrand as the engine sees it, on a piece in its own variable.
 pub(crate) type SampleFn<'a, T> = dyn FnMut(&T) -> Result<Sample<T>, Failure<T>> + 'a;
-
-/// A piece [a, b] of the (possibly mapped) integration variable.
-#[derive(Debug, Clone)]
-pub(crate) struct Piece<T> {
-    pub a: T,
-    pub b: T,
-}
-
-/// Map of a semi-infinite [a, ∞) onto the piece variable u ∈ [0, 1).
-#[derive(Debug, Clone)]
-pub(crate) enum TailMap<T> {
-    /// t = a + u/(1 − u), dt = du/(1 − u)².
-    Rational,
-    /// t = a − ln(1 − u)/λ, dt = du/(λ(1 − u)).
-    Exponential(T),
-}
-
-impl<T: Real> TailMap<T> {
-    fn to_t(&self, a: &T, u: &T) -> (T, T) {
-        let one_minus = u.lit(1.0) - u.clone();
-        match self {
-            TailMap::Rational => {
-                (a.clone() + u.clone() / one_minus.clone(), u.lit(1.0) / (one_minus.clone() * one_minus))
-            }
-            // ln(1 − u) as ln1p(−u): near u = 0 the plain form rounds 1 − u
-            // to 1 and puts nodes exactly on the lower limit.
-            TailMap::Exponential(rate) => {
-                (a.clone() - (-u.clone()).ln_1p() / rate.clone(), u.lit(1.0) / (rate.clone() * one_minus))
-            }
-        }
-    }
-    fn to_u(&self, a: &T, t: &T) -> T {
-        let d = t.clone() - a.clone();
-        match self {
-            TailMap::Rational => d.clone() / (t.lit(1.0) + d),
-            TailMap::Exponential(rate) => t.lit(1.0) - (-(rate.clone() * d)).exp(),
-        }
-    }
-}
-
-/// Counters shared by the passes of one integration.
-#[derive(Debug, Default)]
-pub(crate) struct Tally {
-    pub evaluations: u64,
-    pub calls: u64,
-    pub all_zero: bool,
-}
-
-/// The integrand in the piece variable: applies the semi-infinite map and its
-/// Jacobian, counts evaluations, rejects non-finite values.
-pub(crate) struct Mapped<'f, 'g, T> {
-    f: &'f mut SampleFn<'g, T>,
-    /// Semi-infinite [a, ∞): the piece variable u ∈ [0, 1) and its map.
-    semi: Option<(T, TailMap<T>)>,
-    pub tally: Tally,
-}
-
-impl<'f, 'g, T: Real> Mapped<'f, 'g, T> {
-    pub fn eval(&mut self, u: &T) -> Result<Sample<T>, Failure<T>> {
-        let (t, jac) = match &self.semi {
-            None => (u.clone(), None),
-            Some((a, map)) => {
-                let (t, jac) = map.to_t(a, u);
-                (t, Some(jac))
-            }
-        };
-        let mut s = (self.f)(&t)?;
-        self.tally.calls += 1;
-        self.tally.evaluations += s.evaluations;
-        if !s.value.is_finite() || !s.error.is_finite() {
-            return Err(Failure {
-                reason: format!("integrand is not finite at x = {:e} (value {:e})", t.to_f64(), s.value.to_f64()),
-                best_guess: None,
-                error_estimate: None,
-                evaluations: self.tally.evaluations,
-            });
-        }
-        if !s.value.is_zero() {
-            self.tally.all_zero = false;
-        }
-        if let Some(j) = jac {
-            if !j.is_finite() {
-                return Ok(Sample { value: u.lit(0.0), error: u.lit(0.0), evaluations: s.evaluations });
-            }
-            s.value = s.value * j.clone();
-            s.error = s.error * j;
-        }
-        Ok(s)
-    }
-
-    pub fn fail(&self, reason: String, best: Option<(T, T)>) -> Failure<T> {
-        let (best_guess, error_estimate) = match best {
-            Some((v, e)) => (Some(v), Some(e)),
-            None => (None, None),
-        };
-        Failure { reason, best_guess, error_estimate, evaluations: self.tally.evaluations }
-    }
-}
 
 fn integrate_samples<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, opts: &Options) -> Outcome<T> {
     validate(domain, opts)?;
@@ -509,7 +322,7 @@ fn integrate_pieces<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, o
         .filter(|p| p.is_finite() && **p > domain.lo && domain.hi.as_ref().is_none_or(|h| *p < h))
         .map(to_piece_var)
         .collect();
-    let mut mapped = Mapped { f, semi: tail.clone(), tally: Tally { all_zero: true, ..Tally::default() } };
+    let mut mapped = Mapped::new(f, tail.clone());
 
     let declared_count = cuts.len();
     if opts.structure == Structure::Unknown {

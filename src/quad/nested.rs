@@ -1,0 +1,98 @@
+//! Nested integrals: a scale pass, a primary pass and an independent check
+//! pass, with inner tolerances derived from the outer goal.
+
+use super::{integrate_samples, reconcile, CheckRule, Domain, Failure, Options, Outcome, Sample};
+use crate::real::Real;
+
+/// ∫ f over `domain` where f(x, inner_opts) is itself an integral (or any
+/// value with an error bar), computed with the options it is handed.
+///
+/// Three passes. A coarse one (outer 10⁻³, inner 10⁻⁵, no cross-check) finds
+/// the scale V₀ of the result. The primary pass (primary rule at every level)
+/// hands the inner integrals `rel_tol/10` (at least 64 ulps) *and* an
+/// absolute tolerance of `rel_tol·|V₀|/10`, so that inner integrals far out
+/// in a tail, which cannot matter, are not driven into the rounding noise of
+/// their own integrand (e^{−(s+t)} at s = 700 is only good to ~10⁻¹³ relative
+/// in f64). The check pass repeats the computation with the check rule at
+/// every level, and the two are reconciled as for a plain integral. Inner
+/// error bars are the inner integrals' own estimates, integrated into the
+/// outer bar. An inner `Failure` aborts the outer integral with its reason.
+pub fn integrate_nested<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(
+    mut f: F,
+    domain: &Domain<T>,
+    opts: &Options,
+) -> Outcome<T> {
+    let coarse_outer = Options { rel_tol: opts.rel_tol.max(1e-3), cross_check: false, ..opts.clone() };
+    let coarse_inner = Options {
+        rel_tol: opts.rel_tol.max(1e-5),
+        abs_tol: 0.0,
+        cross_check: false,
+        zero_guard: false,
+        ..opts.clone()
+    };
+    let scale = nested_pass(&mut f, domain, &coarse_outer, &coarse_inner)?;
+    // Inner integrals get a twentieth of the tolerance, but never less than
+    // 64 ulps: each rule aims at a quarter of its goal and is floored at
+    // 8 eps of rounding, so tighter inner goals are unreachable, not more
+    // accurate. Their absolute tolerance is a twentieth of the outer goal
+    // spread over the outer domain's effective length, since inner errors
+    // add up along it.
+    let inner_floor = 64.0 * domain.lo.eps().to_f64();
+    let outer_goal = (opts.rel_tol * scale.value.abs().to_f64()).max(opts.abs_tol);
+    let inner = Options {
+        rel_tol: (opts.rel_tol / 20.0).max(inner_floor),
+        abs_tol: outer_goal / (20.0 * effective_length(domain)),
+        zero_guard: false,
+        cross_check: false,
+        ..opts.clone()
+    };
+    // Each pass aims at a quarter of the goal: the final bar is the larger of
+    // the primary's and (difference of the passes + the check's bar).
+    let outer =
+        Options { rel_tol: opts.rel_tol / 4.0, abs_tol: opts.abs_tol / 4.0, cross_check: false, ..opts.clone() };
+    let mut primary = nested_pass(&mut f, domain, &outer, &inner)?;
+    primary.evaluations += scale.evaluations;
+    if !opts.cross_check {
+        return reconcile(primary, None, opts);
+    }
+    // The second pass is independent at every level: the check rule outside
+    // and inside.
+    let other = opts.rule.other();
+    let check = nested_pass(&mut f, domain, &Options { rule: other, ..outer }, &Options { rule: other, ..inner })?;
+    primary.evaluations += check.evaluations;
+    reconcile(primary, Some(check), opts)
+}
+
+/// Length over which an outer integrand's inner errors add up: the span to
+/// the last breakpoint (or the upper limit), plus the decay length of a
+/// semi-infinite tail (1 when none is declared).
+fn effective_length<T: Real>(domain: &Domain<T>) -> f64 {
+    let lo = domain.lo.to_f64();
+    let last = domain.breakpoints.iter().map(Real::to_f64).filter(|p| p.is_finite()).fold(lo, f64::max);
+    let span = match &domain.hi {
+        Some(hi) => hi.to_f64() - lo,
+        None => last - lo + domain.decay.as_ref().map_or(1.0, |d| 1.0 / d.to_f64()),
+    };
+    span.max(f64::MIN_POSITIVE)
+}
+
+fn nested_pass<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(
+    f: &mut F,
+    domain: &Domain<T>,
+    opts: &Options,
+    inner: &Options,
+) -> Outcome<T> {
+    integrate_samples(
+        &mut |x: &T| {
+            let e = f(x, inner).map_err(|fail| Failure {
+                reason: format!("inner integral at x = {:e}: {}", x.to_f64(), fail.reason),
+                best_guess: None,
+                error_estimate: None,
+                evaluations: fail.evaluations,
+            })?;
+            Ok(Sample { value: e.value, error: e.error, evaluations: e.evaluations })
+        },
+        domain,
+        opts,
+    )
+}
