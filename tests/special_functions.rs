@@ -105,3 +105,37 @@ fn special_values_and_domain_edges() {
         assert!(((below - at) / at).abs() < 1e-13, "{} jumps at {x}", f.name());
     }
 }
+
+#[test]
+fn laplace_series_of_a_matches_quadrature() {
+    use mcrt_noise::quad::{integrate, Domain, Options};
+    use mcrt_noise::special::{overlap_a, overlap_a_laplace};
+    for beta in [-2.0, -0.5, 0.0, 1e-3, 0.1, 1.0, 2.0] {
+        let (v, bound) = overlap_a_laplace(&beta).unwrap();
+        let q = integrate(|x: &f64| overlap_a(x) * (-beta * x).exp(), &Domain::finite(0.0, 1.0), &Options::rel(1e-14))
+            .unwrap();
+        assert!(
+            (v - q.value).abs() <= bound + q.error,
+            "β = {beta}: series {v} ± {bound:e}, quadrature {} ± {:e}",
+            q.value,
+            q.error
+        );
+        // Useful: below the 64-ulp floor of the oracle's inner integrals.
+        assert!(bound <= 1e-14 * v.abs(), "β = {beta}: bound {bound:e}");
+    }
+    assert!(overlap_a_laplace(&5.0f64).is_none(), "f64 must refuse large β");
+    let bits = 128;
+    for beta in [-3.0, 0.5, 10.0, 50.0] {
+        let b = Float::with_val(bits, beta);
+        let (v, bound) = overlap_a_laplace(&b).unwrap();
+        let q = integrate(
+            |x: &Float| overlap_a(x) * (-(b.clone() * x.clone())).exp(),
+            &Domain::finite(Float::with_val(bits, 0), Float::with_val(bits, 1)),
+            &Options::rel(1e-34),
+        )
+        .unwrap();
+        let diff = Float::with_val(bits, &v - &q.value).abs().to_f64();
+        assert!(diff <= bound.to_f64() + q.error.to_f64(), "β = {beta}: diff {diff:e}, bound {:e}", bound.to_f64());
+        assert!(bound.to_f64() <= 1e-35 * v.to_f64().abs(), "β = {beta}: bound {:e}", bound.to_f64());
+    }
+}

@@ -30,9 +30,9 @@
 use super::field::{Component, Field, Geometry};
 use super::moments::ray_domain;
 use super::OracleError;
-use crate::quad::{integrate, integrate_nested, CheckRule, Domain, Estimate, Options};
+use crate::quad::{integrate, integrate_nested, CheckRule, Domain, Estimate, Options, Rule};
 use crate::real::Real;
-use crate::special::overlap_a;
+use crate::special::{overlap_a, overlap_a_laplace};
 
 /// Which correlation integral.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -184,6 +184,26 @@ fn one_term<T: CheckRule>(
                 (Which::Eq24, false) => -(sigma.clone() * (x.lit(1.0) - abs_mu)),
             };
             let edge = two_r.clone() / l.sin.clone();
+            // Primary pass, full separation range [0, T): the inner integral
+            // is T·∫₀¹ A(y) e^{−rate·T·y} dy, summed as a series with its own
+            // error bound. The check pass (rule Check) keeps quadrature, so
+            // the two passes remain independent computations.
+            let full_range = edge.is_finite() && (forward || edge <= field.s_of(x));
+            if inner.rule == Rule::TanhSinh && full_range {
+                if let Some((j, bound)) = overlap_a_laplace(&(rate.clone() * edge.clone())) {
+                    let value = outer.clone() * edge.clone() * j;
+                    let error = (outer.clone() * edge.clone()).abs() * bound;
+                    return Ok(Estimate {
+                        check_value: value.clone(),
+                        value,
+                        error,
+                        evaluations: 1,
+                        pieces: 1,
+                        found_breakpoints: 0,
+                        rule: Rule::TanhSinh,
+                    });
+                }
+            }
             let mut top = if edge.is_finite() { Some(edge) } else { None };
             if !forward {
                 // The nearer sphere s − t must lie at s − t ≥ 0.
