@@ -155,7 +155,17 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
     let t0 = Instant::now();
     let field = Field::from_scene(scene, like)?;
     let r = like.lit(scene.estimator.radius);
+    if field.albedo.is_zero() {
+        return Err(OracleError::Unsupported(
+            "medium.albedo = 0: nothing is scattered towards the camera, the pixel is exactly dark (L = 0, Var L = 0) and the relative noise is undefined".into(),
+        ));
+    }
     let ints = Integrals::compute(&field, &r, &Options::rel(rel_tol))?;
+    if ints.mean.value.is_zero() {
+        return Err(OracleError::Unsupported(
+            "the mean luminance is exactly 0 (no light reaches the camera ray): Var L = 0 and the relative noise is undefined".into(),
+        ));
+    }
     let counts = Counts {
         q: like.lit(scene.estimator.q),
         n_f: like.lit(scene.estimator.forward_rays as f64),

@@ -266,3 +266,11 @@ fn a_beam_that_misses_the_camera_ray_gets_a_clear_answer() {
     let err = run(&s, Precision::F64, None).unwrap_err().to_string();
     assert!(err.contains("meets no light"), "{err}");
 }
+
+#[test]
+fn a_dark_pixel_is_said_to_be_dark_not_nan() {
+    let mut s = scene("point-isotropic");
+    s.medium.albedo = 0.0;
+    let err = run(&s, Precision::F64, None).unwrap_err().to_string();
+    assert!(err.contains("albedo = 0") && err.contains("undefined"), "{err}");
+}
