@@ -160,11 +160,7 @@ fn one_term<T: CheckRule>(
             let zero = x.lit(0.0);
             let local = c.at(x, &sigma);
             let Some(l) = local else {
-                return integrate(
-                    |_: &T| x.lit(0.0),
-                    &Domain::finite(zero.clone(), x.lit(1.0)),
-                    &inner.clone().declared(),
-                );
+                return Ok(Estimate::known(zero.clone(), zero, 0, inner.rule));
             };
             let f = field.phase_at(&l.mu);
             // Outer weight σ² e^{−σx} (23) or σ² e^{−2σx} (24), times K f² W.
@@ -193,15 +189,7 @@ fn one_term<T: CheckRule>(
                 if let Some((j, bound)) = overlap_a_laplace(&(rate.clone() * edge.clone())) {
                     let value = outer.clone() * edge.clone() * j;
                     let error = (outer.clone() * edge.clone()).abs() * bound;
-                    return Ok(Estimate {
-                        check_value: value.clone(),
-                        value,
-                        error,
-                        evaluations: 1,
-                        pieces: 1,
-                        found_breakpoints: 0,
-                        rule: Rule::TanhSinh,
-                    });
+                    return Ok(Estimate::known(value, error, 1, Rule::TanhSinh));
                 }
             }
             let mut top = if edge.is_finite() { Some(edge) } else { None };
@@ -231,7 +219,7 @@ fn one_term<T: CheckRule>(
                 Some(t_max) if t_max > zero => {
                     integrate(g, &Domain::finite(zero, t_max).with_breakpoints(lengths), &inner_opts)
                 }
-                Some(_) => integrate(|_: &T| x.lit(0.0), &Domain::finite(zero, x.lit(1.0)), &inner_opts),
+                Some(_) => Ok(Estimate::known(zero.clone(), zero, 0, inner.rule)),
                 None => integrate(g, &Domain::semi_infinite(zero).with_decay(rate.clone()), &inner_opts),
             }
         },

@@ -112,24 +112,12 @@ pub fn q_pair<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate
         |p: &T, inner: &Options| {
             let outer = sigma.clone() * (-(sigma.clone() * field.s_of(p))).exp() * mean_contribution(field, p);
             if !(p.clone() > x0.clone()) || outer.is_zero() {
-                return integrate(
-                    |_: &T| p.lit(0.0),
-                    &Domain::finite(p.lit(0.0), p.lit(1.0)),
-                    &inner.clone().declared(),
-                );
+                return Ok(Estimate::known(p.lit(0.0), p.lit(0.0), 0, inner.rule));
             }
             let mut memory = memory.borrow_mut();
             let known = memory.entry(PassKey::of(inner)).or_insert_with(|| vec![Known::start(&x0)]);
             let g = cumulative(field, known, p, inner)?;
-            Ok(Estimate {
-                value: outer.clone() * g.value.clone(),
-                error: outer.abs() * g.error.clone(),
-                check_value: outer * g.value,
-                evaluations: g.evaluations,
-                pieces: 1,
-                found_breakpoints: 0,
-                rule: inner.rule,
-            })
+            Ok(Estimate::known(outer.clone() * g.value, outer.abs() * g.error, g.evaluations, inner.rule))
         },
         &ray_domain(field, &x0, None),
         opts,
@@ -147,7 +135,7 @@ impl PassKey {
     }
 }
 
-/// G at a point already computed: value, bar, evaluations spent on it.
+/// G at a point already computed: value and bar.
 #[derive(Debug, Clone)]
 struct Known<T> {
     at: T,
@@ -173,15 +161,7 @@ fn cumulative<T: CheckRule>(
     let idx = known.partition_point(|k| k.at <= *p);
     let base = known[idx - 1].clone();
     if base.at == *p {
-        return Ok(Estimate {
-            value: base.value.clone(),
-            error: base.error,
-            check_value: base.value,
-            evaluations: 0,
-            pieces: 0,
-            found_breakpoints: 0,
-            rule: inner.rule,
-        });
+        return Ok(Estimate::known(base.value, base.error, 0, inner.rule));
     }
     let sigma = field.sigma_ext.clone();
     let short = Options { abs_tol: inner.abs_tol / 1000.0, ..inner.clone() };
@@ -190,5 +170,5 @@ fn cumulative<T: CheckRule>(
     let value = base.value + piece.value.clone();
     let error = base.error + piece.error.clone();
     known.insert(idx, Known { at: p.clone(), value: value.clone(), error: error.clone() });
-    Ok(Estimate { value: value.clone(), error, check_value: value, ..piece })
+    Ok(Estimate::known(value, error, piece.evaluations, inner.rule))
 }
