@@ -149,14 +149,13 @@ fn sweep(path: &PathBuf, radii: &[f64], json: bool) -> Result<(), String> {
     let scene = load(path)?;
     let rows = mcrt_noise::sweep::sweep(&scene, radii)?;
     if json {
-        let order = |k: usize| {
-            mcrt_noise::sweep::fit_order(
-                &rows,
-                |r| if k == 0 { (r.ratio23, r.ratio23_error) } else { (r.ratio24, r.ratio24_error) },
-                4,
-            )
-        };
-        let out = serde_json::json!({ "rows": rows, "order23": order(0), "order24": order(1) });
+        use mcrt_noise::model::correlations::Which;
+        use mcrt_noise::sweep::fit_order;
+        let out = serde_json::json!({
+            "rows": rows,
+            "order23": fit_order(&rows, Which::Eq23),
+            "order24": fit_order(&rows, Which::Eq24),
+        });
         println!("{}", serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?);
     } else {
         print!("{}", mcrt_noise::sweep::table(&rows));

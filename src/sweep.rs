@@ -2,6 +2,7 @@
 //! convergence order, and the generated `docs/asymptotic-checks.md` with its
 //! SVG figures.
 
+use crate::model::correlations::Which;
 use crate::oracle::{run, Precision};
 use mcrt_scene::Scene;
 use std::fmt::Write;
@@ -19,6 +20,20 @@ pub struct Row {
     pub ratio24: f64,
     pub ratio24_error: f64,
 }
+
+impl Row {
+    /// (exact/asymptotic ratio, its bar) of (23) or (24).
+    pub fn ratio(&self, which: Which) -> (f64, f64) {
+        match which {
+            Which::Eq23 => (self.ratio23, self.ratio23_error),
+            Which::Eq24 => (self.ratio24, self.ratio24_error),
+        }
+    }
+}
+
+/// Radii at the small end used by [`fit_order`], where the leading order
+/// dominates.
+pub const FIT_POINTS: usize = 4;
 
 /// A fitted convergence order: |1 − ratio| ≈ C R^order.
 #[derive(Debug, Clone, Copy, serde::Serialize)]
@@ -53,19 +68,19 @@ pub fn sweep(scene: &Scene, radii: &[f64]) -> Result<Vec<Row>, String> {
         .collect()
 }
 
-/// Least-squares slope of log|1 − ratio| against log R over the points
-/// whose gap is resolved (|1 − ratio| above 100 × its bar), using the
-/// smallest radii only (`last` points) where the leading order dominates.
-pub fn fit_order(rows: &[Row], pick: impl Fn(&Row) -> (f64, f64), last: usize) -> Option<Order> {
+/// Least-squares slope of log|1 − ratio| against log R for (23) or (24)
+/// over the points whose gap is resolved (|1 − ratio| above 100 × its bar),
+/// using the [`FIT_POINTS`] smallest radii only.
+pub fn fit_order(rows: &[Row], which: Which) -> Option<Order> {
     let pts: Vec<(f64, f64)> = rows
         .iter()
-        .map(|r| (r.radius, pick(r)))
+        .map(|r| (r.radius, r.ratio(which)))
         .filter(|(_, (ratio, err))| (1.0 - ratio).abs() > 100.0 * err && ratio.is_finite())
         .map(|(r, (ratio, _))| (r.ln(), (1.0 - ratio).abs().ln()))
         .collect();
     let mut pts = pts;
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let pts: Vec<_> = pts.into_iter().take(last).collect();
+    let pts: Vec<_> = pts.into_iter().take(FIT_POINTS).collect();
     let n = pts.len();
     if n < 3 {
         return None;
@@ -101,10 +116,8 @@ pub fn table(rows: &[Row]) -> String {
         )
         .unwrap();
     }
-    for (name, pick) in [("(23)", 0usize), ("(24)", 1)] {
-        let order =
-            fit_order(rows, |r| if pick == 0 { (r.ratio23, r.ratio23_error) } else { (r.ratio24, r.ratio24_error) }, 4);
-        match order {
+    for (name, which) in [("(23)", Which::Eq23), ("(24)", Which::Eq24)] {
+        match fit_order(rows, which) {
             Some(o) => writeln!(
                 s,
                 "\nFitted order of |1 − ratio| for {name}: {:.4} ± {:.1e} ({} smallest resolved radii)",

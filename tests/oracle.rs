@@ -196,6 +196,7 @@ fn oracle_reports_are_pinned() {
 /// 4), pinned for every order-0 bundled scene.
 #[test]
 fn sweep_tables_are_pinned() {
+    use mcrt_noise::model::correlations::Which;
     use mcrt_noise::sweep::{fit_order, sweep, DOC_RADII};
     for name in ORDER0_SCENES {
         let rows = sweep(&scene(name), &DOC_RADII).unwrap();
@@ -203,13 +204,8 @@ fn sweep_tables_are_pinned() {
         for r in &rows {
             out.push_str(&format!("{:.0e} | {:.8e} | {:.8e}\n", r.radius, r.ratio23, r.ratio24));
         }
-        for (label, k) in [("order (23)", 0), ("order (24)", 1)] {
-            let o = fit_order(
-                &rows,
-                |r| if k == 0 { (r.ratio23, r.ratio23_error) } else { (r.ratio24, r.ratio24_error) },
-                4,
-            )
-            .unwrap();
+        for (label, which) in [("order (23)", Which::Eq23), ("order (24)", Which::Eq24)] {
+            let o = fit_order(&rows, which).unwrap();
             out.push_str(&format!("{label} {:.4}\n", o.order));
         }
         insta::with_settings!({snapshot_path => "../snapshots", prepend_module_to_snapshot => false}, {
