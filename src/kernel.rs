@@ -95,36 +95,11 @@ pub fn kernel_integral_bare<T: CheckRule>(angle: &Angle<T>, r: &T, opts: &Option
 /// The alternating series is summed at `prec` bits plus the cT/ln 2 bits its
 /// terms cancel (cT = 4000 for I(10⁻⁶, 10⁻³): ~6000 bits, well under a second).
 pub fn kernel_series_reference(sin_theta: &rug::Float, abs_cos: &rug::Float, r: &rug::Float, prec: u32) -> rug::Float {
-    use rug::float::Constant;
     use rug::Float;
     let t_edge = Float::with_val(prec, r * 2u32) / sin_theta;
     let ct = Float::with_val(prec, abs_cos + 1u32) * &t_edge;
     let extra = (ct.to_f64() / std::f64::consts::LN_2).ceil() as u32 + 64;
-    let p = prec + extra;
-    let ct = Float::with_val(p, &ct);
-    let t_edge = Float::with_val(p, &t_edge);
-    // B(n/2 + 1, 3/2) for the last even and odd n.
-    let mut beta = [Float::with_val(p, 2) / 3u32, Float::with_val(p, Constant::Pi) / 8u32];
-    let mut sum = Float::with_val(p, 0);
-    let mut power = Float::with_val(p, 1); // (−cT)ⁿ/n!
-    let eps = Float::with_val(p, Float::i_exp(1, -(p as i32)));
-    for n in 0u32.. {
-        let parity = (n % 2) as usize;
-        if n >= 2 {
-            // B(a + 1, 3/2) = B(a, 3/2)·a/(a + 3/2), a = (n − 2)/2 + 1 = n/2.
-            let a = Float::with_val(p, n) / 2u32;
-            let ratio = Float::with_val(p, &a / Float::with_val(p, &a + 1.5f64));
-            beta[parity] *= ratio;
-        }
-        let term = Float::with_val(p, &power * &beta[parity]) / (n + 1);
-        sum += &term;
-        if Float::with_val(p, n) > ct
-            && Float::with_val(p, term.abs_ref()) < eps.clone() * Float::with_val(p, sum.abs_ref())
-        {
-            break;
-        }
-        power = -(power * &ct) / (n + 1);
-    }
+    let (sum, _, _) = crate::special::laplace_sum(&Float::with_val(prec + extra, &ct));
     Float::with_val(prec, sum * t_edge)
 }
 

@@ -16,4 +16,5 @@ mod overlap;
 mod series;
 
 pub use expint::{exp_int_e1, exp_int_tail2};
+pub(crate) use overlap::laplace_sum;
 pub use overlap::{overlap_a, overlap_a_integral, overlap_a_laplace, overlap_a_moment};

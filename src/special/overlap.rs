@@ -125,26 +125,7 @@ pub fn overlap_a_laplace<T: Real>(beta: &T) -> Option<(T, T)> {
     let guard = if T::CAN_RAISE_PRECISION && b > 0.0 { (b / std::f64::consts::LN_2).ceil() as u32 + 16 } else { 0 };
     let x = beta.raised(guard);
     let eps = x.eps();
-    let mut moments = [x.lit(2.0) / x.lit(3.0), x.pi() / x.lit(8.0)];
-    let mut power = x.lit(1.0); // (−β)ⁿ/n!
-    let mut sum = x.lit(0.0);
-    let mut abs_sum = x.lit(0.0);
-    let mut last = x.lit(0.0);
-    for n in 0u32..10_000 {
-        let parity = (n % 2) as usize;
-        if n >= 2 {
-            let a = x.lit(f64::from(n) / 2.0);
-            moments[parity] = moments[parity].clone() * a.clone() / (a + x.lit(1.5));
-        }
-        let term = power.clone() * moments[parity].clone() / x.lit(f64::from(n + 1));
-        sum = sum + term.clone();
-        abs_sum = abs_sum + term.abs();
-        last = term.abs();
-        if f64::from(n) > b.abs() && last <= eps.clone() * sum.abs() {
-            break;
-        }
-        power = -(power * x.clone()) / x.lit(f64::from(n + 1));
-    }
+    let (sum, abs_sum, last) = laplace_sum(&x);
     // Truncation: the terms decrease past n > |β| (alternating for β > 0,
     // and bounded by a geometric tail for β < 0): ≤ 2·last. Rounding: a few
     // eps of Σ|terms| at the working precision.
@@ -153,4 +134,37 @@ pub fn overlap_a_laplace<T: Real>(beta: &T) -> Option<(T, T)> {
     let value = sum.rounded_to(prec);
     let bound = bound.rounded_to(prec) + value.abs() * out_eps;
     Some((value, bound))
+}
+
+/// Σₙ (−β)ⁿ/n! Mₙ at the precision of `beta` (the caller supplies the guard
+/// bits the alternating terms cancel): (sum, Σ|terms|, |last term|). Stops
+/// past n > |β| once a term falls below eps·|sum|. Shared by
+/// [`overlap_a_laplace`] and the quadrature-free kernel reference.
+pub(crate) fn laplace_sum<T: Real>(beta: &T) -> (T, T, T) {
+    let x = beta;
+    let b = x.to_f64().abs();
+    let eps = x.eps();
+    // Mₙ·(n + 1) = B(n/2 + 1, 3/2) for the last even and odd n.
+    let mut moments = [x.lit(2.0) / x.lit(3.0), x.pi() / x.lit(8.0)];
+    let mut power = x.lit(1.0); // (−β)ⁿ/n!
+    let mut sum = x.lit(0.0);
+    let mut abs_sum = x.lit(0.0);
+    let mut last = x.lit(0.0);
+    for n in 0u32..1_000_000 {
+        let parity = (n % 2) as usize;
+        if n >= 2 {
+            // B(a + 1, 3/2) = B(a, 3/2)·a/(a + 3/2), a = n/2.
+            let a = x.lit(f64::from(n) / 2.0);
+            moments[parity] = moments[parity].clone() * a.clone() / (a + x.lit(1.5));
+        }
+        let term = power.clone() * moments[parity].clone() / x.lit(f64::from(n + 1));
+        sum = sum + term.clone();
+        abs_sum = abs_sum + term.abs();
+        last = term.abs();
+        if f64::from(n) > b && last <= eps.clone() * sum.abs() {
+            break;
+        }
+        power = -(power * x.clone()) / x.lit(f64::from(n + 1));
+    }
+    (sum, abs_sum, last)
 }
