@@ -185,7 +185,7 @@ fn one_term<T: CheckRule>(
             // error bound. The check pass (rule Check) keeps quadrature, so
             // the two passes remain independent computations.
             let full_range = edge.is_finite() && (forward || edge <= field.s_of(x));
-            if inner.rule == Rule::TanhSinh && full_range {
+            if full_range {
                 if let Some((j, bound)) = overlap_a_laplace(&(rate.clone() * edge.clone())) {
                     let value = outer.clone() * edge.clone() * j;
                     let error = (outer.clone() * edge.clone()).abs() * bound;

@@ -18,8 +18,8 @@ use super::field::Field;
 use super::OracleError;
 use crate::quad::{integrate, integrate_nested, CheckRule, Domain, Estimate, Failure, Options, Rule};
 use crate::real::Real;
-use std::cell::RefCell;
 use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 /// ⟨𝒞⟩ at s = field.center + x: mean contribution of one forward ray to a
 /// sphere there, paper (19). Domain: any x (0 where no light reaches).
@@ -107,16 +107,22 @@ pub fn p_single<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estima
 pub fn q_pair<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
     let sigma = field.sigma_ext.clone();
     let x0 = field.x_camera();
-    let memory: RefCell<HashMap<PassKey, Vec<Known<T>>>> = RefCell::new(HashMap::new());
+    // One memory per pass; the passes run side by side, each locks its own.
+    let memory: Mutex<HashMap<PassKey, Arc<Mutex<Vec<Known<T>>>>>> = Mutex::new(HashMap::new());
     integrate_nested(
         |p: &T, inner: &Options| {
             let outer = sigma.clone() * (-(sigma.clone() * field.s_of(p))).exp() * mean_contribution(field, p);
             if !(p.clone() > x0.clone()) || outer.is_zero() {
                 return Ok(Estimate::known(p.lit(0.0), p.lit(0.0), 0, inner.rule));
             }
-            let mut memory = memory.borrow_mut();
-            let known = memory.entry(PassKey::of(inner)).or_insert_with(|| vec![Known::start(&x0)]);
-            let g = cumulative(field, known, p, inner)?;
+            let pass = memory
+                .lock()
+                .expect("no pass panics while holding the memory")
+                .entry(PassKey::of(inner))
+                .or_insert_with(|| Arc::new(Mutex::new(vec![Known::start(&x0)])))
+                .clone();
+            let mut known = pass.lock().expect("no pass panics while holding its memory");
+            let g = cumulative(field, &mut known, p, inner)?;
             Ok(Estimate::known(outer.clone() * g.value, outer.abs() * g.error, g.evaluations, inner.rule))
         },
         &ray_domain(field, &x0, None),

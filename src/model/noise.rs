@@ -55,15 +55,36 @@ impl<T: CheckRule> Integrals<T> {
     /// Computes all integrals for spheres of radius `r`.
     pub fn compute(field: &Field<T>, r: &T, opts: &Options) -> Result<Integrals<T>, OracleError> {
         let opts = opts.clone().declared();
+        let o = &opts;
+        // Independent integrals, computed side by side (each is
+        // deterministic, so the result does not depend on the threads).
+        let ((mean, m2), (p, q)) = rayon::join(
+            || rayon::join(|| moments::mean_luminance(field, o), || moments::m2(field, r, o)),
+            || rayon::join(|| moments::p_single(field, o), || moments::q_pair(field, o)),
+        );
+        let ((c23, c24), (c23_asym, c24_asym)) = rayon::join(
+            || {
+                rayon::join(
+                    || correlations::exact(field, r, Which::Eq23, o),
+                    || correlations::exact(field, r, Which::Eq24, o),
+                )
+            },
+            || {
+                rayon::join(
+                    || correlations::asymptotic(field, r, Which::Eq23, o),
+                    || correlations::asymptotic(field, r, Which::Eq24, o),
+                )
+            },
+        );
         Ok(Integrals {
-            mean: moments::mean_luminance(field, &opts)?,
-            m2: moments::m2(field, r, &opts)?,
-            p: moments::p_single(field, &opts)?,
-            q: moments::q_pair(field, &opts)?,
-            c23: correlations::exact(field, r, Which::Eq23, &opts)?,
-            c24: correlations::exact(field, r, Which::Eq24, &opts)?,
-            c23_asym: correlations::asymptotic(field, r, Which::Eq23, &opts)?,
-            c24_asym: correlations::asymptotic(field, r, Which::Eq24, &opts)?,
+            mean: mean?,
+            m2: m2?,
+            p: p?,
+            q: q?,
+            c23: c23?,
+            c24: c24?,
+            c23_asym: c23_asym?,
+            c24_asym: c24_asym?,
         })
     }
 

@@ -36,7 +36,7 @@ pub struct PanelEstimate<T> {
 }
 
 /// A real type that has a cross-check rule.
-pub trait CheckRule: Real + 'static {
+pub trait CheckRule: Real + Send + Sync + 'static {
     /// Name shown in cross-check reports.
     const CHECK_NAME: &'static str;
     /// Whether the rule needs a per-call target (the f64 crate does).

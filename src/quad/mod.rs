@@ -250,10 +250,40 @@ pub(crate) type SampleFn<'a, T> = dyn FnMut(&T) -> Result<Sample<T>, Failure<T>>
 
 fn integrate_samples<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, opts: &Options) -> Outcome<T> {
     validate(domain, opts)?;
+    let graded = with_decay_lengths(domain);
+    let domain = graded.as_ref().unwrap_or(domain);
     if let Some(split) = split_tail(domain) {
         return integrate_split(f, domain, split, opts);
     }
     integrate_pieces(f, domain, opts)
+}
+
+/// For [lo, ∞) with a declared decay rate λ: breakpoints at b + 2^k/λ,
+/// k = 0 … K, beyond the last breakpoint b (or lo), with e^{−2^K} below the
+/// working precision squared. The content of the tail then lies in finite
+/// pieces on which both rules converge geometrically, and the mapped
+/// remainder [b + 2^K/λ, ∞) holds nothing the goal can see. Without them,
+/// an algebraic factor of the integrand (1/s², or ln s through the map)
+/// becomes a logarithmic endpoint singularity of the mapped tail, on which
+/// Gauss–Legendre converges only algebraically.
+fn with_decay_lengths<T: Real>(domain: &Domain<T>) -> Option<Domain<T>> {
+    let rate = domain.decay.as_ref()?;
+    if domain.hi.is_some() || !(rate.clone() > rate.lit(0.0)) || !rate.is_finite() {
+        return None;
+    }
+    let b = split_tail(domain).unwrap_or_else(|| domain.lo.clone());
+    // e^{−2^K} < eps²: 2^K > 2·prec·ln 2.
+    let needed = 2.0 * domain.lo.prec() as f64 * std::f64::consts::LN_2;
+    let mut extra = Vec::new();
+    let mut length = 1.0f64;
+    loop {
+        extra.push(b.clone() + rate.lit(length) / rate.clone());
+        if length >= needed {
+            break;
+        }
+        length *= 2.0;
+    }
+    Some(domain.clone().with_breakpoints(extra))
 }
 
 /// The last breakpoint of a semi-infinite domain, if any: [lo, ∞) is then

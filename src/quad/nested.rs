@@ -17,8 +17,8 @@ use crate::real::Real;
 /// every level, and the two are reconciled as for a plain integral. Inner
 /// error bars are the inner integrals' own estimates, integrated into the
 /// outer bar. An inner `Failure` aborts the outer integral with its reason.
-pub fn integrate_nested<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(
-    mut f: F,
+pub fn integrate_nested<T: CheckRule, F: Fn(&T, &Options) -> Outcome<T> + Sync>(
+    f: F,
     domain: &Domain<T>,
     opts: &Options,
 ) -> Outcome<T> {
@@ -30,7 +30,7 @@ pub fn integrate_nested<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(
         zero_guard: false,
         ..opts.clone()
     };
-    let scale = nested_pass(&mut f, domain, &coarse_outer, &coarse_inner)?;
+    let scale = nested_pass(&f, domain, &coarse_outer, &coarse_inner)?;
     // Inner integrals get a twentieth of the tolerance, but never less than
     // 64 ulps: each rule aims at a quarter of its goal and is floored at
     // 8 eps of rounding, so tighter inner goals are unreachable, not more
@@ -50,16 +50,21 @@ pub fn integrate_nested<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(
     // the primary's and (difference of the passes + the check's bar).
     let outer =
         Options { rel_tol: opts.rel_tol / 4.0, abs_tol: opts.abs_tol / 4.0, cross_check: false, ..opts.clone() };
-    let mut primary = nested_pass(&mut f, domain, &outer, &inner)?;
-    primary.evaluations += scale.evaluations;
     if !opts.cross_check {
+        let mut primary = nested_pass(&f, domain, &outer, &inner)?;
+        primary.evaluations += scale.evaluations;
         return reconcile(primary, None, opts);
     }
     // The second pass is independent at every level: the check rule outside
-    // and inside.
+    // and inside. The two passes share nothing, so they run side by side;
+    // each is deterministic, so the result does not depend on the threads.
     let other = opts.rule.other();
-    let check = nested_pass(&mut f, domain, &Options { rule: other, ..outer }, &Options { rule: other, ..inner })?;
-    primary.evaluations += check.evaluations;
+    let check_outer = Options { rule: other, ..outer.clone() };
+    let check_inner = Options { rule: other, ..inner.clone() };
+    let (primary, check) =
+        rayon::join(|| nested_pass(&f, domain, &outer, &inner), || nested_pass(&f, domain, &check_outer, &check_inner));
+    let (mut primary, check) = (primary?, check?);
+    primary.evaluations += scale.evaluations + check.evaluations;
     reconcile(primary, Some(check), opts)
 }
 
@@ -76,8 +81,8 @@ fn effective_length<T: Real>(domain: &Domain<T>) -> f64 {
     span.max(f64::MIN_POSITIVE)
 }
 
-fn nested_pass<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(
-    f: &mut F,
+fn nested_pass<T: CheckRule, F: Fn(&T, &Options) -> Outcome<T> + Sync>(
+    f: &F,
     domain: &Domain<T>,
     opts: &Options,
     inner: &Options,
