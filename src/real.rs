@@ -77,6 +77,13 @@ pub trait Real:
             self
         }
     }
+    fn min_of(self, other: Self) -> Self {
+        if other < self {
+            other
+        } else {
+            self
+        }
+    }
 }
 
 impl Real for f64 {

@@ -90,12 +90,14 @@ fn oracle_json_has_the_documented_keys() {
 }
 
 #[test]
-fn oracle_refuses_order_one_loudly() {
-    let out = bin()
-        .args(["oracle", "scenes/point-isotropic-order1.toml"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
+fn oracle_refuses_order_two_loudly() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic-order1.toml"))
+        .unwrap()
+        .replace("scattering_orders = 1", "scattering_orders = 2");
+    let path = std::env::temp_dir().join(format!("mcrt-noise-order2-{}.toml", std::process::id()));
+    std::fs::write(&path, text).unwrap();
+    let out = bin().args(["oracle", path.to_str().unwrap()]).output().unwrap();
+    std::fs::remove_file(&path).ok();
     assert!(!out.status.success());
     assert!(out.stdout.is_empty());
     assert!(String::from_utf8(out.stderr).unwrap().contains("scattering_orders"));

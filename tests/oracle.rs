@@ -156,9 +156,18 @@ fn light_on_the_line_behind_the_camera_has_no_asymptotic_form() {
 }
 
 #[test]
-fn orders_beyond_zero_are_refused_clearly() {
-    let err = run(&scene("point-isotropic-order1"), Precision::F64, None).unwrap_err().to_string();
-    assert!(err.contains("scattering_orders") && err.contains("order 0"), "{err}");
+fn orders_beyond_one_and_scattered_beams_are_refused_clearly() {
+    let mut s = scene("point-isotropic-order1");
+    s.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(2);
+    let err = run(&s, Precision::F64, None).unwrap_err().to_string();
+    assert!(err.contains("scattering_orders = 2") && err.contains("allowed: 0 or 1"), "{err}");
+    s.effects.scattering_orders = mcrt_scene::ScatteringOrders::All;
+    let err = run(&s, Precision::F64, None).unwrap_err().to_string();
+    assert!(err.contains("scattering_orders = \"all\""), "{err}");
+    let mut b = scene("beam-isotropic");
+    b.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
+    let err = run(&b, Precision::F64, None).unwrap_err().to_string();
+    assert!(err.contains("beam") && err.contains("point lights only"), "{err}");
 }
 
 /// The `oracle --json` numbers of every order-0 bundled scene, pinned at

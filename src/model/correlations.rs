@@ -27,10 +27,12 @@
 //! (25) ≈ (8 albedo² 𝓕 σ/(3π² R)) ∫ σ e^{−σs} H̃ ds and
 //! (26) ≈ (16 albedo² 𝓕 σ/(3π² R)) ∫ σ e^{−2σs} H̃ ds.
 
+use super::angular::{Direction, Features, Measure, Pole};
 use super::field::{Component, Field, Geometry};
-use super::moments::ray_domain;
+use super::moments::{phase_poles, ray_domain};
+use super::scattered::{source_features, Scattered};
 use super::OracleError;
-use crate::quad::{integrate, integrate_nested, CheckRule, Domain, Estimate, Options, Rule};
+use crate::quad::{integrate, integrate_nested, CheckRule, Domain, Estimate, Options, Outcome};
 use crate::real::Real;
 use crate::special::{overlap_a, overlap_a_laplace};
 
@@ -132,7 +134,87 @@ pub fn exact<T: CheckRule>(field: &Field<T>, r: &T, which: Which, opts: &Options
             });
         }
     }
+    for sc in &field.scattered {
+        let e = scattered_term(field, sc, r, which, opts)?;
+        total = Some(match total {
+            None => e,
+            Some(t) => Estimate {
+                value: t.value + e.value,
+                error: t.error + e.error,
+                evaluations: t.evaluations + e.evaluations,
+                check_value: t.check_value + e.check_value,
+                ..t
+            },
+        });
+    }
     total.ok_or_else(|| OracleError::Unsupported("the camera ray meets no light".into()))
+}
+
+/// The features of g = f(−μ)²·(separation integral) at one camera-ray
+/// point s: near both poles it varies on the angular scale R·min(1, σ)
+/// (where T = 2R/sin ϑ meets the decay length) and falls like 1/ϑ beyond;
+/// the backward range switches from T to s at sin ϑ = 2R/s; the pair
+/// orientation switches at μ = 0.
+pub fn pair_features<T: Real>(field: &Field<T>, r: &T, s_abs: &T) -> Features<T> {
+    let (plus_phase, minus_phase) = phase_poles(field);
+    let (near_0, near_pi) = source_features(&field.phase, r);
+    let scale = r.clone() * field.sigma_ext.clone().min_of(r.lit(1.0)) / r.lit(10.0);
+    let floor = |phase: Option<T>| Some(phase.map_or(scale.clone(), |p| p.min_of(scale.clone())));
+    let two_r = r.lit(2.0) * r.clone();
+    let kink = if two_r < *s_abs { vec![(two_r / s_abs.clone()).asin()] } else { Vec::new() };
+    Features {
+        plus: Pole { floor: floor(plus_phase), marks: Vec::new() },
+        minus: Pole { floor: floor(minus_phase), marks: kink },
+        equator_jump: true,
+        source_near_0: near_0,
+        source_near_pi: near_pi,
+    }
+}
+
+/// One scattered component's part of (23) or (24): outer over the
+/// first-met sphere's position s, with weight σ²e^{−σs} (23) or
+/// 2σ²e^{−2σs} (24) times K, and inner the angular integral of
+/// f(−μ)²·L₁·(separation integral of the orientation sign μ gives).
+fn scattered_term<T: CheckRule>(
+    field: &Field<T>,
+    sc: &Scattered<T>,
+    r: &T,
+    which: Which,
+    opts: &Options,
+) -> Result<Estimate<T>, OracleError> {
+    let sigma = field.sigma_ext.clone();
+    let k = k_factor(field, r) * if which == Which::Eq24 { r.lit(2.0) } else { r.lit(1.0) };
+    let two_r = r.lit(2.0) * r.clone();
+    let decay = if which == Which::Eq24 { r.lit(2.0) } else { r.lit(1.0) };
+    let what = match which {
+        Which::Eq23 => "correlation integral (23), single-scattered light",
+        Which::Eq24 => "correlation integral (24), single-scattered light",
+    };
+    let x0 = field.x_camera();
+    integrate_nested(
+        |x: &T, inner: &Options| {
+            let s_abs = field.s_of(x);
+            let outer = k.clone() * sigma.clone() * sigma.clone() * (-(decay.clone() * sigma.clone() * s_abs.clone())).exp();
+            if outer.is_zero() || !(s_abs > x.lit(0.0)) {
+                return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, inner.rule));
+            }
+            let g = |d: &Direction<T>, o: &Options| {
+                let f = field.phase_at(&d.mu);
+                let f2 = f.clone() * f;
+                let forward = d.mu >= d.mu.lit(0.0);
+                let j_opts = Options { abs_tol: (o.abs_tol / f2.to_f64()).min(f64::MAX), ..o.clone() };
+                let j = separation(&sigma, which, forward, &d.mu, &d.sin, &s_abs, &two_r, &j_opts)?;
+                Ok(Estimate::known(f2.clone() * j.value, f2 * j.error, j.evaluations, o.rule))
+            };
+            let at = sc.at(x, &sigma, &field.sigma_sc);
+            let o = Options { abs_tol: (inner.abs_tol / outer.to_f64()).min(f64::MAX), ..inner.clone() };
+            let e = at.view(&sigma, &field.phase, &pair_features(field, r, &s_abs), Measure::Solid, &g, &o)?;
+            Ok(Estimate::known(outer.clone() * e.value, outer * e.error, e.evaluations, inner.rule))
+        },
+        &ray_domain(field, &x0, None),
+        opts,
+    )
+    .map_err(OracleError::quad(what))
 }
 
 /// One component, one orientation: outer over the first-met sphere's
@@ -172,61 +254,136 @@ fn one_term<T: CheckRule>(
                 * f.clone()
                 * f
                 * l.w.clone();
-            // Inner exponent rate: e^{−rate t}.
-            let abs_mu = l.mu.abs();
-            let rate = match (which, forward) {
-                (Which::Eq23, true) | (Which::Eq24, true) => sigma.clone() * (x.lit(1.0) + l.mu.clone()),
-                (Which::Eq23, false) => sigma.clone() * abs_mu,
-                (Which::Eq24, false) => -(sigma.clone() * (x.lit(1.0) - abs_mu)),
-            };
-            let edge = two_r.clone() / l.sin.clone();
-            // Primary pass, full separation range [0, T): the inner integral
-            // is T·∫₀¹ A(y) e^{−rate·T·y} dy, summed as a series with its own
-            // error bound. The check pass (rule Check) keeps quadrature, so
-            // the two passes remain independent computations.
-            let full_range = edge.is_finite() && (forward || edge <= field.s_of(x));
-            if full_range {
-                if let Some((j, bound)) = overlap_a_laplace(&(rate.clone() * edge.clone())) {
-                    let value = outer.clone() * edge.clone() * j;
-                    let error = (outer.clone() * edge.clone()).abs() * bound;
-                    return Ok(Estimate::known(value, error, 1, Rule::TanhSinh));
-                }
+            if outer.is_zero() {
+                return Ok(Estimate::known(zero.clone(), zero, 0, inner.rule));
             }
-            let mut top = if edge.is_finite() { Some(edge) } else { None };
-            if !forward {
-                // The nearer sphere s − t must lie at s − t ≥ 0.
-                let s_abs = field.s_of(x);
-                top = Some(match top {
-                    Some(t) if t < s_abs => t,
-                    _ => s_abs,
-                });
-            }
-            let scale = l.sin.clone() / two_r.clone();
-            let g =
-                |t: &T| outer.clone() * overlap_a(&(t.clone() * scale.clone())) * (-(rate.clone() * t.clone())).exp();
-            let inner_opts = inner.clone().declared();
-            // Where T ≫ 1/rate (sin ϑ → 0), the integrand lives in the first
-            // few decay lengths of a long interval: breakpoints at 1, 10, 100,
-            // 1000 decay lengths keep every piece's content spread over it
-            // (a rule sampling a long piece coarsely would otherwise see only
-            // the e^{−rate·t} edge at its start).
-            let lengths: Vec<T> = if rate > x.lit(0.0) {
-                [1.0, 10.0, 100.0, 1000.0].iter().map(|k| x.lit(*k) / rate.clone()).collect()
-            } else {
-                Vec::new()
-            };
-            match top {
-                Some(t_max) if t_max > zero => {
-                    integrate(g, &Domain::finite(zero, t_max).with_breakpoints(lengths), &inner_opts)
-                }
-                Some(_) => Ok(Estimate::known(zero.clone(), zero, 0, inner.rule)),
-                None => integrate(g, &Domain::semi_infinite(zero).with_decay(rate.clone()), &inner_opts),
-            }
+            // The inner tolerance is for outer·J: J's own is abs_tol/|outer|.
+            let j_opts = Options { abs_tol: (inner.abs_tol / outer.abs().to_f64()).min(f64::MAX), ..inner.clone() };
+            let j = separation(&sigma, which, forward, &l.mu, &l.sin, &field.s_of(x), &two_r, &j_opts)?;
+            Ok(Estimate::known(
+                outer.clone() * j.value,
+                outer.abs() * j.error,
+                j.evaluations,
+                inner.rule,
+            ))
         },
         &ray_domain(field, lo, hi).with_breakpoints(if forward { None } else { reach_kink(field, c, r, lo, hi) }),
         opts,
     )
     .map_err(OracleError::quad(what))
+}
+
+/// The separation integral of one pair orientation at the first-met
+/// sphere's position `s_first` (absolute s):
+/// ∫₀^{t_max} A(t sin ϑ/2R) e^{−rate·t} dt, t_max = T = 2R/sin ϑ forwards,
+/// min(T, s_first) backwards (the nearer sphere cannot lie behind the
+/// camera), rate = σ(1 + μ) forwards, σ|μ| backwards in (23),
+/// −σ(1 − |μ|) backwards in (24) (derivation: `docs/model.md` §5).
+///
+/// Over the full range [0, T) it is T·J(rate·T), J(β) = ∫₀¹ A(y) e^{−βy} dy,
+/// a special function summed as a series with a rigorous truncation bound
+/// (`special::overlap_a_laplace`, tested against quadrature), in every pass.
+/// Where the series does not apply (large β, or the range cut at s_first),
+/// it is integrated with the rule of `inner`, so each pass keeps its own.
+#[allow(clippy::too_many_arguments)]
+pub fn separation<T: CheckRule>(
+    sigma: &T,
+    which: Which,
+    forward: bool,
+    mu: &T,
+    sin: &T,
+    s_first: &T,
+    two_r: &T,
+    inner: &Options,
+) -> Outcome<T> {
+    let zero = mu.lit(0.0);
+    let one = mu.lit(1.0);
+    let abs_mu = mu.abs();
+    let rate = match (which, forward) {
+        (_, true) => sigma.clone() * (one.clone() + mu.clone()),
+        (Which::Eq23, false) => sigma.clone() * abs_mu,
+        (Which::Eq24, false) => -(sigma.clone() * (one - abs_mu)),
+    };
+    let edge = two_r.clone() / sin.clone();
+    let full_range = edge.is_finite() && (forward || edge <= *s_first);
+    if full_range {
+        if let Some((j, bound)) = overlap_a_laplace(&(rate.clone() * edge.clone())) {
+            return Ok(Estimate::known(edge.clone() * j, edge.abs() * bound, 1, inner.rule));
+        }
+    }
+    let mut top = if edge.is_finite() { Some(edge.clone()) } else { None };
+    if !forward {
+        top = Some(match top {
+            Some(t) if t < *s_first => t,
+            _ => s_first.clone(),
+        });
+    }
+    let Some(t_max) = top else {
+        // sin ϑ = 0 exactly, forwards: A ≡ π/2 on [0, ∞), ∫ = π/(2 rate).
+        let value = mu.pi() / (mu.lit(2.0) * rate);
+        return Ok(Estimate::known(value, zero, 1, inner.rule));
+    };
+    if !(t_max > zero) {
+        return Ok(Estimate::known(zero.clone(), zero, 0, inner.rule));
+    }
+    if !edge.is_finite() {
+        // sin ϑ = 0 exactly, backwards: ∫₀^{t_max} (π/2) e^{−rate t} dt.
+        let half_pi = mu.pi() / mu.lit(2.0);
+        let value = if rate.is_zero() {
+            half_pi * t_max
+        } else {
+            half_pi * (mu.lit(1.0) - (-(rate.clone() * t_max)).exp()) / rate
+        };
+        return Ok(Estimate::known(value, zero, 1, inner.rule));
+    }
+    // T ∫₀^Y A(y) e^{−βy} dy, Y = t_max/T ≤ 1, β = rate·T, in y = sin ε
+    // (ε = π/2 − φ, y = cos φ): T ∫₀^{ε_Y} A(sin ε) cos ε e^{−β sin ε} dε,
+    // an entire integrand (the (1 − y)^{3/2} edge of A at y = 1 becomes φ³),
+    // with y = sin ε exact near y = 0, where a large β puts the content.
+    let beta = rate * edge.clone();
+    let y_top = (t_max / edge.clone()).min_of(mu.lit(1.0));
+    let eps_top = y_top.asin();
+    let half_pi = mu.pi() / mu.lit(2.0);
+    let h = |eps: &T| {
+        let (sin, cos) = (eps.sin(), eps.cos());
+        overlap_a_of_angle(&(half_pi.clone() - eps.clone()), &cos, &sin) * cos * (-(beta.clone() * sin)).exp()
+    };
+    // For large β the content lies where β sin ε is of order 1: breakpoints
+    // at β sin ε = 1, 10, 100.
+    let cuts: Vec<T> = if beta > zero {
+        [1.0, 10.0, 100.0]
+            .iter()
+            .map(|k| mu.lit(*k) / beta.clone())
+            .filter(|c| *c < y_top)
+            .map(|c| c.asin())
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let j_opts = Options { abs_tol: (inner.abs_tol / edge.to_f64()).min(f64::MAX), ..inner.clone().declared() };
+    let e = integrate(h, &Domain::finite(zero, eps_top).with_breakpoints(cuts), &j_opts)?;
+    Ok(Estimate { value: e.value * edge.clone(), error: e.error * edge, ..e })
+}
+
+/// A(cos φ) = φ − sin φ cos φ for φ ∈ [0, π/2], from the angle (no arccos):
+/// below φ = 0.1 by its series (2φ − sin 2φ)/2 = Σ_{k≥1} (−1)^{k+1}
+/// (2φ)^{2k+1}/(2(2k+1)!), which avoids the cancellation of φ³ against φ.
+fn overlap_a_of_angle<T: Real>(phi: &T, sin: &T, cos: &T) -> T {
+    if *phi < phi.lit(0.1) {
+        let x = phi.clone() * phi.lit(2.0);
+        let x2 = x.clone() * x.clone();
+        let mut term = x.clone() * x2.clone() / phi.lit(6.0);
+        let mut sum = term.clone();
+        let mut k = 1.0;
+        while term.abs() > sum.abs() * sum.eps() {
+            term = -(term * x2.clone()) / phi.lit((2.0 * k + 2.0) * (2.0 * k + 3.0));
+            sum = sum + term.clone();
+            k += 1.0;
+        }
+        sum / phi.lit(2.0)
+    } else {
+        phi.clone() - sin.clone() * cos.clone()
+    }
 }
 
 /// Backwards (μ < 0), the inner range is t < min(p, T(p)), T = 2R/sin ϑ(p):
@@ -291,18 +448,55 @@ pub fn asymptotic<T: CheckRule>(
         Which::Eq23 => "asymptotic (25)",
         Which::Eq24 => "asymptotic (26)",
     };
-    integrate(
-        |x: &T| {
-            let mut h = x.lit(0.0);
-            for c in &field.components {
-                if let Some(l) = c.at(x, &sigma) {
-                    let f = field.phase_at(&l.mu);
-                    h = h + f.clone() * f * l.w / l.sin;
-                }
+    // H̃ of the delta components: Σ f²W/sin ϑ.
+    let direct = |x: &T| {
+        let mut h = x.lit(0.0);
+        for c in &field.components {
+            if let Some(l) = c.at(x, &sigma) {
+                let f = field.phase_at(&l.mu);
+                h = h + f.clone() * f * l.w / l.sin;
             }
-            front.clone() * sigma.clone() * (-(decay.clone() * sigma.clone() * field.s_of(x))).exp() * h
+        }
+        h
+    };
+    let weight = |x: &T| front.clone() * sigma.clone() * (-(decay.clone() * sigma.clone() * field.s_of(x))).exp();
+    let domain = ray_domain(field, &x0, None);
+    if !field.is_smooth() {
+        return integrate(|x: &T| weight(x) * direct(x), &domain, opts).map(Ok).map_err(OracleError::quad(what));
+    }
+    // Smooth part of H̃: ∫ f² L₁ /sin ϑ dω = ∫∫ f² L₁ dϑ dφ, in the frame
+    // about u, where the 1/sin ϑ is absorbed by the measure.
+    let (plus, minus) = phase_poles(field);
+    let (near_0, near_pi) = source_features(&field.phase, r);
+    let features = Features {
+        plus: Pole { floor: plus, marks: Vec::new() },
+        minus: Pole { floor: minus, marks: Vec::new() },
+        equator_jump: false,
+        source_near_0: near_0,
+        source_near_pi: near_pi,
+    };
+    let g = |d: &Direction<T>, o: &Options| {
+        let f = field.phase_at(&d.mu);
+        Ok(Estimate::known(f.clone() * f, d.mu.lit(0.0), 1, o.rule))
+    };
+    integrate_nested(
+        |x: &T, inner: &Options| {
+            let w = weight(x);
+            if w.is_zero() {
+                return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, inner.rule));
+            }
+            let o = Options { abs_tol: (inner.abs_tol / w.to_f64()).min(f64::MAX), ..inner.clone() };
+            let mut e = Estimate::known(x.lit(0.0), x.lit(0.0), 0, inner.rule);
+            for sc in &field.scattered {
+                let at = sc.at(x, &sigma, &field.sigma_sc);
+                let part = at.view(&sigma, &field.phase, &features, Measure::Planar, &g, &o)?;
+                e.value = e.value + part.value;
+                e.error = e.error + part.error;
+                e.evaluations += part.evaluations;
+            }
+            Ok(Estimate::known(w.clone() * (direct(x) + e.value), w * e.error, e.evaluations + 1, inner.rule))
         },
-        &ray_domain(field, &x0, None),
+        &domain,
         opts,
     )
     .map(Ok)

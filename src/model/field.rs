@@ -16,9 +16,15 @@
 //! the beam (d: depth past the emitting disk), 0 outside; W jumps where the
 //! camera ray enters and leaves the beam, which become breakpoints.
 //!
-//! Scattering orders ≥ 1 are smooth fields; they are refused for now with a
-//! clear message (the tracer can still run them).
+//! Scattering order 1 of a point light is a smooth field
+//! ([`super::scattered`]); orders ≥ 2, and order 1 of a beam, are refused
+//! with a clear message that names the limit (the tracer can still run them).
 
+use super::chebyshev::Piecewise;
+use super::scattered::Scattered;
+use crate::quad::Rule;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 use super::OracleError;
 use crate::real::Real;
 use mcrt_scene::{DVec3, Light, Phase, ScatteringOrders, Scene};
@@ -55,7 +61,11 @@ pub struct Component<T> {
 #[derive(Debug, Clone)]
 pub struct Field<T> {
     pub components: Vec<Component<T>>,
+    /// Single-scattered light of each point light (scattering order 1).
+    pub scattered: Vec<Scattered<T>>,
     pub sigma_ext: T,
+    /// σ_sc = albedo·σ_ext.
+    pub sigma_sc: T,
     pub albedo: T,
     pub phase: Phase,
     /// Total flux 𝓕 of all lights (paper eq. (5)).
@@ -73,7 +83,13 @@ pub struct Field<T> {
     /// resolved in x, where s − a = x exactly, not in s, whose rounding
     /// (ulp(a)) would swamp a width d of 10⁻⁶.
     pub center: T,
+    /// Interpolation tables of the scattered part of ⟨𝒞⟩ along the ray, one
+    /// per (rule, tolerance), built on first use (`moments::scattered_mean_table`).
+    pub tables: MeanTables<T>,
 }
+
+/// Shared, lazily built tables of the scattered mean contribution.
+pub type MeanTables<T> = Arc<Mutex<HashMap<(Rule, u64), Arc<Piecewise<T>>>>>;
 
 /// What is known at one point x(s) of the camera ray for one component.
 #[derive(Debug, Clone)]
@@ -88,19 +104,32 @@ pub struct Local<T> {
 impl<T: Real> Field<T> {
     /// Builds the field of `scene` at the precision of `like`.
     pub fn from_scene(scene: &Scene, like: &T) -> Result<Field<T>, OracleError> {
-        if scene.effects.scattering_orders != ScatteringOrders::Limited(0) {
-            return Err(OracleError::Unsupported(format!(
-                "effects.scattering_orders = {:?}: the oracle models scattering order 0 (uncollided light) only so far; \
-                 orders >= 1 need the smooth single-scattered field (the tracer can run them)",
-                scene.effects.scattering_orders
-            )));
+        let orders = match scene.effects.scattering_orders {
+            ScatteringOrders::Limited(n) if n <= 1 => n,
+            other => {
+                let shown = match other {
+                    ScatteringOrders::Limited(n) => n.to_string(),
+                    ScatteringOrders::All => "\"all\"".into(),
+                };
+                return Err(OracleError::Unsupported(format!(
+                    "effects.scattering_orders = {shown}: the oracle models orders 0 (uncollided) and 1 (single-scattered \
+                     forward light) only; allowed: 0 or 1 (the tracer can run higher orders)"
+                )));
+            }
+        };
+        if orders >= 1 && scene.lights.iter().any(|l| matches!(l, Light::Beam { .. })) {
+            return Err(OracleError::Unsupported(
+                "effects.scattering_orders = 1 with a light of kind = \"beam\": the oracle's single-scattered field is \
+                 built for point lights only; use scattering_orders = 0 for beams (the tracer can run both)"
+                    .into(),
+            ));
         }
         let u = scene.camera.direction;
         let o = scene.camera.origin;
         let sigma = scene.medium.sigma_ext;
         let shift = like.lit(sigma * shortest_path(scene));
         let x_origin = like.lit(ray_center(scene));
-        let components = scene
+        let components: Vec<Component<T>> = scene
             .lights
             .iter()
             .map(|light| match *light {
@@ -137,15 +166,41 @@ impl<T: Real> Field<T> {
                 }
             })
             .collect();
+        let scattered = if orders >= 1 {
+            components
+                .iter()
+                .filter_map(|c: &Component<T>| match &c.geometry {
+                    Geometry::Point { a, d } => Some(Scattered {
+                        a: a.clone(),
+                        d: d.clone(),
+                        flux: c.flux.clone(),
+                        shift: shift.clone(),
+                        center: x_origin.clone(),
+                    }),
+                    Geometry::Beam { .. } => None,
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         Ok(Field {
             components,
+            scattered,
             sigma_ext: like.lit(scene.medium.sigma_ext),
+            sigma_sc: like.lit(scene.medium.sigma_sc()),
             albedo: like.lit(scene.medium.albedo),
             phase: scene.medium.phase,
             total_flux: like.lit(scene.total_flux()),
             shift,
             center: x_origin,
+            tables: Arc::new(Mutex::new(HashMap::new())),
         })
+    }
+
+    /// Whether the field has smooth components (order 1), whose angular
+    /// integrals make every sample along the ray an inner integral.
+    pub fn is_smooth(&self) -> bool {
+        !self.scattered.is_empty()
     }
 
     /// The x of the camera (s = 0).

@@ -6,10 +6,13 @@
 //! integral is computed by the engine in [`crate::quad`] and carries its error
 //! bar.
 
+pub mod angular;
+pub mod chebyshev;
 pub mod correlations;
 pub mod field;
 pub mod moments;
 pub mod noise;
+pub mod scattered;
 
 use crate::quad::Failure;
 use std::fmt;

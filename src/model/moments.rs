@@ -14,9 +14,14 @@
 //! with density (σ_ext/q) e^{−σ_ext s} and carry the weight q, so every
 //! single-sphere sum becomes ∫ … σ_ext e^{−σ_ext s} ds.
 
+use super::angular::{Direction, Features, Pole};
+use super::chebyshev::Piecewise;
 use super::field::Field;
+use super::scattered::source_features;
 use super::OracleError;
-use crate::quad::{integrate, integrate_nested, CheckRule, Domain, Estimate, Failure, Options, Rule};
+use crate::quad::{
+    integrate, integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Failure, Options, Outcome, Rule,
+};
 use crate::real::Real;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
@@ -47,6 +52,185 @@ pub fn second_moment<T: Real>(field: &Field<T>, s: &T, r: &T) -> T {
     field.albedo.clone() * field.albedo.clone() * field.total_flux.clone() * sum / (s.pi() * r.clone() * r.clone())
 }
 
+/// The poles of f(−μ) (and f²): a Henyey–Greenstein peak of width 1 − |g|
+/// at −μ = 1 (v = −u) for g > 0, at v = +u for g < 0.
+pub fn phase_poles<T: Real>(field: &Field<T>) -> (Option<T>, Option<T>) {
+    match field.phase {
+        mcrt_scene::Phase::HenyeyGreenstein { g } if g > 0.0 => (None, Some(field.sigma_ext.lit(1.0 - g))),
+        mcrt_scene::Phase::HenyeyGreenstein { g } if g < 0.0 => (Some(field.sigma_ext.lit(1.0 + g)), None),
+        _ => (None, None),
+    }
+}
+
+/// ∫ L₁ g dω at s = field.center + x, summed over the scattered
+/// components (zero for an uncollided field); `opts.abs_tol` is for the sum.
+pub fn smooth_part<T: CheckRule>(
+    field: &Field<T>,
+    x: &T,
+    features: &Features<T>,
+    g: &(dyn Fn(&Direction<T>, &Options) -> Outcome<T> + Sync),
+    opts: &Options,
+) -> Outcome<T> {
+    let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, opts.rule);
+    let share = Options { abs_tol: opts.abs_tol / field.scattered.len().max(1) as f64, ..opts.clone() };
+    for sc in &field.scattered {
+        let at = sc.at(x, &field.sigma_ext, &field.sigma_sc);
+        let e = at.integral(&field.sigma_ext, &field.phase, features, g, &share)?;
+        total.value = total.value + e.value;
+        total.error = total.error + e.error;
+        total.evaluations += e.evaluations;
+    }
+    Ok(total)
+}
+
+/// Features of a g that is a power of f(−μ) only.
+fn phase_only<T: Real>(field: &Field<T>) -> Features<T> {
+    let (plus, minus) = phase_poles(field);
+    let (near_0, near_pi) = source_features(&field.phase, &field.sigma_ext);
+    Features {
+        plus: Pole { floor: plus, marks: Vec::new() },
+        minus: Pole { floor: minus, marks: Vec::new() },
+        equator_jump: false,
+        source_near_0: near_0,
+        source_near_pi: near_pi,
+    }
+}
+
+/// ⟨𝒞⟩ at s = field.center + x with its error bar: the uncollided part
+/// ([`mean_contribution`]) plus albedo ∫ f(−μ) L₁ dω of the scattered light.
+pub fn mean_contribution_estimate<T: CheckRule>(field: &Field<T>, x: &T, opts: &Options) -> Outcome<T> {
+    let direct = mean_contribution(field, x);
+    let g = |d: &Direction<T>, o: &Options| Ok(Estimate::known(field.phase_at(&d.mu), d.mu.lit(0.0), 1, o.rule));
+    let albedo = field.albedo.clone();
+    let o = Options { abs_tol: opts.abs_tol / albedo.to_f64(), ..opts.clone() };
+    let e = smooth_part(field, x, &phase_only(field), &g, &o)?;
+    Ok(Estimate::known(direct + albedo.clone() * e.value, albedo * e.error, e.evaluations + 1, opts.rule))
+}
+
+/// ⟨𝒞²⟩ at s = field.center + x with its error bar (uncollided plus
+/// scattered, [`second_moment`]).
+pub fn second_moment_estimate<T: CheckRule>(field: &Field<T>, x: &T, r: &T, opts: &Options) -> Outcome<T> {
+    let direct = second_moment(field, x, r);
+    let g = |d: &Direction<T>, o: &Options| {
+        let f = field.phase_at(&d.mu);
+        Ok(Estimate::known(f.clone() * f, d.mu.lit(0.0), 1, o.rule))
+    };
+    let front = field.albedo.clone() * field.albedo.clone() * field.total_flux.clone() / (x.pi() * r.clone() * r.clone());
+    let o = Options { abs_tol: opts.abs_tol / front.to_f64(), ..opts.clone() };
+    let e = smooth_part(field, x, &phase_only(field), &g, &o)?;
+    Ok(Estimate::known(direct + front.clone() * e.value, front * e.error, e.evaluations + 1, opts.rule))
+}
+
+/// The scattered part of ⟨𝒞⟩ along the camera ray as a piecewise Chebyshev
+/// table, built once per (rule, tolerance) and shared (the mean luminance,
+/// P and Q need ⟨𝒞⟩ at thousands of points; each value is an angular
+/// integral). Covers x from the camera to the last ray breakpoint plus
+/// [`tail_lengths`] decay lengths; pieces at the ray breakpoints and 1, 4,
+/// 16, … decay lengths. The table interpolates ln c₁, so the attenuated tail
+/// keeps its relative accuracy. Each pass builds its own with its own rule, so the passes stay
+/// independent.
+pub fn scattered_mean_table<T: CheckRule>(field: &Field<T>, rule: Rule, rel_tol: f64) -> Result<Arc<Piecewise<T>>, Failure<T>> {
+    let key = (rule, rel_tol.to_bits());
+    if let Some(t) = field.tables.lock().expect("no panic while holding the tables").get(&key) {
+        return Ok(t.clone());
+    }
+    let (lo, end) = table_range(field);
+    let mut cuts: Vec<T> = ray_domain(field, &lo, None).breakpoints.into_iter().filter(|b| *b > lo && *b < end).collect();
+    let last = cuts.iter().cloned().fold(lo.clone(), |m, b| m.max_of(b));
+    let mut k = 1.0;
+    while k < tail_lengths(&lo) {
+        // The engine's cuts of a decaying tail: 1, 4, 16, … decay lengths.
+        let c = last.clone() + lo.lit(k) / field.sigma_ext.clone();
+        if c < end {
+            cuts.push(c);
+        }
+        k *= 4.0;
+    }
+    cuts.push(lo.clone());
+    cuts.push(end);
+    cuts.sort_by(|a, b| a.partial_cmp(b).expect("finite cuts"));
+    cuts.dedup_by(|a, b| a == b);
+    let opts = Options {
+        rel_tol: (rel_tol / 40.0).max(64.0 * lo.eps().to_f64()),
+        abs_tol: 0.0,
+        rule,
+        cross_check: false,
+        zero_guard: false,
+        ..Options::rel(rel_tol).declared()
+    };
+    let table = Piecewise::build(|x: &T| scattered_mean(field, x, &opts), &cuts, rel_tol / 4.0)?;
+    let table = Arc::new(table);
+    field.tables.lock().expect("no panic while holding the tables").insert(key, table.clone());
+    Ok(table)
+}
+
+/// Decay lengths past the last ray breakpoint covered by the table: the
+/// smallest 4^K with e^{−4^K} below eps², the cut the engine makes in a
+/// declared decaying tail (`quad::with_decay_lengths`); past it the
+/// integrand is below anything a goal can see, and the few values needed
+/// there are computed directly.
+fn tail_lengths<T: Real>(like: &T) -> f64 {
+    let needed = 2.0 * like.prec() as f64 * std::f64::consts::LN_2;
+    let mut length = 1.0;
+    while length < needed {
+        length *= 4.0;
+    }
+    length
+}
+
+/// [x_camera, last ray breakpoint + tail_lengths/σ]: where the table is used.
+fn table_range<T: Real>(field: &Field<T>) -> (T, T) {
+    let lo = field.x_camera();
+    let last = ray_domain(field, &lo, None).breakpoints.iter().cloned().fold(lo.clone(), |m, b| m.max_of(b));
+    let end = last + lo.lit(tail_lengths(&lo)) / field.sigma_ext.clone();
+    (lo, end)
+}
+
+/// albedo ∫ f(−μ) L₁ dω at x: the scattered part of ⟨𝒞⟩ (no table).
+fn scattered_mean<T: CheckRule>(field: &Field<T>, x: &T, opts: &Options) -> Outcome<T> {
+    let g = |d: &Direction<T>, o: &Options| Ok(Estimate::known(field.phase_at(&d.mu), d.mu.lit(0.0), 1, o.rule));
+    let e = smooth_part(field, x, &phase_only(field), &g, opts)?;
+    let albedo = field.albedo.clone();
+    Ok(Estimate { value: e.value * albedo.clone(), error: e.error * albedo, ..e })
+}
+
+/// ⟨𝒞⟩ at x with the scattered part from the table of the pass (`opts`
+/// gives its rule; `table_tol` its tolerance): value and bar (the table's
+/// relative error times the scattered part).
+pub fn mean_contribution_tabled<T: CheckRule>(field: &Field<T>, x: &T, table_tol: f64, opts: &Options) -> Outcome<T> {
+    let direct = mean_contribution(field, x);
+    let (lo, end) = table_range(field);
+    if *x > end {
+        // Far out, only the bound: the value is B/2 ± B/2.
+        let half = scattered_mean_bound(field, x) / x.lit(2.0);
+        return Ok(Estimate::known(direct + half.clone(), half, 1, opts.rule));
+    }
+    if *x < lo {
+        let e = scattered_mean(field, x, &Options { abs_tol: 0.0, ..opts.clone() })?;
+        return Ok(Estimate::known(direct + e.value, e.error, e.evaluations + 1, opts.rule));
+    }
+    let table = scattered_mean_table(field, opts.rule, table_tol)?;
+    let c1 = table.eval(x);
+    let error = c1.abs() * table.rel_error.clone();
+    Ok(Estimate::known(direct + c1, error, 1, opts.rule))
+}
+
+/// An upper bound of the scattered part of ⟨𝒞⟩ at x: every single-scattered
+/// path from the light to x is at least r long (triangle inequality), so
+/// the single-scattered fluence is at most e^{−σr} times its value without
+/// attenuation, σ_sc Φ π/(16 r) (∫ d³y/(|y|²|y − x|²) = π³/r), and
+/// ⟨𝒞⟩₁ = albedo ∫ f L₁ dω ≤ albedo·max f·σ_sc Φ π e^{c₀ − σr}/(16 r).
+pub fn scattered_mean_bound<T: Real>(field: &Field<T>, x: &T) -> T {
+    let f_max = field.phase_at(&x.lit(1.0)).max_of(field.phase_at(&x.lit(-1.0)));
+    let mut sum = x.lit(0.0);
+    for sc in &field.scattered {
+        let at = sc.at(x, &field.sigma_ext, &field.sigma_sc);
+        // at.front = σ_sc Φ e^{c₀ − σr}/(4π r).
+        sum = sum + at.front.clone() * x.pi() * x.pi() / x.lit(4.0);
+    }
+    field.albedo.clone() * f_max * sum
+}
+
 /// [lo, hi) in x along the camera ray with every component's breakpoints
 /// and the attenuation e^{−σ_ext s} declared as the tail's decay.
 pub fn ray_domain<T: Real>(field: &Field<T>, lo: &T, hi: Option<&T>) -> Domain<T> {
@@ -57,7 +241,41 @@ pub fn ray_domain<T: Real>(field: &Field<T>, lo: &T, hi: Option<&T>) -> Domain<T
     for c in &field.components {
         d = d.with_breakpoints(c.breakpoints());
     }
+    for sc in &field.scattered {
+        d = d.with_breakpoints(sc.ray_breakpoints());
+    }
     d
+}
+
+/// The tolerance of the ⟨𝒞⟩ tables for an integral with options `opts`:
+/// that of its inner level in the primary pass (`integrate_nested`).
+fn table_tol(opts: &Options) -> f64 {
+    opts.rel_tol / 20.0
+}
+
+/// ∫₀^∞ σ e^{−σ s} g(s) ds for a g that is itself an integral with a bar
+/// (a smooth field's angular integral), as a nested integral.
+fn along_ray_nested<T: CheckRule>(
+    field: &Field<T>,
+    what: &'static str,
+    opts: &Options,
+    g: impl Fn(&T, &Options) -> Outcome<T> + Sync,
+) -> Result<Estimate<T>, OracleError> {
+    let sigma = field.sigma_ext.clone();
+    let x0 = field.x_camera();
+    integrate_nested(
+        |x: &T, inner: &Options| {
+            let w = sigma.clone() * (-(sigma.clone() * field.s_of(x))).exp();
+            if w.is_zero() {
+                return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, inner.rule));
+            }
+            let e = g(x, &Options { abs_tol: (inner.abs_tol / w.to_f64()).min(f64::MAX), ..inner.clone() })?;
+            Ok(Estimate::known(w.clone() * e.value, w * e.error, e.evaluations, inner.rule))
+        },
+        &ray_domain(field, &x0, None),
+        opts,
+    )
+    .map_err(OracleError::quad(what))
 }
 
 /// ∫₀^∞ σ e^{−σ s} g(s) ds for a plain g.
@@ -79,17 +297,36 @@ fn along_ray<T: CheckRule>(
 
 /// Mean pixel luminance ⟨⟨L⟩⟩ = ∫ σ e^{−σs} ⟨𝒞⟩(s) ds (paper (15)).
 pub fn mean_luminance<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
-    along_ray(field, "mean luminance (15)", opts, |s| mean_contribution(field, s))
+    let what = "mean luminance (15)";
+    if field.is_smooth() {
+        let tol = table_tol(opts);
+        return along_ray_nested(field, what, opts, |x, o| mean_contribution_tabled(field, x, tol.max(o.rel_tol), o));
+    }
+    along_ray(field, what, opts, |s| mean_contribution(field, s))
 }
 
 /// M₂ = ∫ σ e^{−σs} ⟨𝒞²⟩(s) ds, the single-sphere part of (16).
 pub fn m2<T: CheckRule>(field: &Field<T>, r: &T, opts: &Options) -> Result<Estimate<T>, OracleError> {
-    along_ray(field, "∫⟨𝒞²⟩ of (16)", opts, |s| second_moment(field, s, r))
+    let what = "∫⟨𝒞²⟩ of (16)";
+    if field.is_smooth() {
+        return along_ray_nested(field, what, opts, |x, o| second_moment_estimate(field, x, r, o));
+    }
+    along_ray(field, what, opts, |s| second_moment(field, s, r))
 }
 
 /// P = ∫ σ e^{−σs} ⟨𝒞⟩(s)² ds, the single-sphere part of (17).
 pub fn p_single<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
-    along_ray(field, "∫⟨𝒞⟩² of (17)", opts, |s| {
+    let what = "∫⟨𝒞⟩² of (17)";
+    if field.is_smooth() {
+        let tol = table_tol(opts);
+        return along_ray_nested(field, what, opts, |x, o| {
+            let m = mean_contribution_tabled(field, x, tol.max(o.rel_tol), o)?;
+            let value = m.value.clone() * m.value.clone();
+            let error = x.lit(2.0) * m.value.abs() * m.error.clone() + m.error.clone() * m.error;
+            Ok(Estimate::known(value, error, m.evaluations, o.rule))
+        });
+    }
+    along_ray(field, what, opts, |s| {
         let m = mean_contribution(field, s);
         m.clone() * m
     })
@@ -108,20 +345,31 @@ pub fn q_pair<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate
     let sigma = field.sigma_ext.clone();
     let x0 = field.x_camera();
     // One memory per pass; the passes run side by side, each locks its own.
-    let memory: Mutex<HashMap<PassKey, Arc<Mutex<Vec<Known<T>>>>>> = Mutex::new(HashMap::new());
+    let memory: Mutex<HashMap<PassKey, PassMemory<T>>> = Mutex::new(HashMap::new());
+    let pass_memory = |inner: &Options| {
+        memory
+            .lock()
+            .expect("no pass panics while holding the memory")
+            .entry(PassKey::of(inner))
+            .or_insert_with(|| Arc::new(Mutex::new(vec![Known::start(&x0)])))
+            .clone()
+    };
     integrate_nested(
         |p: &T, inner: &Options| {
-            let outer = sigma.clone() * (-(sigma.clone() * field.s_of(p))).exp() * mean_contribution(field, p);
-            if !(p.clone() > x0.clone()) || outer.is_zero() {
-                return Ok(Estimate::known(p.lit(0.0), p.lit(0.0), 0, inner.rule));
+            let zero = || Ok(Estimate::known(p.lit(0.0), p.lit(0.0), 0, inner.rule));
+            let weight = sigma.clone() * (-(sigma.clone() * field.s_of(p))).exp();
+            if !(p.clone() > x0.clone()) || weight.is_zero() {
+                return zero();
             }
-            let pass = memory
-                .lock()
-                .expect("no pass panics while holding the memory")
-                .entry(PassKey::of(inner))
-                .or_insert_with(|| Arc::new(Mutex::new(vec![Known::start(&x0)])))
-                .clone();
+            let pass = pass_memory(inner);
             let mut known = pass.lock().expect("no pass panics while holding its memory");
+            if field.is_smooth() {
+                return smooth_pair_sample(field, &mut known, p, &weight, inner);
+            }
+            let outer = weight * mean_contribution(field, p);
+            if outer.is_zero() {
+                return zero();
+            }
             let g = cumulative(field, &mut known, p, inner)?;
             Ok(Estimate::known(outer.clone() * g.value, outer.abs() * g.error, g.evaluations, inner.rule))
         },
@@ -130,6 +378,47 @@ pub fn q_pair<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate
     )
     .map_err(OracleError::quad("∫∫⟨𝒞⟩⟨𝒞⟩ of (17)"))
 }
+
+/// σe^{−σp}⟨𝒞⟩(p)G(p) for a smooth field, where ⟨𝒞⟩ is an angular integral
+/// with a bar: ⟨𝒞⟩(p) to the tolerance left by the G known below p (G grows
+/// with p), then G(p) cumulatively, each short piece a nested integral of
+/// the same pass.
+fn smooth_pair_sample<T: CheckRule>(
+    field: &Field<T>,
+    known: &mut Vec<Known<T>>,
+    p: &T,
+    weight: &T,
+    inner: &Options,
+) -> Outcome<T> {
+    let below = known[known.partition_point(|k| k.at <= *p) - 1].value.abs().to_f64();
+    let m_abs = if below > 0.0 { (inner.abs_tol / (2.0 * weight.to_f64() * below)).min(f64::MAX) } else { 0.0 };
+    let tol = inner.rel_tol;
+    let m = mean_contribution_tabled(field, p, tol, &Options { abs_tol: m_abs, ..inner.clone() })?;
+    let outer = weight.clone() * m.value.clone();
+    if outer.is_zero() {
+        return Ok(Estimate::known(p.lit(0.0), p.lit(0.0), m.evaluations, inner.rule));
+    }
+    let sigma = field.sigma_ext.clone();
+    // A thousandth of the inner goal, for outer·G and for G itself.
+    let short_abs = (inner.abs_tol / (1000.0 * outer.abs().to_f64())).max(inner.rel_tol * below / 1000.0);
+    let short = Options { abs_tol: short_abs.min(f64::MAX), ..inner.clone() };
+    let g = cumulative_with(known, p, inner, |a: &T, b: &T| {
+        integrate_within_pass(
+            |s: &T, o: &Options| {
+                let e = mean_contribution_tabled(field, s, tol, &Options { abs_tol: o.abs_tol / sigma.to_f64(), ..o.clone() })?;
+                Ok(Estimate::known(sigma.clone() * e.value, sigma.clone() * e.error, e.evaluations, o.rule))
+            },
+            &ray_domain(field, a, Some(b)),
+            &short,
+        )
+    })?;
+    let value = outer.clone() * g.value.clone();
+    let error = outer.abs() * g.error.clone() + (weight.clone() * g.value.clone()).abs() * m.error.clone();
+    Ok(Estimate::known(value, error, g.evaluations + m.evaluations, inner.rule))
+}
+
+/// The G values one pass has computed, sorted by position.
+type PassMemory<T> = Arc<Mutex<Vec<Known<T>>>>;
 
 /// The options of a pass, as a hashable key.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -164,15 +453,27 @@ fn cumulative<T: CheckRule>(
     p: &T,
     inner: &Options,
 ) -> Result<Estimate<T>, Failure<T>> {
+    let sigma = field.sigma_ext.clone();
+    let short = Options { abs_tol: inner.abs_tol / 1000.0, ..inner.clone() };
+    cumulative_with(known, p, inner, |a: &T, b: &T| {
+        integrate(|s: &T| sigma.clone() * mean_contribution(field, s), &ray_domain(field, a, Some(b)), &short)
+    })
+}
+
+/// G(p) = G(p′) + ∫_{p′}^{p} from the nearest known p′ ≤ p, the piece
+/// computed by `piece(p′, p)`; the new point is remembered.
+fn cumulative_with<T: CheckRule>(
+    known: &mut Vec<Known<T>>,
+    p: &T,
+    inner: &Options,
+    piece: impl FnOnce(&T, &T) -> Outcome<T>,
+) -> Outcome<T> {
     let idx = known.partition_point(|k| k.at <= *p);
     let base = known[idx - 1].clone();
     if base.at == *p {
         return Ok(Estimate::known(base.value, base.error, 0, inner.rule));
     }
-    let sigma = field.sigma_ext.clone();
-    let short = Options { abs_tol: inner.abs_tol / 1000.0, ..inner.clone() };
-    let piece =
-        integrate(|s: &T| sigma.clone() * mean_contribution(field, s), &ray_domain(field, &base.at, Some(p)), &short)?;
+    let piece = piece(&base.at, p)?;
     let value = base.value + piece.value.clone();
     let error = base.error + piece.error.clone();
     known.insert(idx, Known { at: p.clone(), value: value.clone(), error: error.clone() });

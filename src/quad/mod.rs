@@ -42,7 +42,7 @@ mod tanh_sinh;
 use crate::real::Real;
 pub use check::CheckRule;
 pub(crate) use mapped::{Mapped, Piece, TailMap};
-pub use nested::integrate_nested;
+pub use nested::{integrate_nested, integrate_within_pass};
 use std::fmt;
 
 /// What the caller knows of the integrand's structure.
@@ -258,8 +258,8 @@ fn integrate_samples<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, 
     integrate_pieces(f, domain, opts)
 }
 
-/// For [lo, ∞) with a declared decay rate λ: breakpoints at b + 2^k/λ,
-/// k = 0 … K, beyond the last breakpoint b (or lo), with e^{−2^K} below the
+/// For [lo, ∞) with a declared decay rate λ: breakpoints at b + 4^k/λ,
+/// k = 0 … K, beyond the last breakpoint b (or lo), with e^{−4^K} below the
 /// working precision squared. The content of the tail then lies in finite
 /// pieces on which both rules converge geometrically, and the mapped
 /// remainder [b + 2^K/λ, ∞) holds nothing the goal can see. Without them,
@@ -281,7 +281,7 @@ fn with_decay_lengths<T: Real>(domain: &Domain<T>) -> Option<Domain<T>> {
         if length >= needed {
             break;
         }
-        length *= 2.0;
+        length *= 4.0;
     }
     Some(domain.clone().with_breakpoints(extra))
 }

@@ -101,3 +101,42 @@ fn nested_pass<T: CheckRule, F: Fn(&T, &Options) -> Outcome<T> + Sync>(
         opts,
     )
 }
+
+/// One level of a nested integral *inside a pass* of [`integrate_nested`]:
+/// ∫ f over `domain` with the rule of `opts` (no cross-check of its own:
+/// the enclosing pass is one of two independent ones, so this level is
+/// checked by the other pass, which runs it with the other rule). f(x,
+/// inner_opts) receives rel_tol/4 (at least 64 ulps), an absolute tolerance
+/// of a quarter of this level's absolute goal spread over the domain's
+/// effective length, and the same rule: this level's rule aims at a quarter
+/// of its goal, the inner errors integrated over the domain at most another
+/// quarter. Use it for the second and deeper levels of an integral
+/// whose outermost level is an [`integrate_nested`].
+pub fn integrate_within_pass<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>(
+    mut f: F,
+    domain: &Domain<T>,
+    opts: &Options,
+) -> Outcome<T> {
+    let inner_floor = 64.0 * domain.lo.eps().to_f64();
+    let inner = Options {
+        rel_tol: (opts.rel_tol / 4.0).max(inner_floor),
+        abs_tol: opts.abs_tol / (4.0 * effective_length(domain)),
+        zero_guard: false,
+        cross_check: false,
+        ..opts.clone()
+    };
+    let this = Options { cross_check: false, zero_guard: false, ..opts.clone() };
+    integrate_samples(
+        &mut |x: &T| {
+            let e = f(x, &inner).map_err(|fail| Failure {
+                reason: format!("inner integral at x = {:e}: {}", x.to_f64(), fail.reason),
+                best_guess: None,
+                error_estimate: None,
+                evaluations: fail.evaluations,
+            })?;
+            Ok(Sample { value: e.value, error: e.error, evaluations: e.evaluations })
+        },
+        domain,
+        &this,
+    )
+}

@@ -1,0 +1,485 @@
+//! Angular integrals of a smooth field at one point of the camera ray.
+//!
+//! The single-scattered radiance of a point light at x, L₁(x, v), depends on
+//! the direction v only through its angle ψ to w₀ = (x − y)/|x − y| (light y
+//! to x), and is singular there like 1/ψ. Every angular integral of the
+//! model is therefore taken in polar coordinates (ψ, χ) about w₀, where
+//! dω = sin ψ dψ dχ cancels the singularity:
+//!
+//! ∫ L₁ g dω = ∫₀^π [sin ψ · L₁(ψ)] · [∫₀^{2π} g(v(ψ, χ)) dχ] dψ.
+//!
+//! The other factor g depends on v only through μ = u·v (u: the view
+//! direction), and u lies at ψ = ψ_u, χ = 0, so (spherical law of cosines)
+//!
+//!   μ = cos ψ cos ψ_u + sin ψ sin ψ_u cos χ,
+//!
+//! symmetric in χ ↔ −χ: the χ-integral is twice the one over [0, π]. To keep
+//! μ → ±1 accurate (g has features of angular width R there), 1 ∓ μ are
+//! formed from half angles:
+//!
+//!   1 − μ = 2 sin²((ψ − ψ_u)/2) + 2 sin ψ sin ψ_u sin²(χ/2),
+//!   1 + μ = 2 sin²((π − ψ − ψ_u)/2) + 2 sin ψ sin ψ_u sin²((π − χ)/2).
+//!
+//! The structure is declared, never searched for: g's narrow features at
+//! the poles ±u (angular distance from the pole graded by decades), its
+//! jump across μ = 0, and the circles of ψ tangent to them.
+
+use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
+use crate::real::Real;
+
+/// A direction v, as far as g needs it: μ = u·v with 1 ∓ μ to full relative
+/// accuracy, and sin ϑ = √((1 − μ)(1 + μ)).
+#[derive(Debug, Clone)]
+pub struct Direction<T> {
+    pub mu: T,
+    pub one_minus_mu: T,
+    pub one_plus_mu: T,
+    pub sin: T,
+}
+
+/// Narrow structure of g at one pole (±u), as angular distances ϑ from it.
+#[derive(Debug, Clone)]
+pub struct Pole<T> {
+    /// Smallest angular scale of the feature (0 for a true 1/ϑ singularity;
+    /// R for the separation integral; (1 − |g|) for a Henyey–Greenstein
+    /// peak). `None`: g is smooth at this pole.
+    pub floor: Option<T>,
+    /// Angular distances where g has a kink (the backward pair's range
+    /// switching from T to s at sin ϑ = 2R/s).
+    pub marks: Vec<T>,
+}
+
+/// What g looks like, for the breakpoints.
+#[derive(Debug, Clone)]
+pub struct Features<T> {
+    /// At v = +u (μ = 1).
+    pub plus: Pole<T>,
+    /// At v = −u (μ = −1).
+    pub minus: Pole<T>,
+    /// g jumps across μ = 0 (the pair orientation of (23), (24) switches).
+    pub equator_jump: bool,
+    /// Angular scales of the other factor, sin ψ·L₁(ψ), near ψ = 0 and
+    /// ψ = π (a Henyey–Greenstein peak of the scattered light).
+    pub source_near_0: Option<T>,
+    pub source_near_pi: Option<T>,
+}
+
+/// Where u lies in the frame about w₀: cos ψ_u, sin ψ_u ≥ 0, ψ_u.
+#[derive(Debug, Clone)]
+pub struct Frame<T> {
+    pub cos_u: T,
+    pub sin_u: T,
+    pub psi_u: T,
+    /// π − ψ_u, rounded once: where −u lies. The integrand's pole at −u is
+    /// placed exactly here (not at a recomputed π − ψ − ψ_u), so that it
+    /// coincides with the ψ breakpoint the rules approach.
+    pub psi_mirror: T,
+}
+
+impl<T: Real> Frame<T> {
+    /// From cos ψ_u and sin ψ_u (both exact from the geometry).
+    pub fn new(cos_u: T, sin_u: T) -> Self {
+        // ψ_u from the better-conditioned inverse.
+        let psi_u = if cos_u.abs() < sin_u {
+            cos_u.acos()
+        } else if cos_u >= cos_u.lit(0.0) {
+            sin_u.asin()
+        } else {
+            cos_u.pi() - sin_u.asin()
+        };
+        let psi_mirror = psi_u.pi() - psi_u.clone();
+        Frame { cos_u, sin_u, psi_u, psi_mirror }
+    }
+
+    /// The direction at (ψ, χ), χ ∈ [0, π], given χ and π − χ (each exact
+    /// where it is small: the χ-integral runs in χ up to π/2 and in π − χ
+    /// beyond, so that a pole's neighbourhood is never quantised by ulp(π)).
+    pub fn direction(&self, psi: &T, chi: &T, chi_c: &T) -> Direction<T> {
+        let two = psi.lit(2.0);
+        let half = |a: T| {
+            let s = (a / two.clone()).sin();
+            s.clone() * s
+        };
+        let cross = psi.sin() * self.sin_u.clone();
+        let one_minus_mu = two.clone()
+            * (half(psi.clone() - self.psi_u.clone()) + cross.clone() * half(chi.clone()));
+        let one_plus_mu = two.clone() * (half(self.psi_mirror.clone() - psi.clone()) + cross * half(chi_c.clone()));
+        let mu = (one_plus_mu.clone() - one_minus_mu.clone()) / two;
+        let sin = (one_minus_mu.clone() * one_plus_mu.clone()).max_of(psi.lit(0.0)).sqrt();
+        Direction { mu, one_minus_mu, one_plus_mu, sin }
+    }
+
+    /// χ ∈ [0, π] at which the circle ψ is at angular distance `theta` from
+    /// the pole at ψ_pole (ψ_u for +u with χ measured from 0), if it gets there:
+    /// sin²(χ/2) = sin((ϑ + Δ)/2) sin((ϑ − Δ)/2)/(sin ψ sin ψ_pole), Δ = ψ − ψ_pole.
+    /// The law is symmetric in the two frames: with ψ ↔ ϑ it gives the
+    /// azimuth about u at which the circle ϑ is at angle ψ from w₀.
+    fn chi_at(&self, psi: &T, psi_pole: &T, theta: &T) -> Option<T> {
+        let two = psi.lit(2.0);
+        let delta = psi.clone() - psi_pole.clone();
+        let num = ((theta.clone() + delta.clone()) / two.clone()).sin() * ((theta.clone() - delta) / two.clone()).sin();
+        let den = psi.sin() * psi_pole.sin();
+        if !(den > psi.lit(0.0)) {
+            return None;
+        }
+        let s2 = num / den;
+        if !(s2 > psi.lit(0.0) && s2 < psi.lit(1.0)) {
+            return None;
+        }
+        Some(two * s2.sqrt().asin())
+    }
+}
+
+/// Angular distances graded by decades from `start` up to π/2.
+fn decades<T: Real>(start: &T) -> Vec<T> {
+    let mut v = Vec::new();
+    let mut d = start.clone();
+    let top = start.pi() / start.lit(2.0);
+    while d < top && v.len() < 40 {
+        v.push(d.clone());
+        d = d * start.lit(10.0);
+    }
+    v
+}
+
+/// The graded start at a pole whose nearest point on the current circle is
+/// at angular distance `gap`: max(gap, floor, 10⁻²⁰).
+fn start_at<T: Real>(gap: &T, floor: &T) -> T {
+    gap.clone().max_of(floor.clone()).max_of(gap.lit(1e-20))
+}
+
+impl<T: CheckRule> Frame<T> {
+    /// 2∫₀^π g(v(ψ, χ)) dχ, with the breakpoints of `features`.
+    pub fn around(
+        &self,
+        psi: &T,
+        features: &Features<T>,
+        g: &(dyn Fn(&Direction<T>, &Options) -> Outcome<T> + Sync),
+        opts: &Options,
+    ) -> Outcome<T> {
+        let zero = psi.lit(0.0);
+        let pi = psi.pi();
+        let half_pi = pi.clone() / psi.lit(2.0);
+        // Cuts measured from χ = 0 (`near`) and from χ = π (`far`), each
+        // kept in the variable that is exact where it is small.
+        let (mut near, mut far): (Vec<T>, Vec<T>) = (Vec::new(), Vec::new());
+        let mut from_0 = |c: T| {
+            if c < half_pi {
+                near.push(c)
+            } else {
+                far.push(pi.clone() - c)
+            }
+        };
+        // Near +u (χ = 0): the circle passes at distance |ψ − ψ_u|.
+        let mut plus = Vec::new();
+        if let Some(floor) = &features.plus.floor {
+            let gap = (psi.clone() - self.psi_u.clone()).abs();
+            plus.extend(decades(&start_at(&gap, floor)));
+        }
+        plus.extend(features.plus.marks.iter().cloned());
+        for theta in plus {
+            if let Some(c) = self.chi_at(psi, &self.psi_u, &theta) {
+                from_0(c);
+            }
+        }
+        if features.equator_jump {
+            // μ = 0: cos χ = −cos ψ cos ψ_u /(sin ψ sin ψ_u).
+            let den = psi.sin() * self.sin_u.clone();
+            if den > zero {
+                let c = -(psi.cos() * self.cos_u.clone()) / den;
+                if c > psi.lit(-1.0) && c < psi.lit(1.0) {
+                    from_0(c.acos());
+                }
+            }
+        }
+        // Near −u (χ = π), mirrored: χ' = π − χ about ψ'_u = π − ψ_u.
+        let mut minus = Vec::new();
+        if let Some(floor) = &features.minus.floor {
+            let gap = (psi.clone() - self.psi_mirror.clone()).abs();
+            minus.extend(decades(&start_at(&gap, floor)));
+        }
+        minus.extend(features.minus.marks.iter().cloned());
+        for theta in minus {
+            if let Some(c) = self.chi_at(psi, &self.psi_mirror, &theta) {
+                if c < half_pi {
+                    far.push(c);
+                } else {
+                    near.push(pi.clone() - c);
+                }
+            }
+        }
+        // Two halves, each in its exact variable: χ ∈ [0, π/2] and
+        // χ' = π − χ ∈ [0, π/2].
+        let first = integrate_within_pass(
+            |chi: &T, inner: &Options| g(&self.direction(psi, chi, &(pi.clone() - chi.clone())), inner),
+            &Domain::finite(zero.clone(), half_pi.clone()).with_breakpoints(near),
+            &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() },
+        )?;
+        let second = integrate_within_pass(
+            |chi_c: &T, inner: &Options| g(&self.direction(psi, &(pi.clone() - chi_c.clone()), chi_c), inner),
+            &Domain::finite(zero.clone(), half_pi).with_breakpoints(far),
+            &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() },
+        )?;
+        let two = psi.lit(2.0);
+        Ok(Estimate {
+            value: (first.value + second.value) * two.clone(),
+            error: (first.error + second.error) * two,
+            evaluations: first.evaluations + second.evaluations,
+            ..first
+        })
+    }
+
+    /// Breakpoints in ψ ∈ (0, π) for g's features and the source's.
+    pub fn psi_breakpoints(&self, features: &Features<T>) -> Vec<T> {
+        let like = &self.psi_u;
+        let pi = like.pi();
+        let mut v = Vec::new();
+        let mut around = |centre: &T, floor: &T| {
+            v.push(centre.clone());
+            for d in decades(&floor.clone().max_of(like.lit(1e-12))) {
+                v.push(centre.clone() - d.clone());
+                v.push(centre.clone() + d);
+            }
+        };
+        if let Some(floor) = &features.plus.floor {
+            around(&self.psi_u, floor);
+        }
+        if let Some(floor) = &features.minus.floor {
+            around(&self.psi_mirror, floor);
+        }
+        let mirror = self.psi_mirror.clone();
+        for (centre, marks) in [(&self.psi_u, &features.plus.marks), (&mirror, &features.minus.marks)] {
+            for m in marks {
+                v.push(centre.clone() - m.clone());
+                v.push(centre.clone() + m.clone());
+            }
+        }
+        if features.equator_jump {
+            let half = pi.clone() / like.lit(2.0);
+            let a = (half - self.psi_u.clone()).abs();
+            v.push(a.clone());
+            v.push(pi.clone() - a);
+        }
+        if let Some(w) = &features.source_near_0 {
+            v.extend(decades(w));
+        }
+        if let Some(w) = &features.source_near_pi {
+            v.extend(decades(w).into_iter().map(|d| pi.clone() - d));
+        }
+        v.retain(|p| *p > like.lit(0.0) && *p < pi);
+        v
+    }
+}
+
+/// The polar angle ϑ from u as a [`Direction`]: 1 − μ = 2 sin²(ϑ/2),
+/// 1 + μ = 2 sin²(ϑ′/2) with ϑ′ = π − ϑ given exactly.
+pub fn view_direction<T: Real>(theta: &T, theta_c: &T) -> Direction<T> {
+    let two = theta.lit(2.0);
+    let (h, hc) = ((theta.clone() / two.clone()).sin(), (theta_c.clone() / two.clone()).sin());
+    let one_minus_mu = two.clone() * h.clone() * h.clone();
+    let one_plus_mu = two.clone() * hc.clone() * hc.clone();
+    let sin = two.clone() * h * hc;
+    let mu = (one_plus_mu.clone() - one_minus_mu.clone()) / two;
+    Direction { mu, one_minus_mu, one_plus_mu, sin }
+}
+
+/// How the ϑ-integrand is weighted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Measure {
+    /// dω = sin ϑ dϑ dφ: ∫ g L₁ dω.
+    Solid,
+    /// dϑ dφ: ∫ g L₁ dω / sin ϑ (the H̃ of (25), (26)).
+    Planar,
+}
+
+impl<T: CheckRule> Frame<T> {
+    /// ∫ g(ϑ) L₁ dω (or / sin ϑ) in polar coordinates (ϑ, φ) about the view
+    /// direction u, where g depends on ϑ alone and is evaluated once per
+    /// ϑ-node:
+    ///
+    ///   ∫₀^π g(ϑ) [sin ϑ] Λ(ϑ) dϑ,   Λ(ϑ) = ∫₀^{2π} L₁(ψ(ϑ, φ)) dφ,
+    ///
+    /// ψ the angle to w₀ (at ϑ = ψ_u, φ = 0):
+    /// sin²(ψ/2) = sin²((ϑ − ψ_u)/2) + sin ϑ sin ψ_u sin²(φ/2). `l1` gives
+    /// L₁ from (ψ, π − ψ, sin ψ). Λ has a logarithmic singularity at
+    /// ϑ = ψ_u (L₁ ~ 1/ψ): breakpoint there, graded by decades.
+    pub fn view_integral(
+        &self,
+        features: &Features<T>,
+        measure: Measure,
+        g: &(dyn Fn(&Direction<T>, &Options) -> Outcome<T> + Sync),
+        l1: &(dyn Fn(&T, &T, &T) -> T + Sync),
+        opts: &Options,
+    ) -> Outcome<T> {
+        let like = &self.psi_u;
+        let zero = like.lit(0.0);
+        let pi = like.pi();
+        let half_pi = pi.clone() / like.lit(2.0);
+        // Breakpoints in ϑ, split into the halves [0, π/2] (ϑ) and
+        // [0, π/2] (ϑ′ = π − ϑ).
+        let mut cuts: Vec<T> = vec![self.psi_u.clone()];
+        for d in [1e-1] {
+            cuts.push(self.psi_u.clone() - like.lit(d));
+            cuts.push(self.psi_u.clone() + like.lit(d));
+        }
+        let mut cuts_c: Vec<T> = Vec::new();
+        if let Some(floor) = &features.plus.floor {
+            cuts.extend(decades(&floor.clone().max_of(like.lit(1e-20))));
+        }
+        cuts.extend(features.plus.marks.iter().cloned());
+        if let Some(floor) = &features.minus.floor {
+            cuts_c.extend(decades(&floor.clone().max_of(like.lit(1e-20))));
+        }
+        cuts_c.extend(features.minus.marks.iter().cloned());
+        let (mut near, mut far) = (Vec::new(), Vec::new());
+        for c in cuts {
+            if c > zero && c < half_pi {
+                near.push(c);
+            } else if c > half_pi && c < pi {
+                far.push(pi.clone() - c);
+            }
+        }
+        for c in cuts_c {
+            if c > zero && c < half_pi {
+                far.push(c);
+            } else if c > half_pi && c < pi {
+                near.push(pi.clone() - c);
+            }
+        }
+        let sample = |theta: &T, theta_c: &T, inner: &Options| -> Outcome<T> {
+            let dir = view_direction(theta, theta_c);
+            let gv = g(&dir, &Options { abs_tol: 0.0, ..inner.clone() })?;
+            let w = match measure {
+                Measure::Solid => dir.sin.clone(),
+                Measure::Planar => theta.lit(1.0),
+            };
+            let gw = gv.value.clone() * w.clone();
+            if gw.is_zero() {
+                return Ok(Estimate::known(zero.clone(), zero.clone(), gv.evaluations, inner.rule));
+            }
+            let lam_opts = Options { abs_tol: (inner.abs_tol / gw.abs().to_f64()).min(f64::MAX), ..inner.clone() };
+            let lam = self.azimuthal(theta, theta_c, features, l1, &lam_opts)?;
+            let value = gw.clone() * lam.value.clone();
+            let error = gw.abs() * lam.error.clone() + (gv.error * w).abs() * lam.value.abs();
+            Ok(Estimate::known(value, error, gv.evaluations + lam.evaluations, inner.rule))
+        };
+        let half = Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() };
+        let first = integrate_within_pass(
+            |theta: &T, inner: &Options| sample(theta, &(pi.clone() - theta.clone()), inner),
+            &Domain::finite(zero.clone(), half_pi.clone()).with_breakpoints(near),
+            &half,
+        )?;
+        let second = integrate_within_pass(
+            |theta_c: &T, inner: &Options| sample(&(pi.clone() - theta_c.clone()), theta_c, inner),
+            &Domain::finite(zero.clone(), half_pi).with_breakpoints(far),
+            &half,
+        )?;
+        Ok(Estimate {
+            value: first.value + second.value,
+            error: first.error + second.error,
+            evaluations: first.evaluations + second.evaluations,
+            ..first
+        })
+    }
+
+    /// Λ(ϑ) = 2∫₀^π L₁ dφ, in φ up to π/2 and in φ′ = π − φ beyond; graded
+    /// by decades near φ = 0, where L₁ ~ 1/ψ peaks when ϑ is near ψ_u, and
+    /// near φ = π for a source feature near ψ = π.
+    fn azimuthal(
+        &self,
+        theta: &T,
+        theta_c: &T,
+        features: &Features<T>,
+        l1: &(dyn Fn(&T, &T, &T) -> T + Sync),
+        opts: &Options,
+    ) -> Outcome<T> {
+        let zero = theta.lit(0.0);
+        let pi = theta.pi();
+        let half_pi = pi.clone() / theta.lit(2.0);
+        let two = theta.lit(2.0);
+        let sq = |a: T| {
+            let s = (a / two.clone()).sin();
+            s.clone() * s
+        };
+        let base_s = sq(theta.clone() - self.psi_u.clone());
+        let base_c = sq(theta_c.clone() - self.psi_u.clone());
+        let cross = theta.sin() * self.sin_u.clone();
+        // L₁ at (ϑ, φ) from sin²(ψ/2) and cos²(ψ/2), each formed directly.
+        let at = |phi: &T, phi_c: &T| {
+            let s2 = base_s.clone() + cross.clone() * sq(phi.clone());
+            let c2 = base_c.clone() + cross.clone() * sq(phi_c.clone());
+            let (psi, psi_c) = if s2 < c2 {
+                let p = two.clone() * s2.clone().sqrt().asin();
+                (p.clone(), pi.clone() - p)
+            } else {
+                let pc = two.clone() * c2.clone().sqrt().asin();
+                (pi.clone() - pc.clone(), pc)
+            };
+            let sin_psi = two.clone() * (s2 * c2).sqrt();
+            l1(&psi, &psi_c, &sin_psi)
+        };
+        // Graded cuts near φ = 0 (w₀) and φ = π (the antipode of w₀).
+        let mut near: Vec<T> = Vec::new();
+        let mut far: Vec<T> = Vec::new();
+        if cross > zero {
+            let gap = (theta.clone() - self.psi_u.clone()).abs();
+            let floor = features.source_near_0.clone().map_or(zero.clone(), |w| w / theta.lit(10.0));
+            for d in decades(&start_at(&gap, &floor)) {
+                if let Some(c) = self.chi_at(theta, &self.psi_u, &d) {
+                    near.push(c);
+                }
+            }
+            if let Some(w) = &features.source_near_pi {
+                let gap = (theta_c.clone() - self.psi_u.clone()).abs();
+                for d in decades(&start_at(&gap, &(w.clone() / theta.lit(10.0)))) {
+                    if let Some(c) = self.chi_at(theta_c, &self.psi_u, &d) {
+                        far.push(c);
+                    }
+                }
+            }
+        }
+        let plain = |phi: &T, phi_c: &T, o: &Options| Ok(Estimate::known(at(phi, phi_c), zero.clone(), 1, o.rule));
+        if far.is_empty() {
+            // Nothing narrow near φ = π: one piece set over [0, π] in φ.
+            let e = integrate_within_pass(
+                |phi: &T, o: &Options| plain(phi, &(pi.clone() - phi.clone()), o),
+                &Domain::finite(zero.clone(), pi.clone()).with_breakpoints(near),
+                &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() },
+            )?;
+            return Ok(Estimate { value: e.value * two.clone(), error: e.error * two.clone(), ..e });
+        }
+        let (mut near_half, mut far_half) = (Vec::new(), Vec::new());
+        for c in near {
+            if c < half_pi {
+                near_half.push(c)
+            } else {
+                far_half.push(pi.clone() - c)
+            }
+        }
+        for c in far {
+            if c < half_pi {
+                far_half.push(c)
+            } else {
+                near_half.push(pi.clone() - c)
+            }
+        }
+        let half = Options { abs_tol: opts.abs_tol / 4.0, ..opts.clone() };
+        let first = integrate_within_pass(
+            |phi: &T, o: &Options| plain(phi, &(pi.clone() - phi.clone()), o),
+            &Domain::finite(zero.clone(), half_pi.clone()).with_breakpoints(near_half),
+            &half,
+        )?;
+        let second = integrate_within_pass(
+            |phi_c: &T, o: &Options| plain(&(pi.clone() - phi_c.clone()), phi_c, o),
+            &Domain::finite(zero.clone(), half_pi).with_breakpoints(far_half),
+            &half,
+        )?;
+        let two = theta.lit(2.0);
+        Ok(Estimate {
+            value: (first.value + second.value) * two.clone(),
+            error: (first.error + second.error) * two,
+            evaluations: first.evaluations + second.evaluations,
+            ..first
+        })
+    }
+}

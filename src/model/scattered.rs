@@ -1,0 +1,292 @@
+//! Single-scattered forward light (scattering order 1) of a point light: a
+//! smooth field, itself a 1-D integral per point and direction.
+//!
+//! Light of flux Φ at y, scattered once at x′ = x − τv towards x:
+//!
+//!   L₁(x, v) = σ_sc ∫₀^∞ e^{−στ} f(cos θ) Φ e^{−σ r′}/(4π r′²) dτ,
+//!
+//! r′ = |x′ − y|, cos θ = v·(x′ − y)/r′ (the scattering angle at x′). With r =
+//! |x − y| and ψ the angle between v and w₀ = (x − y)/r, the backward ray
+//! passes the light at distance b = r sin ψ; parametrised by the scattering
+//! angle θ ∈ [ψ, π) (θ = ψ at x′ = x, θ → π far behind), dτ/r′² = dθ/b and
+//! τ + r′ = r(cos ψ + sin ψ tan(θ/2)), so
+//!
+//!   sin ψ · L₁ = (σ_sc Φ/(4π r)) ∫_ψ^π f(cos θ) e^{−σ r (cos ψ + sin ψ tan(θ/2))} dθ,
+//!
+//! finite and smooth in ψ (the 1/ψ singularity of L₁ along w₀ is cancelled
+//! by the sin ψ of dω; `angular`). In δ = θ − ψ the exponent's excess over
+//! σr is σ r sin ψ sin(δ/2)/(cos(θ/2) cos(ψ/2)) ≥ 0, formed without
+//! cancellation. Derivation: `docs/model.md` §3a.
+
+use super::angular::{Features, Frame};
+use super::chebyshev::Piecewise;
+use super::field::phase_eval;
+use crate::quad::{integrate, CheckRule, Domain, Options, Outcome};
+use crate::real::Real;
+use mcrt_scene::Phase;
+
+/// One point light's single-scattered field along the camera ray.
+#[derive(Debug, Clone)]
+pub struct Scattered<T> {
+    /// The light's abscissa on the camera ray and distance from it (as for
+    /// its uncollided component, `field::Geometry::Point`).
+    pub a: T,
+    pub d: T,
+    pub flux: T,
+    /// The field's attenuation shift c₀ and integration-variable origin.
+    pub shift: T,
+    pub center: T,
+}
+
+/// The scattered light at one camera-ray point: the frame about w₀ and the
+/// constants of sin ψ·L₁.
+#[derive(Debug, Clone)]
+pub struct AtPoint<T> {
+    pub frame: Frame<T>,
+    /// r = |x − y|.
+    pub r: T,
+    /// σ_sc Φ e^{c₀ − σr}/(4π r).
+    pub front: T,
+}
+
+impl<T: Real> Scattered<T> {
+    /// The light at s = center + x.
+    pub fn at(&self, x: &T, sigma_ext: &T, sigma_sc: &T) -> AtPoint<T> {
+        let dx = (self.center.clone() - self.a.clone()) + x.clone();
+        let r = (dx.clone() * dx.clone() + self.d.clone() * self.d.clone()).sqrt();
+        // w₀ = (x − y)/r: its cosine with u is dx/r, its sine d/r.
+        let frame = Frame::new(dx / r.clone(), self.d.clone() / r.clone());
+        let front = sigma_sc.clone() * self.flux.clone() * (self.shift.clone() - sigma_ext.clone() * r.clone()).exp()
+            / (r.pi() * r.lit(4.0) * r.clone());
+        AtPoint { frame, r, front }
+    }
+
+    /// Breakpoints along the camera ray: those of the light's uncollided
+    /// component (closest approach a, a ± d·10^k), in x.
+    pub fn ray_breakpoints(&self) -> Vec<T> {
+        let a = self.a.clone() - self.center.clone();
+        let mut v = vec![a.clone()];
+        let scale = a.abs().max_of(a.lit(1.0));
+        let mut step = self.d.clone();
+        while step < scale && !step.is_zero() && v.len() < 50 {
+            v.push(a.clone() - step.clone());
+            v.push(a.clone() + step.clone());
+            step = step * a.lit(10.0);
+        }
+        v.push(a.clone() + scale);
+        v
+    }
+}
+
+/// The angular scales of sin ψ·L₁(ψ) itself: a Henyey–Greenstein peak of
+/// width 1 − |g| at θ = 0 (g > 0) makes it vary near ψ = 0, at θ = π
+/// (g < 0) near ψ = π.
+pub fn source_features<T: Real>(phase: &Phase, like: &T) -> (Option<T>, Option<T>) {
+    match *phase {
+        Phase::HenyeyGreenstein { g } if g > 0.0 => (Some(like.lit(1.0 - g)), None),
+        Phase::HenyeyGreenstein { g } if g < 0.0 => (None, Some(like.lit(1.0 + g))),
+        _ => (None, None),
+    }
+}
+
+impl<T: CheckRule> AtPoint<T> {
+    /// sin ψ·L₁(x, v) at angle ψ ∈ (0, π) from w₀ (with the field's shift),
+    /// by quadrature over δ = θ − ψ ∈ [0, π − ψ] with the rule of `opts`.
+    pub fn source(&self, psi: &T, sigma_ext: &T, phase: &Phase, opts: &Options) -> Outcome<T> {
+        let two = psi.lit(2.0);
+        let pi = psi.pi();
+        let span = pi.clone() - psi.clone();
+        let (sin_psi, cos_half_psi) = (psi.sin(), (psi.clone() / two.clone()).cos());
+        // Excess exponent rate: σ r sin ψ / cos(ψ/2).
+        let rate = sigma_ext.clone() * self.r.clone() * sin_psi.clone() / cos_half_psi.clone();
+        let integrand = |delta: &T| {
+            // cos(θ/2) = sin((π − θ)/2), θ = ψ + δ, formed from the distance to π.
+            let cos_half_theta = ((span.clone() - delta.clone()) / two.clone()).sin();
+            if cos_half_theta.is_zero() {
+                return delta.lit(0.0);
+            }
+            let excess = rate.clone() * (delta.clone() / two.clone()).sin() / cos_half_theta;
+            let cos_theta = (psi.clone() + delta.clone()).cos();
+            phase_eval(phase, &cos_theta) * (-excess).exp()
+        };
+        let mut cuts = Vec::new();
+        // Decay lengths of the excess (≈ rate·δ/2 for small δ).
+        if rate > psi.lit(0.0) {
+            for k in [1.0, 10.0, 100.0] {
+                cuts.push(psi.lit(2.0 * k) / rate.clone());
+            }
+        }
+        // The phase function's peak at θ = 0 or θ = π.
+        let (near_0, near_pi) = source_features(phase, psi);
+        if let Some(w) = near_0 {
+            let mut d = w;
+            while d < pi {
+                cuts.push(d.clone() - psi.clone());
+                d = d * psi.lit(10.0);
+            }
+        }
+        if let Some(w) = near_pi {
+            let mut d = w;
+            while d < pi {
+                cuts.push(span.clone() - d.clone());
+                d = d * psi.lit(10.0);
+            }
+        }
+        cuts.retain(|c| *c > psi.lit(0.0) && *c < span);
+        let j_opts = Options { abs_tol: (opts.abs_tol / self.front.abs().to_f64()).min(f64::MAX), ..opts.clone() };
+        let e = integrate(integrand, &Domain::finite(psi.lit(0.0), span.clone()).with_breakpoints(cuts), &j_opts)?;
+        Ok(crate::quad::Estimate {
+            value: e.value * self.front.clone(),
+            error: e.error * self.front.abs(),
+            ..e
+        })
+    }
+
+    /// ∫ L₁(x, v) g(v) dω over all directions: ψ outer, with sin ψ·L₁(ψ) and
+    /// the χ-integral of g (`Frame::around`) as inner integrals of the same
+    /// pass.
+    pub fn integral(
+        &self,
+        sigma_ext: &T,
+        phase: &Phase,
+        features: &Features<T>,
+        g: &(dyn Fn(&super::angular::Direction<T>, &Options) -> Outcome<T> + Sync),
+        opts: &Options,
+    ) -> Outcome<T> {
+        let zero = self.r.lit(0.0);
+        let domain = Domain::finite(zero.clone(), zero.pi()).with_breakpoints(self.frame.psi_breakpoints(features));
+        crate::quad::integrate_within_pass(
+            |psi: &T, inner: &Options| {
+                // The source first, to full relative accuracy (its integrand
+                // f·e^{−excess} is positive and formed without cancellation;
+                // the large attenuation sits in `front`); then g's integral
+                // to the absolute tolerance that leaves for the product.
+                let src = self.source(psi, sigma_ext, phase, &Options { abs_tol: 0.0, ..inner.clone() })?;
+                if src.value.is_zero() {
+                    return Ok(crate::quad::Estimate::known(zero.clone(), zero.clone(), src.evaluations, inner.rule));
+                }
+                let g_opts =
+                    Options { abs_tol: (inner.abs_tol / src.value.abs().to_f64()).min(f64::MAX), ..inner.clone() };
+                let around = self.frame.around(psi, features, g, &g_opts)?;
+                let value = src.value.clone() * around.value.clone();
+                let error = src.value.abs() * around.error.clone() + around.value.abs() * src.error.clone();
+                Ok(crate::quad::Estimate::known(value, error, src.evaluations + around.evaluations, inner.rule))
+            },
+            &domain,
+            opts,
+        )
+    }
+}
+
+/// sin ψ·L₁(ψ) at one camera-ray point as a piecewise Chebyshev
+/// interpolant of U(ψ) = sin ψ·L₁(ψ)/(π − ψ) on [0, π] (smooth and positive:
+/// the source over a θ-range of length π − ψ, divided by that length), for
+/// angular integrals that need L₁ at many directions. Pieces are graded by
+/// decades towards ψ = 0, where sin ψ·L₁ has a ψ ln ψ term (the far end
+/// θ → π of the backward ray), and towards a Henyey–Greenstein peak.
+#[derive(Debug, Clone)]
+pub struct SourceTable<T> {
+    interp: Piecewise<T>,
+    /// Relative error bound of L₁ from the table (interpolation and the
+    /// samples' quadrature bars).
+    pub rel_error: T,
+    pub evaluations: u64,
+}
+
+impl<T: CheckRule> AtPoint<T> {
+    /// Builds the table to relative tolerance `rel_tol`, the samples
+    /// computed with the rule `rule`.
+    pub fn source_table(
+        &self,
+        sigma_ext: &T,
+        phase: &Phase,
+        rel_tol: f64,
+        rule: crate::quad::Rule,
+    ) -> Result<SourceTable<T>, crate::quad::Failure<T>> {
+        let like = &self.r;
+        let pi = like.pi();
+        let mut cuts = vec![like.lit(0.0)];
+        let smallest = (rel_tol * 1e-3).max(like.eps().to_f64() * 1e-2);
+        let mut d = 1.0f64;
+        let mut graded = Vec::new();
+        while d > smallest {
+            d /= 10.0;
+            graded.push(like.lit(d));
+        }
+        graded.reverse();
+        cuts.extend(graded);
+        cuts.push(like.lit(1.0));
+        let (near_0, near_pi) = source_features(phase, like);
+        if let Some(w) = near_0 {
+            let mut v = w;
+            while v < pi {
+                cuts.push(v.clone());
+                v = v * like.lit(10.0);
+            }
+        }
+        if let Some(w) = near_pi {
+            let mut v = w;
+            while v < pi {
+                cuts.push(pi.clone() - v.clone());
+                v = v * like.lit(10.0);
+            }
+        }
+        cuts.push(pi.clone());
+        cuts.retain(|c| *c >= like.lit(0.0) && *c <= pi);
+        cuts.sort_by(|a, b| a.partial_cmp(b).expect("finite cuts"));
+        cuts.dedup_by(|a, b| a == b);
+        let opts = Options {
+            rel_tol: (rel_tol / 40.0).max(64.0 * like.eps().to_f64()),
+            abs_tol: 0.0,
+            rule,
+            cross_check: false,
+            zero_guard: false,
+            ..Options::rel(rel_tol).declared()
+        };
+        let interp = Piecewise::build(
+            |psi: &T| {
+                let e = self.source(psi, sigma_ext, phase, &opts)?;
+                let span = pi.clone() - psi.clone();
+                Ok(crate::quad::Estimate { value: e.value / span.clone(), error: e.error / span, ..e })
+            },
+            &cuts,
+            rel_tol / 4.0,
+        )?;
+        Ok(SourceTable { rel_error: interp.rel_error.clone(), evaluations: interp.evaluations, interp })
+    }
+}
+
+impl<T: CheckRule> AtPoint<T> {
+    /// ∫ g(ϑ) L₁ dω (`Measure::Solid`) or ∫ g L₁ dω/sin ϑ (`Planar`) for a g
+    /// of the polar angle ϑ about the view direction alone, in the frame
+    /// about u (`Frame::view_integral`) with L₁ from a [`SourceTable`] built
+    /// to the options' tolerance with their rule. The table's relative error
+    /// is added to the bar (L₁ ≥ 0 and g ≥ 0).
+    pub fn view(
+        &self,
+        sigma_ext: &T,
+        phase: &Phase,
+        features: &Features<T>,
+        measure: super::angular::Measure,
+        g: &(dyn Fn(&super::angular::Direction<T>, &Options) -> Outcome<T> + Sync),
+        opts: &Options,
+    ) -> Outcome<T> {
+        VIEWS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        if opts.rule == crate::quad::Rule::Check { VIEWS_CHECK.fetch_add(1, std::sync::atomic::Ordering::Relaxed); }
+        let table = self.source_table(sigma_ext, phase, opts.rel_tol, opts.rule)?;
+        let l1 = |psi: &T, psi_c: &T, sin_psi: &T| table.radiance(psi, psi_c, sin_psi);
+        let e = self.frame.view_integral(features, measure, g, &l1, opts)?;
+        let error = e.error.clone() + e.value.abs() * table.rel_error.clone();
+        Ok(crate::quad::Estimate { error, evaluations: e.evaluations + table.evaluations, ..e })
+    }
+}
+
+impl<T: Real> SourceTable<T> {
+    /// L₁ at angle ψ from w₀, given ψ, π − ψ and sin ψ.
+    pub fn radiance(&self, psi: &T, psi_c: &T, sin_psi: &T) -> T {
+        psi_c.clone() * self.interp.eval(psi) / sin_psi.clone()
+    }
+}
+
+pub static VIEWS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+pub static VIEWS_CHECK: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
