@@ -36,6 +36,19 @@ impl Precision {
             Precision::Bits(b) => crate::report::mpfr_default_tol(b),
         }
     }
+
+    /// Default relative tolerance for `scene`: [`Precision::default_tol`]
+    /// for uncollided light; with single-scattered light (order 1), whose
+    /// integrals are three levels deeper and cost minutes at 1e-10, 1e-6 in
+    /// f64 and at most 1e-10 in MPFR (`docs/accuracy-cost.md`).
+    pub fn default_tol_for(self, scene: &Scene) -> f64 {
+        let scattered = scene.effects.scattering_orders != mcrt_scene::ScatteringOrders::Limited(0);
+        match (self, scattered) {
+            (_, false) => self.default_tol(),
+            (Precision::F64, true) => 1e-6,
+            (Precision::Bits(_), true) => self.default_tol().max(1e-10),
+        }
+    }
 }
 
 /// A value and its error bar, in f64 for reports.
@@ -231,7 +244,7 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
 
 /// Runs the oracle at `precision` with its default tolerance (or `rel_tol`).
 pub fn run(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -> Result<Report, OracleError> {
-    let tol = rel_tol.unwrap_or(precision.default_tol());
+    let tol = rel_tol.unwrap_or(precision.default_tol_for(scene));
     match precision {
         Precision::F64 => run_with(scene, &0.0f64, tol, "f64".into()),
         Precision::Bits(b) => run_with(scene, &rug::Float::with_val(b, 0), tol, format!("{b} bits")),

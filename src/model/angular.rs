@@ -101,8 +101,7 @@ impl<T: Real> Frame<T> {
             s.clone() * s
         };
         let cross = psi.sin() * self.sin_u.clone();
-        let one_minus_mu = two.clone()
-            * (half(psi.clone() - self.psi_u.clone()) + cross.clone() * half(chi.clone()));
+        let one_minus_mu = two.clone() * (half(psi.clone() - self.psi_u.clone()) + cross.clone() * half(chi.clone()));
         let one_plus_mu = two.clone() * (half(self.psi_mirror.clone() - psi.clone()) + cross * half(chi_c.clone()));
         let mu = (one_plus_mu.clone() - one_minus_mu.clone()) / two;
         let sin = (one_minus_mu.clone() * one_plus_mu.clone()).max_of(psi.lit(0.0)).sqrt();
@@ -311,17 +310,30 @@ impl<T: CheckRule> Frame<T> {
         l1: &(dyn Fn(&T, &T, &T) -> T + Sync),
         opts: &Options,
     ) -> Outcome<T> {
+        let lam = |theta: &T, theta_c: &T, o: &Options| self.azimuthal(theta, theta_c, features, l1, o);
+        self.view_with(features, measure, g, &lam, opts)
+    }
+
+    /// The ϑ-integral of [`Frame::view_integral`] with Λ(ϑ) from `lam`
+    /// (given ϑ, π − ϑ and the options for Λ).
+    pub fn view_with(
+        &self,
+        features: &Features<T>,
+        measure: Measure,
+        g: &(dyn Fn(&Direction<T>, &Options) -> Outcome<T> + Sync),
+        lam: &(dyn Fn(&T, &T, &Options) -> Outcome<T> + Sync),
+        opts: &Options,
+    ) -> Outcome<T> {
         let like = &self.psi_u;
         let zero = like.lit(0.0);
         let pi = like.pi();
         let half_pi = pi.clone() / like.lit(2.0);
         // Breakpoints in ϑ, split into the halves [0, π/2] (ϑ) and
         // [0, π/2] (ϑ′ = π − ϑ).
-        let mut cuts: Vec<T> = vec![self.psi_u.clone()];
-        for d in [1e-1] {
-            cuts.push(self.psi_u.clone() - like.lit(d));
-            cuts.push(self.psi_u.clone() + like.lit(d));
-        }
+        // Λ's logarithmic singularity at ψ_u, and ±0.1 around it (a piece
+        // whose far end is not singular eases the check rule's bisection).
+        let tenth = like.lit(0.1);
+        let mut cuts: Vec<T> = vec![self.psi_u.clone(), self.psi_u.clone() - tenth.clone(), self.psi_u.clone() + tenth];
         let mut cuts_c: Vec<T> = Vec::new();
         if let Some(floor) = &features.plus.floor {
             cuts.extend(decades(&floor.clone().max_of(like.lit(1e-20))));
@@ -358,7 +370,7 @@ impl<T: CheckRule> Frame<T> {
                 return Ok(Estimate::known(zero.clone(), zero.clone(), gv.evaluations, inner.rule));
             }
             let lam_opts = Options { abs_tol: (inner.abs_tol / gw.abs().to_f64()).min(f64::MAX), ..inner.clone() };
-            let lam = self.azimuthal(theta, theta_c, features, l1, &lam_opts)?;
+            let lam = lam(theta, theta_c, &lam_opts)?;
             let value = gw.clone() * lam.value.clone();
             let error = gw.abs() * lam.error.clone() + (gv.error * w).abs() * lam.value.abs();
             Ok(Estimate::known(value, error, gv.evaluations + lam.evaluations, inner.rule))
@@ -385,7 +397,7 @@ impl<T: CheckRule> Frame<T> {
     /// Λ(ϑ) = 2∫₀^π L₁ dφ, in φ up to π/2 and in φ′ = π − φ beyond; graded
     /// by decades near φ = 0, where L₁ ~ 1/ψ peaks when ϑ is near ψ_u, and
     /// near φ = π for a source feature near ψ = π.
-    fn azimuthal(
+    pub fn azimuthal(
         &self,
         theta: &T,
         theta_c: &T,

@@ -51,7 +51,8 @@ impl<T: Real> Piecewise<T> {
     /// `cuts` (sorted, first and last are the ends) to relative tolerance
     /// `rel_tol`.
     pub fn build(mut f: impl FnMut(&T) -> Outcome<T>, cuts: &[T], rel_tol: f64) -> Result<Self, Failure<T>> {
-        let mut todo: Vec<(T, T)> = cuts.windows(2).filter(|w| w[0] < w[1]).map(|w| (w[0].clone(), w[1].clone())).collect();
+        let mut todo: Vec<(T, T)> =
+            cuts.windows(2).filter(|w| w[0] < w[1]).map(|w| (w[0].clone(), w[1].clone())).collect();
         todo.reverse();
         let like = cuts[0].clone();
         let mut pieces = Vec::new();
@@ -78,7 +79,19 @@ impl<T: Real> Piecewise<T> {
                     // Plus the rounding of ln f and of the recurrence: 8 eps (1 + max |ln f|).
                     let big = piece.values.iter().fold(like.lit(1.0), |m, v| m.max_of(v.abs() + like.lit(1.0)));
                     let rounding = like.eps() * like.lit(8.0) * big;
-                    let err = (tail * like.lit(2.0) + bar + rounding) * like.lit(1.01);
+                    let mut err = tail * like.lit(2.0) + bar + rounding;
+                    // Chop trailing coefficients whose sum stays below a tenth
+                    // of that bar (cheaper evaluation); their sum joins it.
+                    let mut dropped = like.lit(0.0);
+                    while piece.coeffs.len() > 2 {
+                        let last = piece.coeffs[piece.coeffs.len() - 1].abs();
+                        if dropped.clone() + last.clone() > err.clone() / like.lit(10.0) {
+                            break;
+                        }
+                        dropped = dropped + last;
+                        piece.coeffs.pop();
+                    }
+                    err = (err + dropped) * like.lit(1.01);
                     accepted = Some((piece, err));
                     break;
                 }
@@ -92,7 +105,11 @@ impl<T: Real> Piecewise<T> {
                     let mid = (a.clone() + b.clone()) / like.lit(2.0);
                     if !(mid > a && mid < b) {
                         return Err(Failure {
-                            reason: format!("Chebyshev interpolation cannot split [{:e}, {:e}]", a.to_f64(), b.to_f64()),
+                            reason: format!(
+                                "Chebyshev interpolation cannot split [{:e}, {:e}]",
+                                a.to_f64(),
+                                b.to_f64()
+                            ),
                             best_guess: None,
                             error_estimate: None,
                             evaluations,
@@ -147,7 +164,11 @@ fn sample<T: Real>(
         evals += e.evaluations;
         if !(e.value > a.lit(0.0)) || !e.value.is_finite() {
             return Err(Failure {
-                reason: format!("interpolated function is not positive and finite at {:e}: {:e}", x.to_f64(), e.value.to_f64()),
+                reason: format!(
+                    "interpolated function is not positive and finite at {:e}: {:e}",
+                    x.to_f64(),
+                    e.value.to_f64()
+                ),
                 best_guess: None,
                 error_estimate: None,
                 evaluations: evals,

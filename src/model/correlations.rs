@@ -194,7 +194,8 @@ fn scattered_term<T: CheckRule>(
     integrate_nested(
         |x: &T, inner: &Options| {
             let s_abs = field.s_of(x);
-            let outer = k.clone() * sigma.clone() * sigma.clone() * (-(decay.clone() * sigma.clone() * s_abs.clone())).exp();
+            let outer =
+                k.clone() * sigma.clone() * sigma.clone() * (-(decay.clone() * sigma.clone() * s_abs.clone())).exp();
             if outer.is_zero() || !(s_abs > x.lit(0.0)) {
                 return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, inner.rule));
             }
@@ -208,7 +209,8 @@ fn scattered_term<T: CheckRule>(
             };
             let at = sc.at(x, &sigma, &field.sigma_sc);
             let o = Options { abs_tol: (inner.abs_tol / outer.to_f64()).min(f64::MAX), ..inner.clone() };
-            let e = at.view(&sigma, &field.phase, &pair_features(field, r, &s_abs), Measure::Solid, &g, &o)?;
+            let features = pair_features(field, r, &s_abs);
+            let e = at.view_shared(&sc.shared, x, &sigma, &field.phase, &features, Measure::Solid, &g, &o)?;
             Ok(Estimate::known(outer.clone() * e.value, outer * e.error, e.evaluations, inner.rule))
         },
         &ray_domain(field, &x0, None),
@@ -260,12 +262,7 @@ fn one_term<T: CheckRule>(
             // The inner tolerance is for outer·J: J's own is abs_tol/|outer|.
             let j_opts = Options { abs_tol: (inner.abs_tol / outer.abs().to_f64()).min(f64::MAX), ..inner.clone() };
             let j = separation(&sigma, which, forward, &l.mu, &l.sin, &field.s_of(x), &two_r, &j_opts)?;
-            Ok(Estimate::known(
-                outer.clone() * j.value,
-                outer.abs() * j.error,
-                j.evaluations,
-                inner.rule,
-            ))
+            Ok(Estimate::known(outer.clone() * j.value, outer.abs() * j.error, j.evaluations, inner.rule))
         },
         &ray_domain(field, lo, hi).with_breakpoints(if forward { None } else { reach_kink(field, c, r, lo, hi) }),
         opts,
@@ -351,12 +348,7 @@ pub fn separation<T: CheckRule>(
     // For large β the content lies where β sin ε is of order 1: breakpoints
     // at β sin ε = 1, 10, 100.
     let cuts: Vec<T> = if beta > zero {
-        [1.0, 10.0, 100.0]
-            .iter()
-            .map(|k| mu.lit(*k) / beta.clone())
-            .filter(|c| *c < y_top)
-            .map(|c| c.asin())
-            .collect()
+        [1.0, 10.0, 100.0].iter().map(|k| mu.lit(*k) / beta.clone()).filter(|c| *c < y_top).map(|c| c.asin()).collect()
     } else {
         Vec::new()
     };
@@ -466,15 +458,6 @@ pub fn asymptotic<T: CheckRule>(
     }
     // Smooth part of H̃: ∫ f² L₁ /sin ϑ dω = ∫∫ f² L₁ dϑ dφ, in the frame
     // about u, where the 1/sin ϑ is absorbed by the measure.
-    let (plus, minus) = phase_poles(field);
-    let (near_0, near_pi) = source_features(&field.phase, r);
-    let features = Features {
-        plus: Pole { floor: plus, marks: Vec::new() },
-        minus: Pole { floor: minus, marks: Vec::new() },
-        equator_jump: false,
-        source_near_0: near_0,
-        source_near_pi: near_pi,
-    };
     let g = |d: &Direction<T>, o: &Options| {
         let f = field.phase_at(&d.mu);
         Ok(Estimate::known(f.clone() * f, d.mu.lit(0.0), 1, o.rule))
@@ -489,7 +472,9 @@ pub fn asymptotic<T: CheckRule>(
             let mut e = Estimate::known(x.lit(0.0), x.lit(0.0), 0, inner.rule);
             for sc in &field.scattered {
                 let at = sc.at(x, &sigma, &field.sigma_sc);
-                let part = at.view(&sigma, &field.phase, &features, Measure::Planar, &g, &o)?;
+                // The pair integrals' breakpoints, so that Λ is shared with them.
+                let features = pair_features(field, r, &field.s_of(x));
+                let part = at.view_shared(&sc.shared, x, &sigma, &field.phase, &features, Measure::Planar, &g, &o)?;
                 e.value = e.value + part.value;
                 e.error = e.error + part.error;
                 e.evaluations += part.evaluations;

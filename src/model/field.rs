@@ -22,12 +22,12 @@
 
 use super::chebyshev::Piecewise;
 use super::scattered::Scattered;
-use crate::quad::Rule;
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
 use super::OracleError;
+use crate::quad::Rule;
 use crate::real::Real;
 use mcrt_scene::{DVec3, Light, Phase, ScatteringOrders, Scene};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 /// Geometry of one delta component along the camera ray.
 #[derive(Debug, Clone)]
@@ -176,6 +176,7 @@ impl<T: Real> Field<T> {
                         flux: c.flux.clone(),
                         shift: shift.clone(),
                         center: x_origin.clone(),
+                        shared: Default::default(),
                     }),
                     Geometry::Beam { .. } => None,
                 })

@@ -115,7 +115,8 @@ pub fn second_moment_estimate<T: CheckRule>(field: &Field<T>, x: &T, r: &T, opts
         let f = field.phase_at(&d.mu);
         Ok(Estimate::known(f.clone() * f, d.mu.lit(0.0), 1, o.rule))
     };
-    let front = field.albedo.clone() * field.albedo.clone() * field.total_flux.clone() / (x.pi() * r.clone() * r.clone());
+    let front =
+        field.albedo.clone() * field.albedo.clone() * field.total_flux.clone() / (x.pi() * r.clone() * r.clone());
     let o = Options { abs_tol: opts.abs_tol / front.to_f64(), ..opts.clone() };
     let e = smooth_part(field, x, &phase_only(field), &g, &o)?;
     Ok(Estimate::known(direct + front.clone() * e.value, front * e.error, e.evaluations + 1, opts.rule))
@@ -129,13 +130,18 @@ pub fn second_moment_estimate<T: CheckRule>(field: &Field<T>, x: &T, r: &T, opts
 /// 16, … decay lengths. The table interpolates ln c₁, so the attenuated tail
 /// keeps its relative accuracy. Each pass builds its own with its own rule, so the passes stay
 /// independent.
-pub fn scattered_mean_table<T: CheckRule>(field: &Field<T>, rule: Rule, rel_tol: f64) -> Result<Arc<Piecewise<T>>, Failure<T>> {
+pub fn scattered_mean_table<T: CheckRule>(
+    field: &Field<T>,
+    rule: Rule,
+    rel_tol: f64,
+) -> Result<Arc<Piecewise<T>>, Failure<T>> {
     let key = (rule, rel_tol.to_bits());
     if let Some(t) = field.tables.lock().expect("no panic while holding the tables").get(&key) {
         return Ok(t.clone());
     }
     let (lo, end) = table_range(field);
-    let mut cuts: Vec<T> = ray_domain(field, &lo, None).breakpoints.into_iter().filter(|b| *b > lo && *b < end).collect();
+    let mut cuts: Vec<T> =
+        ray_domain(field, &lo, None).breakpoints.into_iter().filter(|b| *b > lo && *b < end).collect();
     let last = cuts.iter().cloned().fold(lo.clone(), |m, b| m.max_of(b));
     let mut k = 1.0;
     while k < tail_lengths(&lo) {
@@ -405,7 +411,12 @@ fn smooth_pair_sample<T: CheckRule>(
     let g = cumulative_with(known, p, inner, |a: &T, b: &T| {
         integrate_within_pass(
             |s: &T, o: &Options| {
-                let e = mean_contribution_tabled(field, s, tol, &Options { abs_tol: o.abs_tol / sigma.to_f64(), ..o.clone() })?;
+                let e = mean_contribution_tabled(
+                    field,
+                    s,
+                    tol,
+                    &Options { abs_tol: o.abs_tol / sigma.to_f64(), ..o.clone() },
+                )?;
                 Ok(Estimate::known(sigma.clone() * e.value, sigma.clone() * e.error, e.evaluations, o.rule))
             },
             &ray_domain(field, a, Some(b)),

@@ -22,8 +22,11 @@ use super::angular::{Features, Frame};
 use super::chebyshev::Piecewise;
 use super::field::phase_eval;
 use crate::quad::{integrate, CheckRule, Domain, Options, Outcome};
+use crate::quad::{Estimate, Rule};
 use crate::real::Real;
 use mcrt_scene::Phase;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 /// One point light's single-scattered field along the camera ray.
 #[derive(Debug, Clone)]
@@ -36,7 +39,31 @@ pub struct Scattered<T> {
     /// The field's attenuation shift c₀ and integration-variable origin.
     pub shift: T,
     pub center: T,
+    /// Values shared by the quantities computed at the same camera-ray
+    /// points (`AtPoint::view_shared`).
+    pub shared: Shared<T>,
 }
+
+/// Source tables per (x, rule, tolerance) and Λ(ϑ) per (x, ϑ, rule,
+/// tolerance), kept for the other quantities that meet the same nodes
+/// (the correlation integrals and their R → 0 forms share their s- and
+/// ϑ-breakpoints, so their rules' nodes coincide). Keys are f64 images;
+/// the exact arguments are stored and compared, so an MPFR collision is
+/// recomputed, never confused.
+#[derive(Debug, Clone)]
+pub struct Shared<T> {
+    sources: Arc<Mutex<HashMap<SourceKey, SourceEntry<T>>>>,
+    lambdas: Arc<Mutex<HashMap<LambdaKey, LambdaEntry<T>>>>,
+}
+
+/// (x as f64 bits, rule, tolerance bits).
+type SourceKey = (u64, Rule, u64);
+/// The exact x and its source table.
+type SourceEntry<T> = Arc<(T, SourceTable<T>)>;
+/// (x, ϑ as f64 bits, rule, tolerance bits).
+type LambdaKey = (u64, u64, Rule, u64);
+/// The exact x and ϑ, and Λ there.
+type LambdaEntry<T> = (T, T, Estimate<T>);
 
 /// The scattered light at one camera-ray point: the frame about w₀ and the
 /// constants of sin ψ·L₁.
@@ -135,11 +162,7 @@ impl<T: CheckRule> AtPoint<T> {
         cuts.retain(|c| *c > psi.lit(0.0) && *c < span);
         let j_opts = Options { abs_tol: (opts.abs_tol / self.front.abs().to_f64()).min(f64::MAX), ..opts.clone() };
         let e = integrate(integrand, &Domain::finite(psi.lit(0.0), span.clone()).with_breakpoints(cuts), &j_opts)?;
-        Ok(crate::quad::Estimate {
-            value: e.value * self.front.clone(),
-            error: e.error * self.front.abs(),
-            ..e
-        })
+        Ok(crate::quad::Estimate { value: e.value * self.front.clone(), error: e.error * self.front.abs(), ..e })
     }
 
     /// ∫ L₁(x, v) g(v) dω over all directions: ψ outer, with sin ψ·L₁(ψ) and
@@ -271,13 +294,70 @@ impl<T: CheckRule> AtPoint<T> {
         g: &(dyn Fn(&super::angular::Direction<T>, &Options) -> Outcome<T> + Sync),
         opts: &Options,
     ) -> Outcome<T> {
-        VIEWS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        if opts.rule == crate::quad::Rule::Check { VIEWS_CHECK.fetch_add(1, std::sync::atomic::Ordering::Relaxed); }
         let table = self.source_table(sigma_ext, phase, opts.rel_tol, opts.rule)?;
         let l1 = |psi: &T, psi_c: &T, sin_psi: &T| table.radiance(psi, psi_c, sin_psi);
         let e = self.frame.view_integral(features, measure, g, &l1, opts)?;
         let error = e.error.clone() + e.value.abs() * table.rel_error.clone();
         Ok(crate::quad::Estimate { error, evaluations: e.evaluations + table.evaluations, ..e })
+    }
+}
+
+impl<T> Default for Shared<T> {
+    fn default() -> Self {
+        Shared { sources: Default::default(), lambdas: Default::default() }
+    }
+}
+
+impl<T: CheckRule> AtPoint<T> {
+    /// As [`AtPoint::view`], with the source table of x and the values of
+    /// Λ(ϑ) taken from (or added to) `shared`. Λ is computed to the relative
+    /// tolerance of `opts` alone (no absolute part), so that its value does
+    /// not depend on which quantity asked first.
+    #[allow(clippy::too_many_arguments)]
+    pub fn view_shared(
+        &self,
+        shared: &Shared<T>,
+        x: &T,
+        sigma_ext: &T,
+        phase: &Phase,
+        features: &Features<T>,
+        measure: super::angular::Measure,
+        g: &(dyn Fn(&super::angular::Direction<T>, &Options) -> Outcome<T> + Sync),
+        opts: &Options,
+    ) -> Outcome<T> {
+        let key = (x.to_f64().to_bits(), opts.rule, opts.rel_tol.to_bits());
+        let hit =
+            shared.sources.lock().expect("no panic while holding the cache").get(&key).filter(|t| t.0 == *x).cloned();
+        let (entry, built) = match hit {
+            Some(t) => (t, 0),
+            None => {
+                let table = self.source_table(sigma_ext, phase, opts.rel_tol, opts.rule)?;
+                let built = table.evaluations;
+                let t = Arc::new((x.clone(), table));
+                shared.sources.lock().expect("no panic while holding the cache").insert(key, t.clone());
+                (t, built)
+            }
+        };
+        let table = &entry.1;
+        let l1 = |psi: &T, psi_c: &T, sin_psi: &T| table.radiance(psi, psi_c, sin_psi);
+        let lam = |theta: &T, theta_c: &T, o: &Options| -> Outcome<T> {
+            let key = (x.to_f64().to_bits(), theta.to_f64().to_bits(), o.rule, o.rel_tol.to_bits());
+            if let Some((kx, kt, e)) = shared.lambdas.lock().expect("no panic while holding the cache").get(&key) {
+                if kx == x && kt == theta {
+                    return Ok(Estimate { evaluations: 0, ..e.clone() });
+                }
+            }
+            let e = self.frame.azimuthal(theta, theta_c, features, &l1, &Options { abs_tol: 0.0, ..o.clone() })?;
+            shared
+                .lambdas
+                .lock()
+                .expect("no panic while holding the cache")
+                .insert(key, (x.clone(), theta.clone(), e.clone()));
+            Ok(e)
+        };
+        let e = self.frame.view_with(features, measure, g, &lam, opts)?;
+        let error = e.error.clone() + e.value.abs() * table.rel_error.clone();
+        Ok(Estimate { error, evaluations: e.evaluations + built, ..e })
     }
 }
 
@@ -287,6 +367,3 @@ impl<T: Real> SourceTable<T> {
         psi_c.clone() * self.interp.eval(psi) / sin_psi.clone()
     }
 }
-
-pub static VIEWS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-pub static VIEWS_CHECK: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
