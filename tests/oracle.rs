@@ -315,3 +315,24 @@ fn a_dark_pixel_is_said_to_be_dark_not_nan() {
     let err = run(&s, Precision::F64, None).unwrap_err().to_string();
     assert!(err.contains("albedo = 0") && err.contains("undefined"), "{err}");
 }
+
+/// Long (~3 min in release on two cores; run with
+/// `cargo test --release --test oracle -- --ignored order_one_remainder`):
+/// for single-scattered light, which is non-zero along the view direction,
+/// |1 − ratio| = R (a + b ln(1/R)) with b > 0, the logarithmic term the
+/// derivation predicts (`docs/asymptotic-checks.md`); for the uncollided
+/// scene b is zero within its fit error. Judged by the fits' own standard
+/// errors (b > 10 σ_b for order 1, |b| < 3 σ_b + 10⁻³ |a| for order 0).
+#[test]
+#[ignore]
+fn order_one_remainder_has_a_log_term() {
+    use mcrt_noise::model::correlations::Which;
+    use mcrt_noise::sweep::{fit_log_term, sweep};
+    let radii = [1e-4, 1e-5, 1e-6, 1e-7];
+    let rows = sweep(&scene("point-isotropic-order1"), &radii).unwrap();
+    let (_, _, b, be) = fit_log_term(&rows, Which::Eq23).unwrap();
+    assert!(b > 10.0 * be && b > 0.0, "order 1: b = {b} ± {be}");
+    let rows = sweep(&scene("point-isotropic"), &radii).unwrap();
+    let (a, _, b, be) = fit_log_term(&rows, Which::Eq23).unwrap();
+    assert!(b.abs() < 3.0 * be + 1e-3 * a.abs(), "order 0: b = {b} ± {be}, a = {a}");
+}
