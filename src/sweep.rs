@@ -72,27 +72,55 @@ pub fn sweep(scene: &Scene, radii: &[f64]) -> Result<Vec<Row>, String> {
 /// over the points whose gap is resolved (|1 − ratio| above 100 × its bar),
 /// using the [`FIT_POINTS`] smallest radii only.
 pub fn fit_order(rows: &[Row], which: Which) -> Option<Order> {
-    let pts: Vec<(f64, f64)> = rows
+    let pts: Vec<(f64, f64)> = smallest_resolved(rows, which).into_iter().map(|(r, d)| (r.ln(), d.ln())).collect();
+    let line = Line::fit(&pts)?;
+    Some(Order { order: line.slope, std_error: line.slope_error, points: pts.len() })
+}
+
+/// A least-squares line y = intercept + slope·x with standard errors.
+struct Line {
+    slope: f64,
+    slope_error: f64,
+    intercept: f64,
+    intercept_error: f64,
+}
+
+impl Line {
+    /// The fit through at least three points.
+    fn fit(pts: &[(f64, f64)]) -> Option<Line> {
+        let n = pts.len();
+        if n < 3 {
+            return None;
+        }
+        let nf = n as f64;
+        let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / nf, pts.iter().map(|p| p.1).sum::<f64>() / nf);
+        let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+        let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+        let slope = sxy / sxx;
+        let intercept = my - slope * mx;
+        let resid: f64 = pts.iter().map(|p| (p.1 - intercept - slope * p.0).powi(2)).sum();
+        let var = resid / (nf - 2.0);
+        Some(Line {
+            slope,
+            slope_error: (var / sxx).sqrt(),
+            intercept,
+            intercept_error: (var * (1.0 / nf + mx * mx / sxx)).sqrt(),
+        })
+    }
+}
+
+/// (R, |1 − ratio|) at the FIT_POINTS smallest radii where |1 − ratio| is
+/// resolved (above 100 times its error bar).
+fn smallest_resolved(rows: &[Row], which: Which) -> Vec<(f64, f64)> {
+    let mut pts: Vec<(f64, f64)> = rows
         .iter()
         .map(|r| (r.radius, r.ratio(which)))
         .filter(|(_, (ratio, err))| (1.0 - ratio).abs() > 100.0 * err && ratio.is_finite())
-        .map(|(r, (ratio, _))| (r.ln(), (1.0 - ratio).abs().ln()))
+        .map(|(r, (ratio, _))| (r, (1.0 - ratio).abs()))
         .collect();
-    let mut pts = pts;
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let pts: Vec<_> = pts.into_iter().take(FIT_POINTS).collect();
-    let n = pts.len();
-    if n < 3 {
-        return None;
-    }
-    let nf = n as f64;
-    let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / nf, pts.iter().map(|p| p.1).sum::<f64>() / nf);
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let slope = sxy / sxx;
-    let resid: f64 = pts.iter().map(|p| (p.1 - my - slope * (p.0 - mx)).powi(2)).sum();
-    let std_error = (resid / (nf - 2.0) / sxx).sqrt();
-    Some(Order { order: slope, std_error, points: n })
+    pts.truncate(FIT_POINTS);
+    pts
 }
 
 /// |1 − ratio| = R (a + b ln(1/R)): the intercept a and the logarithmic
@@ -103,29 +131,10 @@ pub fn fit_order(rows: &[Row], which: Which) -> Option<Order> {
 /// relative; on the leading R dϑ that is ∫_R^1 (R/ϑ) R dϑ = R² ln(1/R),
 /// i.e. R ln(1/R) relative.
 pub fn fit_log_term(rows: &[Row], which: Which) -> Option<(f64, f64, f64, f64)> {
-    let mut pts: Vec<(f64, f64)> = rows
-        .iter()
-        .map(|r| (r.radius, r.ratio(which)))
-        .filter(|(_, (ratio, err))| (1.0 - ratio).abs() > 100.0 * err && ratio.is_finite())
-        .map(|(r, (ratio, _))| ((1.0 / r).ln(), (1.0 - ratio).abs() / r))
-        .collect();
-    pts.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let pts: Vec<_> = pts.into_iter().take(FIT_POINTS).collect();
-    let n = pts.len();
-    if n < 3 {
-        return None;
-    }
-    let nf = n as f64;
-    let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / nf, pts.iter().map(|p| p.1).sum::<f64>() / nf);
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let b = sxy / sxx;
-    let a = my - b * mx;
-    let resid: f64 = pts.iter().map(|p| (p.1 - a - b * p.0).powi(2)).sum();
-    let var = resid / (nf - 2.0);
-    let b_err = (var / sxx).sqrt();
-    let a_err = (var * (1.0 / nf + mx * mx / sxx)).sqrt();
-    Some((a, a_err, b, b_err))
+    let pts: Vec<(f64, f64)> =
+        smallest_resolved(rows, which).into_iter().map(|(r, d)| ((1.0 / r).ln(), d / r)).collect();
+    let line = Line::fit(&pts)?;
+    Some((line.intercept, line.intercept_error, line.slope, line.slope_error))
 }
 
 /// Plain-text table of a sweep with the fitted orders.

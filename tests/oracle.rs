@@ -336,3 +336,51 @@ fn order_one_remainder_has_a_log_term() {
     let (a, _, b, be) = fit_log_term(&rows, Which::Eq23).unwrap();
     assert!(b.abs() < 3.0 * be + 1e-3 * a.abs(), "order 0: b = {b} ± {be}, a = {a}");
 }
+
+/// Hard cases of the single-scattered field (~40 s in release): a
+/// strongly forward phase function (g = 0.99, whose f² peak of width
+/// 1 − g = R makes the R → 0 form far off at R = 0.01: ratio ≈ 0.13) and
+/// R = 10⁻¹⁰ (ratio within 10⁻⁸ of 1): converged, every bar within the
+/// goal, nothing NaN. The slower ones (g = −0.99, σ_ext = 50: ~35–45 s
+/// each) are in `order_one_slow_hard_cases`, ignored by default.
+#[test]
+fn order_one_hard_cases() {
+    let mut hg = scene("point-isotropic-order1");
+    hg.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g: 0.99 };
+    let r = oracle(&hg);
+    assert_order_one_sane(&r, "g = 0.99");
+    let ratio = r.corr23.ratio.unwrap();
+    assert!(ratio > 0.05 && ratio < 0.5, "g = 0.99: ratio {ratio}");
+    let r = oracle(&with_radius(scene("point-isotropic-order1"), 1e-10));
+    assert_order_one_sane(&r, "R = 1e-10");
+    for c in [&r.corr23, &r.corr24] {
+        assert!((1.0 - c.ratio.unwrap()).abs() < 1e-8, "R = 1e-10: ratio {:?}", c.ratio);
+    }
+}
+
+/// `cargo test --release --test oracle -- --ignored order_one_slow_hard_cases` (~80 s).
+#[test]
+#[ignore]
+fn order_one_slow_hard_cases() {
+    let mut hg = scene("point-isotropic-order1");
+    hg.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g: -0.99 };
+    assert_order_one_sane(&oracle(&hg), "g = -0.99");
+    let mut dense = scene("point-isotropic-order1");
+    dense.medium.sigma_ext = 50.0;
+    assert_order_one_sane(&oracle(&dense), "sigma_ext = 50");
+}
+
+fn assert_order_one_sane(r: &Report, what: &str) {
+    for (label, v, e) in [
+        ("mean", r.mean_luminance.value, r.mean_luminance.error),
+        ("corr23", r.corr23.exact.value, r.corr23.exact.error),
+        ("corr24", r.corr24.exact.value, r.corr24.exact.error),
+        ("variance", r.variance.exact.value, r.variance.exact.error),
+    ] {
+        assert!(v.is_finite() && v > 0.0 && e.is_finite() && e <= r.rel_tol * v, "{what}: {label} {v} ± {e}");
+    }
+    for c in [&r.corr23, &r.corr24] {
+        let ratio = c.ratio.unwrap();
+        assert!(ratio > 0.0 && ratio <= 1.0, "{what}: ratio {ratio}");
+    }
+}

@@ -131,10 +131,14 @@ impl<T: Real> Frame<T> {
 
 /// Angular distances graded by decades from `start` up to π/2.
 fn decades<T: Real>(start: &T) -> Vec<T> {
+    decades_below(start, &(start.pi() / start.lit(2.0)))
+}
+
+/// start, 10·start, 100·start, … below `limit` (at most 40).
+pub(crate) fn decades_below<T: Real>(start: &T, limit: &T) -> Vec<T> {
     let mut v = Vec::new();
     let mut d = start.clone();
-    let top = start.pi() / start.lit(2.0);
-    while d < top && v.len() < 40 {
+    while d < *limit && v.len() < 40 && d > start.lit(0.0) {
         v.push(d.clone());
         d = d * start.lit(10.0);
     }

@@ -124,13 +124,7 @@ pub fn exact<T: CheckRule>(field: &Field<T>, r: &T, which: Which, opts: &Options
             let e = one_term(field, c, r, which, forward, &lo, hi.as_ref(), opts)?;
             total = Some(match total {
                 None => e,
-                Some(t) => Estimate {
-                    value: t.value + e.value,
-                    error: t.error + e.error,
-                    evaluations: t.evaluations + e.evaluations,
-                    check_value: t.check_value + e.check_value,
-                    ..t
-                },
+                Some(t) => t.plus(e),
             });
         }
     }
@@ -138,13 +132,7 @@ pub fn exact<T: CheckRule>(field: &Field<T>, r: &T, which: Which, opts: &Options
         let e = scattered_term(field, sc, r, which, opts)?;
         total = Some(match total {
             None => e,
-            Some(t) => Estimate {
-                value: t.value + e.value,
-                error: t.error + e.error,
-                evaluations: t.evaluations + e.evaluations,
-                check_value: t.check_value + e.check_value,
-                ..t
-            },
+            Some(t) => t.plus(e),
         });
     }
     total.ok_or_else(|| OracleError::Unsupported("the camera ray meets no light".into()))

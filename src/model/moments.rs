@@ -10,9 +10,13 @@
 //! - ⟨𝒞⟩(s)  = albedo Σ f(−μ) W           (paper (19), with the albedo it drops)
 //! - ⟨𝒞²⟩(s) = albedo² 𝓕/(πR²) Σ f(−μ)² W  (paper (20), likewise)
 //!
-//! summed over the field's delta components. Spheres lie along the camera ray
-//! with density (σ_ext/q) e^{−σ_ext s} and carry the weight q, so every
-//! single-sphere sum becomes ∫ … σ_ext e^{−σ_ext s} ds.
+//! summed over the field's delta components, plus, for single-scattered
+//! light, albedo ∫ f(−μ) L₁ dω and albedo² 𝓕/(πR²) ∫ f(−μ)² L₁ dω (angular
+//! integrals with bars, `scattered`, `angular`; the integrals along the ray
+//! are then nested, and ⟨𝒞⟩₁ comes from a per-pass Chebyshev table).
+//! Spheres lie along the camera ray with density (σ_ext/q) e^{−σ_ext s} and
+//! carry the weight q, so every single-sphere sum becomes
+//! ∫ … σ_ext e^{−σ_ext s} ds.
 
 use super::angular::{Direction, Features, Pole};
 use super::chebyshev::Piecewise;

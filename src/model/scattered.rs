@@ -18,7 +18,7 @@
 //! σr is σ r sin ψ sin(δ/2)/(cos(θ/2) cos(ψ/2)) ≥ 0, formed without
 //! cancellation. Derivation: `docs/model.md` §3a.
 
-use super::angular::{Features, Frame};
+use super::angular::{decades_below, Features, Frame};
 use super::chebyshev::Piecewise;
 use super::field::phase_eval;
 use crate::quad::{integrate, CheckRule, Domain, Options, Outcome};
@@ -146,18 +146,10 @@ impl<T: CheckRule> AtPoint<T> {
         // The phase function's peak at θ = 0 or θ = π.
         let (near_0, near_pi) = source_features(phase, psi);
         if let Some(w) = near_0 {
-            let mut d = w;
-            while d < pi {
-                cuts.push(d.clone() - psi.clone());
-                d = d * psi.lit(10.0);
-            }
+            cuts.extend(decades_below(&w, &pi).into_iter().map(|d| d - psi.clone()));
         }
         if let Some(w) = near_pi {
-            let mut d = w;
-            while d < pi {
-                cuts.push(span.clone() - d.clone());
-                d = d * psi.lit(10.0);
-            }
+            cuts.extend(decades_below(&w, &pi).into_iter().map(|d| span.clone() - d));
         }
         cuts.retain(|c| *c > psi.lit(0.0) && *c < span);
         let j_opts = Options { abs_tol: (opts.abs_tol / self.front.abs().to_f64()).min(f64::MAX), ..opts.clone() };
@@ -241,18 +233,10 @@ impl<T: CheckRule> AtPoint<T> {
         cuts.push(like.lit(1.0));
         let (near_0, near_pi) = source_features(phase, like);
         if let Some(w) = near_0 {
-            let mut v = w;
-            while v < pi {
-                cuts.push(v.clone());
-                v = v * like.lit(10.0);
-            }
+            cuts.extend(decades_below(&w, &pi));
         }
         if let Some(w) = near_pi {
-            let mut v = w;
-            while v < pi {
-                cuts.push(pi.clone() - v.clone());
-                v = v * like.lit(10.0);
-            }
+            cuts.extend(decades_below(&w, &pi).into_iter().map(|d| pi.clone() - d));
         }
         cuts.push(pi.clone());
         cuts.retain(|c| *c >= like.lit(0.0) && *c <= pi);

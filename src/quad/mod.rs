@@ -192,6 +192,18 @@ pub struct Estimate<T> {
 }
 
 impl<T: Real> Estimate<T> {
+    /// The sum of two independent estimates: values, bars, check values and
+    /// evaluations add.
+    pub fn plus(self, other: Estimate<T>) -> Estimate<T> {
+        Estimate {
+            value: self.value + other.value,
+            error: self.error + other.error,
+            evaluations: self.evaluations + other.evaluations,
+            check_value: self.check_value + other.check_value,
+            ..self
+        }
+    }
+
     /// A value obtained without quadrature (a closed form, a convergent
     /// series, an exact zero, a sum of known parts), with its bar and the
     /// evaluations it cost.

@@ -87,19 +87,7 @@ fn nested_pass<T: CheckRule, F: Fn(&T, &Options) -> Outcome<T> + Sync>(
     opts: &Options,
     inner: &Options,
 ) -> Outcome<T> {
-    integrate_samples(
-        &mut |x: &T| {
-            let e = f(x, inner).map_err(|fail| Failure {
-                reason: format!("inner integral at x = {:e}: {}", x.to_f64(), fail.reason),
-                best_guess: None,
-                error_estimate: None,
-                evaluations: fail.evaluations,
-            })?;
-            Ok(Sample { value: e.value, error: e.error, evaluations: e.evaluations })
-        },
-        domain,
-        opts,
-    )
+    integrate_samples(&mut |x: &T| as_sample(x, f(x, inner)), domain, opts)
 }
 
 /// One level of a nested integral *inside a pass* of [`integrate_nested`]:
@@ -126,17 +114,17 @@ pub fn integrate_within_pass<T: CheckRule, F: FnMut(&T, &Options) -> Outcome<T>>
         ..opts.clone()
     };
     let this = Options { cross_check: false, zero_guard: false, ..opts.clone() };
-    integrate_samples(
-        &mut |x: &T| {
-            let e = f(x, &inner).map_err(|fail| Failure {
-                reason: format!("inner integral at x = {:e}: {}", x.to_f64(), fail.reason),
-                best_guess: None,
-                error_estimate: None,
-                evaluations: fail.evaluations,
-            })?;
-            Ok(Sample { value: e.value, error: e.error, evaluations: e.evaluations })
-        },
-        domain,
-        &this,
-    )
+    integrate_samples(&mut |x: &T| as_sample(x, f(x, &inner)), domain, &this)
+}
+
+/// An inner integral's outcome as a sample of the outer integrand; a
+/// failure names the outer abscissa it happened at.
+fn as_sample<T: Real>(x: &T, inner: Outcome<T>) -> Result<Sample<T>, Failure<T>> {
+    let e = inner.map_err(|fail| Failure {
+        reason: format!("inner integral at x = {:e}: {}", x.to_f64(), fail.reason),
+        best_guess: None,
+        error_estimate: None,
+        evaluations: fail.evaluations,
+    })?;
+    Ok(Sample { value: e.value, error: e.error, evaluations: e.evaluations })
 }
