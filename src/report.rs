@@ -132,7 +132,7 @@ fn oracle_rows(s: &mut String) -> Result<(), String> {
     writeln!(s).unwrap();
     writeln!(s, "## The oracle on `scenes/point-isotropic-order1.toml` (orders 0 and 1)").unwrap();
     writeln!(s).unwrap();
-    writeln!(s, "The single-scattered field makes every sample along the camera ray an angular double integral of a quadrature (the source sin ψ·L₁, tabled per point by Chebyshev interpolation): (23), (24) and their R → 0 forms are 4-D, each level cross-checked by the independent pass. Default tolerance for such scenes: 1e−6 in f64. Target of issue 3: f64 under 10 s — **not met** (see the row). Where the time goes (perf): the table interpolant ~38 %, the engine's node mapping ~11 %, sin/exp ~20 %; per camera-ray point the check pass (Clenshaw–Curtis bisection) costs ~4× the tanh–sinh pass.").unwrap();
+    writeln!(s, "The single-scattered field makes every sample along the camera ray an angular double integral of a quadrature (the source sin ψ·L₁, tabled per point by Chebyshev interpolation): (23), (24) and their R → 0 forms are 4-D, each level cross-checked by the independent pass. Default tolerance for such scenes: 1e−6 in f64. Target of issue 3: f64 under 10 s — **not met** (see the row). Where the time goes (perf): the table interpolant ~38 %, the engine's node mapping ~11 %, sin/exp ~20 %; per camera-ray point the check pass (Clenshaw–Curtis bisection; the periodic trapezoidal rule for Λ away from w₀) still costs ~3.5× the tanh–sinh pass.").unwrap();
     oracle_bench_table(s, "point-isotropic-order1", &[Precision::F64])?;
     Ok(())
 }
