@@ -316,7 +316,7 @@ fn a_dark_pixel_is_said_to_be_dark_not_nan() {
     assert!(err.contains("albedo = 0") && err.contains("undefined"), "{err}");
 }
 
-/// Long (~3 min in release on two cores; run with
+/// Long (~2 min in release on two cores; run with
 /// `cargo test --release --test oracle -- --ignored order_one_remainder`):
 /// for single-scattered light, which is non-zero along the view direction,
 /// |1 − ratio| = R (a + b ln(1/R)) with b > 0, the logarithmic term the
@@ -328,7 +328,8 @@ fn a_dark_pixel_is_said_to_be_dark_not_nan() {
 fn order_one_remainder_has_a_log_term() {
     use mcrt_noise::model::correlations::Which;
     use mcrt_noise::sweep::{fit_log_term, sweep};
-    let radii = [1e-4, 1e-5, 1e-6, 1e-7];
+    // Radii where 1 − ratio is resolved at the default tolerance (> 100 bars).
+    let radii = [1e-1, 1e-2, 1e-3, 1e-4];
     let rows = sweep(&scene("point-isotropic-order1"), &radii).unwrap();
     let (_, _, b, be) = fit_log_term(&rows, Which::Eq23).unwrap();
     assert!(b > 10.0 * be && b > 0.0, "order 1: b = {b} ± {be}");
