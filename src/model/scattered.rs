@@ -47,7 +47,9 @@ pub struct Scattered<T> {
 /// Source tables per (x, rule, tolerance) and Λ(ϑ) per (x, ϑ, rule,
 /// tolerance), kept for the other quantities that meet the same nodes
 /// (the correlation integrals and their R → 0 forms share their s- and
-/// ϑ-breakpoints, so their rules' nodes coincide). Keys are f64 images;
+/// ϑ-breakpoints, so their rules' nodes coincide). A shared value is
+/// counted in `evaluations` at every use (deterministic counts, not the
+/// work actually done). Keys are f64 images;
 /// the exact arguments are stored and compared, so an MPFR collision is
 /// recomputed, never confused.
 #[derive(Debug, Clone)]
@@ -312,23 +314,25 @@ impl<T: CheckRule> AtPoint<T> {
         let key = (x.to_f64().to_bits(), opts.rule, opts.rel_tol.to_bits());
         let hit =
             shared.sources.lock().expect("no panic while holding the cache").get(&key).filter(|t| t.0 == *x).cloned();
-        let (entry, built) = match hit {
-            Some(t) => (t, 0),
+        let entry = match hit {
+            Some(t) => t,
             None => {
                 let table = self.source_table(sigma_ext, phase, opts.rel_tol, opts.rule)?;
-                let built = table.evaluations;
                 let t = Arc::new((x.clone(), table));
                 shared.sources.lock().expect("no panic while holding the cache").insert(key, t.clone());
-                (t, built)
+                t
             }
         };
+        // Shared work is counted at every use, so that the counts, like the
+        // values, do not depend on which quantity (thread) computed it first.
+        let built = entry.1.evaluations;
         let table = &entry.1;
         let l1 = |psi: &T, psi_c: &T, sin_psi: &T| table.radiance(psi, psi_c, sin_psi);
         let lam = |theta: &T, theta_c: &T, o: &Options| -> Outcome<T> {
             let key = (x.to_f64().to_bits(), theta.to_f64().to_bits(), o.rule, o.rel_tol.to_bits());
             if let Some((kx, kt, e)) = shared.lambdas.lock().expect("no panic while holding the cache").get(&key) {
                 if kx == x && kt == theta {
-                    return Ok(Estimate { evaluations: 0, ..e.clone() });
+                    return Ok(e.clone());
                 }
             }
             let e = self.frame.azimuthal(theta, theta_c, features, &l1, &Options { abs_tol: 0.0, ..o.clone() })?;
