@@ -2,9 +2,17 @@
 //!
 //! The single-scattered radiance of a point light at x, L₁(x, v), depends on
 //! the direction v only through its angle ψ to w₀ = (x − y)/|x − y| (light y
-//! to x), and is singular there like 1/ψ. Every angular integral of the
-//! model is therefore taken in polar coordinates (ψ, χ) about w₀, where
-//! dω = sin ψ dψ dχ cancels the singularity:
+//! to x), and is singular there like 1/ψ. Two independent frames compute
+//! ∫ L₁ g dω for a g of μ = u·v alone:
+//!
+//! - [`Frame::around`] with the source's ψ-integral (`scattered`): polar
+//!   coordinates (ψ, χ) about w₀, where dω = sin ψ dψ dχ cancels the
+//!   singularity (below); used where g is cheap (⟨𝒞⟩, ⟨𝒞²⟩);
+//! - [`Frame::view_integral`]: polar coordinates (ϑ, φ) about u, g once per
+//!   ϑ and Λ(ϑ) = ∫ L₁ dφ, which has a logarithmic singularity at ϑ = ψ_u;
+//!   used where g is costly (the separation integral) or singular (1/sin ϑ).
+//!
+//! In the frame about w₀:
 //!
 //! ∫ L₁ g dω = ∫₀^π [sin ψ · L₁(ψ)] · [∫₀^{2π} g(v(ψ, χ)) dχ] dψ.
 //!

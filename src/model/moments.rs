@@ -130,7 +130,7 @@ pub fn second_moment_estimate<T: CheckRule>(field: &Field<T>, x: &T, r: &T, opts
 /// table, built once per (rule, tolerance) and shared (the mean luminance,
 /// P and Q need ⟨𝒞⟩ at thousands of points; each value is an angular
 /// integral). Covers x from the camera to the last ray breakpoint plus
-/// [`tail_lengths`] decay lengths; pieces at the ray breakpoints and 1, 4,
+/// `tail_lengths` decay lengths; pieces at the ray breakpoints and 1, 4,
 /// 16, … decay lengths. The table interpolates ln c₁, so the attenuated tail
 /// keeps its relative accuracy. Each pass builds its own with its own rule, so the passes stay
 /// independent.
