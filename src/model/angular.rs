@@ -153,6 +153,59 @@ pub(crate) fn decades_below<T: Real>(start: &T, limit: &T) -> Vec<T> {
     v
 }
 
+/// An integral over [0, π] taken as two halves, each in the variable that is
+/// exact where it is small: x ∈ [0, π/2] and x′ = π − x ∈ [0, π/2], so that
+/// neither end's neighbourhood is quantised by ulp(π). Cuts are given as
+/// distances from x = 0 or from x = π.
+struct Halves<T> {
+    near: Vec<T>,
+    far: Vec<T>,
+    half_pi: T,
+    pi: T,
+}
+
+impl<T: CheckRule> Halves<T> {
+    fn new(like: &T) -> Self {
+        let pi = like.pi();
+        Halves { near: Vec::new(), far: Vec::new(), half_pi: pi.clone() / like.lit(2.0), pi }
+    }
+
+    /// A cut at x = c.
+    fn cut_at(&mut self, c: T) {
+        if c < self.half_pi {
+            self.near.push(c)
+        } else {
+            self.far.push(self.pi.clone() - c)
+        }
+    }
+
+    /// A cut at x = π − c.
+    fn cut_before_pi(&mut self, c: T) {
+        if c < self.half_pi {
+            self.far.push(c)
+        } else {
+            self.near.push(self.pi.clone() - c)
+        }
+    }
+
+    /// ∫₀^π f(x, π − x) dx, each half with the options `each`.
+    fn integrate(self, f: &dyn Fn(&T, &T, &Options) -> Outcome<T>, each: &Options) -> Outcome<T> {
+        let Halves { near, far, half_pi, pi } = self;
+        let zero = pi.lit(0.0);
+        let first = integrate_within_pass(
+            |x: &T, o: &Options| f(x, &(pi.clone() - x.clone()), o),
+            &Domain::finite(zero.clone(), half_pi.clone()).with_breakpoints(near),
+            each,
+        )?;
+        let second = integrate_within_pass(
+            |x_c: &T, o: &Options| f(&(pi.clone() - x_c.clone()), x_c, o),
+            &Domain::finite(zero, half_pi).with_breakpoints(far),
+            each,
+        )?;
+        Ok(first.plus(second))
+    }
+}
+
 /// The graded start at a pole whose nearest point on the current circle is
 /// at angular distance `gap`: max(gap, floor, 10⁻²⁰).
 fn start_at<T: Real>(gap: &T, floor: &T) -> T {
@@ -169,18 +222,9 @@ impl<T: CheckRule> Frame<T> {
         opts: &Options,
     ) -> Outcome<T> {
         let zero = psi.lit(0.0);
-        let pi = psi.pi();
-        let half_pi = pi.clone() / psi.lit(2.0);
-        // Cuts measured from χ = 0 (`near`) and from χ = π (`far`), each
-        // kept in the variable that is exact where it is small.
-        let (mut near, mut far): (Vec<T>, Vec<T>) = (Vec::new(), Vec::new());
-        let mut from_0 = |c: T| {
-            if c < half_pi {
-                near.push(c)
-            } else {
-                far.push(pi.clone() - c)
-            }
-        };
+        // Cuts measured from χ = 0 and from χ = π, each kept in the variable
+        // that is exact where it is small.
+        let mut halves = Halves::new(psi);
         // Near +u (χ = 0): the circle passes at distance |ψ − ψ_u|.
         let mut plus = Vec::new();
         if let Some(floor) = &features.plus.floor {
@@ -190,7 +234,7 @@ impl<T: CheckRule> Frame<T> {
         plus.extend(features.plus.marks.iter().cloned());
         for theta in plus {
             if let Some(c) = self.chi_at(psi, &self.psi_u, &theta) {
-                from_0(c);
+                halves.cut_at(c);
             }
         }
         if features.equator_jump {
@@ -199,7 +243,7 @@ impl<T: CheckRule> Frame<T> {
             if den > zero {
                 let c = -(psi.cos() * self.cos_u.clone()) / den;
                 if c > psi.lit(-1.0) && c < psi.lit(1.0) {
-                    from_0(c.acos());
+                    halves.cut_at(c.acos());
                 }
             }
         }
@@ -212,32 +256,13 @@ impl<T: CheckRule> Frame<T> {
         minus.extend(features.minus.marks.iter().cloned());
         for theta in minus {
             if let Some(c) = self.chi_at(psi, &self.psi_mirror, &theta) {
-                if c < half_pi {
-                    far.push(c);
-                } else {
-                    near.push(pi.clone() - c);
-                }
+                halves.cut_before_pi(c);
             }
         }
-        // Two halves, each in its exact variable: χ ∈ [0, π/2] and
-        // χ' = π − χ ∈ [0, π/2].
-        let first = integrate_within_pass(
-            |chi: &T, inner: &Options| g(&self.direction(psi, chi, &(pi.clone() - chi.clone())), inner),
-            &Domain::finite(zero.clone(), half_pi.clone()).with_breakpoints(near),
-            &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() },
-        )?;
-        let second = integrate_within_pass(
-            |chi_c: &T, inner: &Options| g(&self.direction(psi, &(pi.clone() - chi_c.clone()), chi_c), inner),
-            &Domain::finite(zero.clone(), half_pi).with_breakpoints(far),
-            &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() },
-        )?;
+        let f = |chi: &T, chi_c: &T, o: &Options| g(&self.direction(psi, chi, chi_c), o);
+        let e = halves.integrate(&f, &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() })?;
         let two = psi.lit(2.0);
-        Ok(Estimate {
-            value: (first.value + second.value) * two.clone(),
-            error: (first.error + second.error) * two,
-            evaluations: first.evaluations + second.evaluations,
-            ..first
-        })
+        Ok(Estimate { value: e.value * two.clone(), error: e.error * two, ..e })
     }
 
     /// Breakpoints in ψ ∈ (0, π) for g's features and the source's.
@@ -311,24 +336,11 @@ impl<T: CheckRule> Frame<T> {
     ///   ∫₀^π g(ϑ) [sin ϑ] Λ(ϑ) dϑ,   Λ(ϑ) = ∫₀^{2π} L₁(ψ(ϑ, φ)) dφ,
     ///
     /// ψ the angle to w₀ (at ϑ = ψ_u, φ = 0):
-    /// sin²(ψ/2) = sin²((ϑ − ψ_u)/2) + sin ϑ sin ψ_u sin²(φ/2). `l1` gives
-    /// L₁ from (ψ, π − ψ, sin ψ). Λ has a logarithmic singularity at
-    /// ϑ = ψ_u (L₁ ~ 1/ψ): breakpoint there, graded by decades.
+    /// sin²(ψ/2) = sin²((ϑ − ψ_u)/2) + sin ϑ sin ψ_u sin²(φ/2). `lam` gives
+    /// Λ from (ϑ, π − ϑ) and its options ([`Frame::azimuthal`], possibly
+    /// through a cache). Λ has a logarithmic singularity at ϑ = ψ_u
+    /// (L₁ ~ 1/ψ): breakpoint there.
     pub fn view_integral(
-        &self,
-        features: &Features<T>,
-        measure: Measure,
-        g: &(dyn Fn(&Direction<T>, &Options) -> Outcome<T> + Sync),
-        l1: &(dyn Fn(&T, &T, &T) -> T + Sync),
-        opts: &Options,
-    ) -> Outcome<T> {
-        let lam = |theta: &T, theta_c: &T, o: &Options| self.azimuthal(theta, theta_c, features, l1, o);
-        self.view_with(features, measure, g, &lam, opts)
-    }
-
-    /// The ϑ-integral of [`Frame::view_integral`] with Λ(ϑ) from `lam`
-    /// (given ϑ, π − ϑ and the options for Λ).
-    pub fn view_with(
         &self,
         features: &Features<T>,
         measure: Measure,
@@ -338,38 +350,23 @@ impl<T: CheckRule> Frame<T> {
     ) -> Outcome<T> {
         let like = &self.psi_u;
         let zero = like.lit(0.0);
-        let pi = like.pi();
-        let half_pi = pi.clone() / like.lit(2.0);
-        // Breakpoints in ϑ, split into the halves [0, π/2] (ϑ) and
+        // Breakpoints in ϑ, kept in the halves [0, π/2] (ϑ) and
         // [0, π/2] (ϑ′ = π − ϑ).
+        let mut halves = Halves::new(like);
         // Λ's logarithmic singularity at ψ_u, and ±0.1 around it (a piece
         // whose far end is not singular eases the check rule's bisection).
         let tenth = like.lit(0.1);
-        let mut cuts: Vec<T> = vec![self.psi_u.clone(), self.psi_u.clone() - tenth.clone(), self.psi_u.clone() + tenth];
-        let mut cuts_c: Vec<T> = Vec::new();
+        for c in [self.psi_u.clone(), self.psi_u.clone() - tenth.clone(), self.psi_u.clone() + tenth] {
+            halves.cut_at(c);
+        }
         if let Some(floor) = &features.plus.floor {
-            cuts.extend(decades(&floor.clone().max_of(like.lit(1e-20))));
+            decades(&floor.clone().max_of(like.lit(1e-20))).into_iter().for_each(|c| halves.cut_at(c));
         }
-        cuts.extend(features.plus.marks.iter().cloned());
+        features.plus.marks.iter().for_each(|c| halves.cut_at(c.clone()));
         if let Some(floor) = &features.minus.floor {
-            cuts_c.extend(decades(&floor.clone().max_of(like.lit(1e-20))));
+            decades(&floor.clone().max_of(like.lit(1e-20))).into_iter().for_each(|c| halves.cut_before_pi(c));
         }
-        cuts_c.extend(features.minus.marks.iter().cloned());
-        let (mut near, mut far) = (Vec::new(), Vec::new());
-        for c in cuts {
-            if c > zero && c < half_pi {
-                near.push(c);
-            } else if c > half_pi && c < pi {
-                far.push(pi.clone() - c);
-            }
-        }
-        for c in cuts_c {
-            if c > zero && c < half_pi {
-                far.push(c);
-            } else if c > half_pi && c < pi {
-                near.push(pi.clone() - c);
-            }
-        }
+        features.minus.marks.iter().for_each(|c| halves.cut_before_pi(c.clone()));
         let sample = |theta: &T, theta_c: &T, inner: &Options| -> Outcome<T> {
             let dir = view_direction(theta, theta_c);
             let gv = g(&dir, &Options { abs_tol: 0.0, ..inner.clone() })?;
@@ -387,23 +384,7 @@ impl<T: CheckRule> Frame<T> {
             let error = gw.abs() * lam.error.clone() + (gv.error * w).abs() * lam.value.abs();
             Ok(Estimate::known(value, error, gv.evaluations + lam.evaluations, inner.rule))
         };
-        let half = Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() };
-        let first = integrate_within_pass(
-            |theta: &T, inner: &Options| sample(theta, &(pi.clone() - theta.clone()), inner),
-            &Domain::finite(zero.clone(), half_pi.clone()).with_breakpoints(near),
-            &half,
-        )?;
-        let second = integrate_within_pass(
-            |theta_c: &T, inner: &Options| sample(&(pi.clone() - theta_c.clone()), theta_c, inner),
-            &Domain::finite(zero.clone(), half_pi).with_breakpoints(far),
-            &half,
-        )?;
-        Ok(Estimate {
-            value: first.value + second.value,
-            error: first.error + second.error,
-            evaluations: first.evaluations + second.evaluations,
-            ..first
-        })
+        halves.integrate(&sample, &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() })
     }
 
     /// Λ(ϑ) = 2∫₀^π L₁ dφ, in φ up to π/2 and in φ′ = π − φ beyond; graded
@@ -419,7 +400,6 @@ impl<T: CheckRule> Frame<T> {
     ) -> Outcome<T> {
         let zero = theta.lit(0.0);
         let pi = theta.pi();
-        let half_pi = pi.clone() / theta.lit(2.0);
         let two = theta.lit(2.0);
         let sq = |a: T| {
             let s = (a / two.clone()).sin();
@@ -483,39 +463,11 @@ impl<T: CheckRule> Frame<T> {
             )?;
             return Ok(Estimate { value: e.value * two.clone(), error: e.error * two.clone(), ..e });
         }
-        let (mut near_half, mut far_half) = (Vec::new(), Vec::new());
-        for c in near {
-            if c < half_pi {
-                near_half.push(c)
-            } else {
-                far_half.push(pi.clone() - c)
-            }
-        }
-        for c in far {
-            if c < half_pi {
-                far_half.push(c)
-            } else {
-                near_half.push(pi.clone() - c)
-            }
-        }
-        let half = Options { abs_tol: opts.abs_tol / 4.0, ..opts.clone() };
-        let first = integrate_within_pass(
-            |phi: &T, o: &Options| plain(phi, &(pi.clone() - phi.clone()), o),
-            &Domain::finite(zero.clone(), half_pi.clone()).with_breakpoints(near_half),
-            &half,
-        )?;
-        let second = integrate_within_pass(
-            |phi_c: &T, o: &Options| plain(&(pi.clone() - phi_c.clone()), phi_c, o),
-            &Domain::finite(zero.clone(), half_pi).with_breakpoints(far_half),
-            &half,
-        )?;
-        let two = theta.lit(2.0);
-        Ok(Estimate {
-            value: (first.value + second.value) * two.clone(),
-            error: (first.error + second.error) * two,
-            evaluations: first.evaluations + second.evaluations,
-            ..first
-        })
+        let mut halves = Halves::new(theta);
+        near.into_iter().for_each(|c| halves.cut_at(c));
+        far.into_iter().for_each(|c| halves.cut_before_pi(c));
+        let e = halves.integrate(&plain, &Options { abs_tol: opts.abs_tol / 4.0, ..opts.clone() })?;
+        Ok(Estimate { value: e.value * two.clone(), error: e.error * two, ..e })
     }
 }
 

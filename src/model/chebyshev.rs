@@ -20,7 +20,7 @@
 //! (times 1.01 for e^δ − 1), so that any integral of the interpolant
 //! against a non-negative weight carries the relative error ρ.
 
-use crate::quad::{Failure, Outcome};
+use crate::quad::{Failure, Options, Outcome, Rule};
 use crate::real::Real;
 
 /// One piece: interpolation data on [a, b].
@@ -44,13 +44,31 @@ pub struct Piecewise<T> {
 }
 
 const ORDERS: [usize; 2] = [16, 32];
+
+/// Options for computing the samples of a table built to `rel_tol` with
+/// the rule `rule`: a fortieth of the tolerance (at least 64 ulps),
+/// relative only, no cross-check of their own (the table belongs to one
+/// pass; the other pass builds its own with the other rule).
+pub fn sample_options<T: Real>(like: &T, rel_tol: f64, rule: Rule) -> Options {
+    Options {
+        rel_tol: (rel_tol / 40.0).max(64.0 * like.eps().to_f64()),
+        abs_tol: 0.0,
+        rule,
+        cross_check: false,
+        zero_guard: false,
+        ..Options::rel(rel_tol).declared()
+    }
+}
 const MAX_PIECES: usize = 400;
 
 impl<T: Real> Piecewise<T> {
     /// Interpolates f (value with bar) over the pieces between consecutive
-    /// `cuts` (sorted, first and last are the ends) to relative tolerance
-    /// `rel_tol`.
+    /// `cuts` (in any order, repeats allowed; the smallest and largest are
+    /// the ends) to relative tolerance `rel_tol`.
     pub fn build(mut f: impl FnMut(&T) -> Outcome<T>, cuts: &[T], rel_tol: f64) -> Result<Self, Failure<T>> {
+        let mut cuts = cuts.to_vec();
+        cuts.sort_by(|a, b| a.partial_cmp(b).expect("finite cuts"));
+        cuts.dedup_by(|a, b| a == b);
         let mut todo: Vec<(T, T)> =
             cuts.windows(2).filter(|w| w[0] < w[1]).map(|w| (w[0].clone(), w[1].clone())).collect();
         todo.reverse();
@@ -204,7 +222,7 @@ fn coefficients<T: Real>(values: &[T]) -> Vec<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::quad::{Estimate, Rule};
+    use crate::quad::Estimate;
 
     fn known(v: f64) -> Outcome<f64> {
         Ok(Estimate::known(v, 0.0, 1, Rule::TanhSinh))

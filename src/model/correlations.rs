@@ -198,7 +198,7 @@ fn scattered_term<T: CheckRule>(
             let at = sc.at(x, &sigma, &field.sigma_sc);
             let o = Options { abs_tol: (inner.abs_tol / outer.to_f64()).min(f64::MAX), ..inner.clone() };
             let features = pair_features(field, r, &s_abs);
-            let e = at.view_shared(&sc.shared, x, &sigma, &field.phase, &features, Measure::Solid, &g, &o)?;
+            let e = at.view_shared(&sc.shared, &sigma, &field.phase, &features, Measure::Solid, &g, &o)?;
             Ok(Estimate::known(outer.clone() * e.value, outer * e.error, e.evaluations, inner.rule))
         },
         &ray_domain(field, &x0, None),
@@ -462,7 +462,7 @@ pub fn asymptotic<T: CheckRule>(
                 let at = sc.at(x, &sigma, &field.sigma_sc);
                 // The pair integrals' breakpoints, so that Λ is shared with them.
                 let features = pair_features(field, r, &field.s_of(x));
-                let part = at.view_shared(&sc.shared, x, &sigma, &field.phase, &features, Measure::Planar, &g, &o)?;
+                let part = at.view_shared(&sc.shared, &sigma, &field.phase, &features, Measure::Planar, &g, &o)?;
                 e.value = e.value + part.value;
                 e.error = e.error + part.error;
                 e.evaluations += part.evaluations;

@@ -19,12 +19,13 @@
 //! ∫ … σ_ext e^{−σ_ext s} ds.
 
 use super::angular::{Direction, Features, Pole};
-use super::chebyshev::Piecewise;
+use super::chebyshev::{sample_options, Piecewise};
 use super::field::Field;
 use super::scattered::source_features;
 use super::OracleError;
 use crate::quad::{
-    integrate, integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Failure, Options, Outcome, Rule,
+    decay_lengths, integrate, integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Failure, Options,
+    Outcome, Rule,
 };
 use crate::real::Real;
 use std::collections::HashMap;
@@ -130,8 +131,8 @@ pub fn second_moment_estimate<T: CheckRule>(field: &Field<T>, x: &T, r: &T, opts
 /// table, built once per (rule, tolerance) and shared (the mean luminance,
 /// P and Q need ⟨𝒞⟩ at thousands of points; each value is an angular
 /// integral). Covers x from the camera to the last ray breakpoint plus
-/// `tail_lengths` decay lengths; pieces at the ray breakpoints and 1, 4,
-/// 16, … decay lengths. The table interpolates ln c₁, so the attenuated tail
+/// 4^K decay lengths (`table_range`); pieces at the ray breakpoints and 1,
+/// 4, 16, … decay lengths. The table interpolates ln c₁, so the attenuated tail
 /// keeps its relative accuracy. Each pass builds its own with its own rule, so the passes stay
 /// independent.
 pub fn scattered_mean_table<T: CheckRule>(
@@ -147,52 +148,28 @@ pub fn scattered_mean_table<T: CheckRule>(
     let mut cuts: Vec<T> =
         ray_domain(field, &lo, None).breakpoints.into_iter().filter(|b| *b > lo && *b < end).collect();
     let last = cuts.iter().cloned().fold(lo.clone(), |m, b| m.max_of(b));
-    let mut k = 1.0;
-    while k < tail_lengths(&lo) {
-        // The engine's cuts of a decaying tail: 1, 4, 16, … decay lengths.
-        let c = last.clone() + lo.lit(k) / field.sigma_ext.clone();
-        if c < end {
-            cuts.push(c);
-        }
-        k *= 4.0;
+    // The engine's cuts of a decaying tail (the last of them is `end`).
+    for k in decay_lengths(&lo) {
+        cuts.push(last.clone() + lo.lit(k) / field.sigma_ext.clone());
     }
     cuts.push(lo.clone());
     cuts.push(end);
-    cuts.sort_by(|a, b| a.partial_cmp(b).expect("finite cuts"));
-    cuts.dedup_by(|a, b| a == b);
-    let opts = Options {
-        rel_tol: (rel_tol / 40.0).max(64.0 * lo.eps().to_f64()),
-        abs_tol: 0.0,
-        rule,
-        cross_check: false,
-        zero_guard: false,
-        ..Options::rel(rel_tol).declared()
-    };
+    let opts = sample_options(&lo, rel_tol, rule);
     let table = Piecewise::build(|x: &T| scattered_mean(field, x, &opts), &cuts, rel_tol / 4.0)?;
     let table = Arc::new(table);
     field.tables.lock().expect("no panic while holding the tables").insert(key, table.clone());
     Ok(table)
 }
 
-/// Decay lengths past the last ray breakpoint covered by the table: the
-/// smallest 4^K with e^{−4^K} below eps², the cut the engine makes in a
-/// declared decaying tail (`quad::with_decay_lengths`); past it the
-/// integrand is below anything a goal can see, and the few values needed
-/// there are computed directly.
-fn tail_lengths<T: Real>(like: &T) -> f64 {
-    let needed = 2.0 * like.prec() as f64 * std::f64::consts::LN_2;
-    let mut length = 1.0;
-    while length < needed {
-        length *= 4.0;
-    }
-    length
-}
-
-/// [x_camera, last ray breakpoint + tail_lengths/σ]: where the table is used.
+/// [x_camera, last ray breakpoint + 4^K/σ]: where the table is used, the
+/// last of the engine's cuts of a decaying tail (`quad::decay_lengths`);
+/// past it the integrand is below anything a goal can see, and the few
+/// values needed there are bounded (`scattered_mean_bound`).
 fn table_range<T: Real>(field: &Field<T>) -> (T, T) {
     let lo = field.x_camera();
     let last = ray_domain(field, &lo, None).breakpoints.iter().cloned().fold(lo.clone(), |m, b| m.max_of(b));
-    let end = last + lo.lit(tail_lengths(&lo)) / field.sigma_ext.clone();
+    let longest = *decay_lengths(&lo).last().expect("non-empty");
+    let end = last + lo.lit(longest) / field.sigma_ext.clone();
     (lo, end)
 }
 

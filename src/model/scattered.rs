@@ -19,7 +19,7 @@
 //! cancellation. Derivation: `docs/model.md` §3a.
 
 use super::angular::{decades_below, Features, Frame};
-use super::chebyshev::Piecewise;
+use super::chebyshev::{sample_options, Piecewise};
 use super::field::phase_eval;
 use crate::quad::{integrate, CheckRule, Domain, Options, Outcome};
 use crate::quad::{Estimate, Rule};
@@ -71,6 +71,8 @@ type LambdaEntry<T> = (T, T, Estimate<T>);
 /// constants of sin ψ·L₁.
 #[derive(Debug, Clone)]
 pub struct AtPoint<T> {
+    /// The camera-ray point (integration variable x, s = center + x).
+    pub x: T,
     pub frame: Frame<T>,
     /// r = |x − y|.
     pub r: T,
@@ -87,7 +89,7 @@ impl<T: Real> Scattered<T> {
         let frame = Frame::new(dx / r.clone(), self.d.clone() / r.clone());
         let front = sigma_sc.clone() * self.flux.clone() * (self.shift.clone() - sigma_ext.clone() * r.clone()).exp()
             / (r.pi() * r.lit(4.0) * r.clone());
-        AtPoint { frame, r, front }
+        AtPoint { x: x.clone(), frame, r, front }
     }
 
     /// Breakpoints along the camera ray: those of the light's uncollided
@@ -242,16 +244,7 @@ impl<T: CheckRule> AtPoint<T> {
         }
         cuts.push(pi.clone());
         cuts.retain(|c| *c >= like.lit(0.0) && *c <= pi);
-        cuts.sort_by(|a, b| a.partial_cmp(b).expect("finite cuts"));
-        cuts.dedup_by(|a, b| a == b);
-        let opts = Options {
-            rel_tol: (rel_tol / 40.0).max(64.0 * like.eps().to_f64()),
-            abs_tol: 0.0,
-            rule,
-            cross_check: false,
-            zero_guard: false,
-            ..Options::rel(rel_tol).declared()
-        };
+        let opts = sample_options(like, rel_tol, rule);
         let interp = Piecewise::build(
             |psi: &T| {
                 let e = self.source(psi, sigma_ext, phase, &opts)?;
@@ -269,8 +262,8 @@ impl<T: CheckRule> AtPoint<T> {
     /// ∫ g(ϑ) L₁ dω (`Measure::Solid`) or ∫ g L₁ dω/sin ϑ (`Planar`) for a g
     /// of the polar angle ϑ about the view direction alone, in the frame
     /// about u (`Frame::view_integral`) with L₁ from a [`SourceTable`] built
-    /// to the options' tolerance with their rule. The table's relative error
-    /// is added to the bar (L₁ ≥ 0 and g ≥ 0).
+    /// to the options' tolerance with their rule: [`AtPoint::view_shared`]
+    /// with tables of its own.
     pub fn view(
         &self,
         sigma_ext: &T,
@@ -280,11 +273,7 @@ impl<T: CheckRule> AtPoint<T> {
         g: &(dyn Fn(&super::angular::Direction<T>, &Options) -> Outcome<T> + Sync),
         opts: &Options,
     ) -> Outcome<T> {
-        let table = self.source_table(sigma_ext, phase, opts.rel_tol, opts.rule)?;
-        let l1 = |psi: &T, psi_c: &T, sin_psi: &T| table.radiance(psi, psi_c, sin_psi);
-        let e = self.frame.view_integral(features, measure, g, &l1, opts)?;
-        let error = e.error.clone() + e.value.abs() * table.rel_error.clone();
-        Ok(crate::quad::Estimate { error, evaluations: e.evaluations + table.evaluations, ..e })
+        self.view_shared(&Shared::default(), sigma_ext, phase, features, measure, g, opts)
     }
 }
 
@@ -303,7 +292,6 @@ impl<T: CheckRule> AtPoint<T> {
     pub fn view_shared(
         &self,
         shared: &Shared<T>,
-        x: &T,
         sigma_ext: &T,
         phase: &Phase,
         features: &Features<T>,
@@ -311,6 +299,7 @@ impl<T: CheckRule> AtPoint<T> {
         g: &(dyn Fn(&super::angular::Direction<T>, &Options) -> Outcome<T> + Sync),
         opts: &Options,
     ) -> Outcome<T> {
+        let x = &self.x;
         let key = (x.to_f64().to_bits(), opts.rule, opts.rel_tol.to_bits());
         let hit =
             shared.sources.lock().expect("no panic while holding the cache").get(&key).filter(|t| t.0 == *x).cloned();
@@ -343,7 +332,7 @@ impl<T: CheckRule> AtPoint<T> {
                 .insert(key, (x.clone(), theta.clone(), e.clone()));
             Ok(e)
         };
-        let e = self.frame.view_with(features, measure, g, &lam, opts)?;
+        let e = self.frame.view_integral(features, measure, g, &lam, opts)?;
         let error = e.error.clone() + e.value.abs() * table.rel_error.clone();
         Ok(Estimate { error, evaluations: e.evaluations + built, ..e })
     }

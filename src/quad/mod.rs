@@ -270,6 +270,17 @@ fn integrate_samples<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, 
     integrate_pieces(f, domain, opts)
 }
 
+/// The cuts of a decaying tail, in decay lengths: 1, 4, 16, … 4^K with
+/// e^{−4^K} below eps² at the precision of `like` (4^K > 2·prec·ln 2).
+pub(crate) fn decay_lengths<T: Real>(like: &T) -> Vec<f64> {
+    let needed = 2.0 * like.prec() as f64 * std::f64::consts::LN_2;
+    let mut lengths = vec![1.0f64];
+    while *lengths.last().expect("non-empty") < needed {
+        lengths.push(lengths.last().expect("non-empty") * 4.0);
+    }
+    lengths
+}
+
 /// For [lo, ∞) with a declared decay rate λ: breakpoints at b + 4^k/λ,
 /// k = 0 … K, beyond the last breakpoint b (or lo), with e^{−4^K} below the
 /// working precision squared. The content of the tail then lies in finite
@@ -284,17 +295,7 @@ fn with_decay_lengths<T: Real>(domain: &Domain<T>) -> Option<Domain<T>> {
         return None;
     }
     let b = split_tail(domain).unwrap_or_else(|| domain.lo.clone());
-    // e^{−2^K} < eps²: 2^K > 2·prec·ln 2.
-    let needed = 2.0 * domain.lo.prec() as f64 * std::f64::consts::LN_2;
-    let mut extra = Vec::new();
-    let mut length = 1.0f64;
-    loop {
-        extra.push(b.clone() + rate.lit(length) / rate.clone());
-        if length >= needed {
-            break;
-        }
-        length *= 4.0;
-    }
+    let extra: Vec<T> = decay_lengths(&domain.lo).into_iter().map(|k| b.clone() + rate.lit(k) / rate.clone()).collect();
     Some(domain.clone().with_breakpoints(extra))
 }
 
