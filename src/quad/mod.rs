@@ -19,9 +19,9 @@
 //! 3. **Primary rule:** tanh–sinh on each piece, refined level by level,
 //!    pieces bisected at a level cap, under global error control.
 //! 4. **Cross-check:** the same pieces integrated again by an unrelated rule
-//!    (f64: the `quadrature` crate's Clenshaw–Curtis, wrapped; MPFR:
-//!    Gauss–Legendre with nodes computed at the working precision), in a
-//!    smoothing substitution. The reported bar is max(e_p, |p − c| + e_c).
+//!    (adaptive Gauss–Legendre with nodes computed at the working
+//!    precision: 10 points and bisection in f64, prec/2 points against
+//!    prec/4 in MPFR), in a smoothing substitution. The reported bar is max(e_p, |p − c| + e_c).
 //! 5. **All-zero guard:** if every sample was exactly zero, no bound can be
 //!    given (the support may be narrower than the scan resolves): `Failure`.
 //!
@@ -90,8 +90,8 @@ pub enum Rule {
     /// Tanh–sinh, refined level by level (the default primary rule).
     #[default]
     TanhSinh,
-    /// Adaptive bisection of Clenshaw–Curtis (f64, `quadrature` crate) or
-    /// Gauss–Legendre (MPFR) in a smoothing substitution.
+    /// Adaptive bisection of Gauss–Legendre panels in a smoothing
+    /// substitution (`check` module).
     Check,
 }
 

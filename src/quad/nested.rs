@@ -7,7 +7,7 @@ use crate::real::Real;
 /// ∫ f over `domain` where f(x, inner_opts) is itself an integral (or any
 /// value with an error bar), computed with the options it is handed.
 ///
-/// Three passes. A coarse one (outer 10⁻³, inner 10⁻⁵, no cross-check) finds
+/// Three passes. A coarse one (outer 10⁻³, inner 10⁻⁴, no cross-check) finds
 /// the scale V₀ of the result. The primary pass (primary rule at every level)
 /// hands the inner integrals `rel_tol/10` (at least 64 ulps) *and* an
 /// absolute tolerance of `rel_tol·|V₀|/10`, so that inner integrals far out
@@ -24,7 +24,7 @@ pub fn integrate_nested<T: CheckRule, F: Fn(&T, &Options) -> Outcome<T> + Sync>(
 ) -> Outcome<T> {
     let coarse_outer = Options { rel_tol: opts.rel_tol.max(1e-3), cross_check: false, ..opts.clone() };
     let coarse_inner = Options {
-        rel_tol: opts.rel_tol.max(1e-5),
+        rel_tol: opts.rel_tol.max(1e-4),
         abs_tol: 0.0,
         cross_check: false,
         zero_guard: false,
