@@ -58,21 +58,30 @@ impl<T: CheckRule> Integrals<T> {
         let o = &opts;
         // Independent integrals, computed side by side (each is
         // deterministic, so the result does not depend on the threads).
-        let ((mean, m2), (p, q)) = rayon::join(
-            || rayon::join(|| moments::mean_luminance(field, o), || moments::m2(field, r, o)),
-            || rayon::join(|| moments::p_single(field, o), || moments::q_pair(field, o)),
-        );
-        let ((c23, c24), (c23_asym, c24_asym)) = rayon::join(
+        // One tree, so that the moments fill the time a thread would
+        // otherwise wait for the longest correlation pass; (23) before (24),
+        // so that (24) mostly finds the angular work of the same nodes done.
+        let (((c23, c24), (c23_asym, c24_asym)), ((mean, m2), (p, q))) = rayon::join(
             || {
                 rayon::join(
-                    || correlations::exact(field, r, Which::Eq23, o),
-                    || correlations::exact(field, r, Which::Eq24, o),
+                    || {
+                        rayon::join(
+                            || correlations::exact(field, r, Which::Eq23, o),
+                            || correlations::exact(field, r, Which::Eq24, o),
+                        )
+                    },
+                    || {
+                        rayon::join(
+                            || correlations::asymptotic(field, r, Which::Eq23, o),
+                            || correlations::asymptotic(field, r, Which::Eq24, o),
+                        )
+                    },
                 )
             },
             || {
                 rayon::join(
-                    || correlations::asymptotic(field, r, Which::Eq23, o),
-                    || correlations::asymptotic(field, r, Which::Eq24, o),
+                    || rayon::join(|| moments::mean_luminance(field, o), || moments::m2(field, r, o)),
+                    || rayon::join(|| moments::p_single(field, o), || moments::q_pair(field, o)),
                 )
             },
         );
