@@ -13,6 +13,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod accuracy;
+pub mod compare;
 pub mod kernel;
 pub mod model;
 pub mod oracle;

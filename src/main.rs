@@ -7,6 +7,8 @@ use mcrt_noise::scene::Scene;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+mod trace_cmd;
+
 #[derive(Parser)]
 #[command(
     name = "mcrt-noise",
@@ -63,6 +65,44 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Run the estimator many times (reference tracer): mean and variance of L with standard errors.
+    Trace {
+        scene: PathBuf,
+        /// A count M (trials 0..M) or a range A..B of trial indices.
+        #[arg(long)]
+        trials: String,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Worker threads (default: all cores). The numbers do not depend on it.
+        #[arg(long)]
+        threads: Option<usize>,
+        #[arg(long)]
+        json: bool,
+        /// Also write the run as a shard file for `merge`.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Merge shard files of one scene and seed over disjoint trial ranges (exact).
+    Merge {
+        shards: Vec<PathBuf>,
+        #[arg(long)]
+        json: bool,
+        /// Write the merged run as a shard file.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Oracle beside tracer for the mean and variance of L, with z-scores and a verdict.
+    Compare {
+        scene: PathBuf,
+        #[arg(long)]
+        trials: String,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[arg(long)]
+        threads: Option<usize>,
+        #[arg(long)]
+        json: bool,
+    },
     /// Regenerate docs/asymptotic-checks.md (and its SVG figures) from the bundled scenes.
     AsymptoticChecks {
         #[arg(long, default_value = "docs/asymptotic-checks.md")]
@@ -99,6 +139,13 @@ fn main() -> ExitCode {
             report::kernel_cli(&theta, &radius, &precision, rel_tol, bare)
         }
         Command::Sweep { scene, radii, json } => sweep(&scene, &radii, json),
+        Command::Trace { scene, trials, seed, threads, json, out } => {
+            load(&scene).and_then(|s| trace_cmd::trace_cmd(&s, &trials, seed, threads, json, out.as_deref()))
+        }
+        Command::Merge { shards, json, out } => trace_cmd::merge_cmd(&shards, json, out.as_deref()),
+        Command::Compare { scene, trials, seed, threads, json } => {
+            load(&scene).and_then(|s| trace_cmd::compare_cmd(&s, &trials, seed, threads, json))
+        }
         Command::AsymptoticChecks { out, scenes } => {
             let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
             write_or_print(mcrt_noise::sweep::asymptotic_checks_markdown(&scenes, &figures), Some(out))

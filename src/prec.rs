@@ -5,3 +5,23 @@ pub const F64_REL_TOL: f64 = 1e-13;
 /// Maximum f64 error of a special function, in units in the last place,
 /// over its whole domain (measured in `docs/accuracy.md`).
 pub const SPECIAL_MAX_ULPS: f64 = 4.0;
+
+/// Radius at which the oracle model's own error is measured against the
+/// tracer (`tests/tracer_vs_oracle.rs`, ignored test
+/// `model_error_at_the_reference_radius`).
+pub const MODEL_ERROR_RADIUS: f64 = 0.1;
+
+/// How the oracle model's own error (the small-sphere assumptions of §4.3:
+/// f and the attenuation taken at the sphere's centre, one segment through
+/// whole spheres) is carried from [`MODEL_ERROR_RADIUS`] to a smaller R:
+/// times R ln(1/R) / (R₀ ln(1/R₀)), the slowest decay derived or observed
+/// (single-scattered light has an R ln(1/R) term, `docs/asymptotic-checks.md`;
+/// order-0 errors measured O(R) and O(R²)). For R ≥ R₀ it is 1 (the
+/// measurement is not extrapolated upwards: callers keep R ≤ R₀).
+pub fn model_error_scale(radius: f64) -> f64 {
+    let r0 = MODEL_ERROR_RADIUS;
+    if radius >= r0 {
+        return 1.0;
+    }
+    radius * (1.0 / radius).ln() / (r0 * (1.0 / r0).ln())
+}

@@ -1,0 +1,155 @@
+//! The tracer's measurement beside the oracle's prediction: the `trace`
+//! report (mean and variance of L with standard errors, counters, speed)
+//! and the `compare` verdict (z-scores of mean and variance).
+//!
+//! z = (tracer − oracle)/√(se² + bar²), with se the tracer's standard error
+//! and bar the oracle's error bar. The oracle's model has its own O(R)
+//! error (the small-sphere assumptions of §4.3); `compare` reports z as it
+//! is, and the statistical tests (`tests/tracer_vs_oracle.rs`) state how
+//! they allow for that error.
+
+use crate::oracle::Report;
+use mcrt_reference::moments::{Summary, WithError};
+use mcrt_reference::{Counters, Run};
+use serde::Serialize;
+
+/// The JSON of `mcrt-noise trace`.
+#[derive(Debug, Clone, Serialize)]
+pub struct TraceReport {
+    pub seed: u64,
+    /// Trial ranges [start, end) covered.
+    pub trials: Vec<[u64; 2]>,
+    pub trial_count: u64,
+    pub mean: WithError,
+    pub variance: WithError,
+    pub counters: Counters,
+    pub wall_time_ms: f64,
+    pub trials_per_second: f64,
+    pub forward_segments_per_second: f64,
+}
+
+impl TraceReport {
+    /// The report of a run that took `wall_seconds` (0 for merged shards).
+    pub fn new(run: &Run, wall_seconds: f64) -> Result<TraceReport, String> {
+        let summary = run.summary().ok_or("fewer than 4 trials: the variance's error is not defined")?;
+        let per_second = |n: u64| if wall_seconds > 0.0 { n as f64 / wall_seconds } else { 0.0 };
+        Ok(TraceReport {
+            seed: run.seed,
+            trials: run.ranges.iter().map(|r| [r.start, r.end]).collect(),
+            trial_count: run.counters.trials,
+            mean: summary.mean,
+            variance: summary.variance,
+            counters: run.counters,
+            wall_time_ms: wall_seconds * 1e3,
+            trials_per_second: per_second(run.counters.trials),
+            forward_segments_per_second: per_second(run.counters.forward_segments),
+        })
+    }
+
+    /// A readable table.
+    pub fn table(&self) -> String {
+        let c = &self.counters;
+        let d = &c.draws;
+        format!(
+            "trials {}  seed {}\n\
+             mean L          {:.10e} ± {:.2e} (s.e.)\n\
+             Var L           {:.10e} ± {:.2e} (s.e., from the 4th moment)\n\
+             forward rays {}  segments {}  spheres {}  candidate tests {}  hits {}  HG evaluations {}\n\
+             draws: sub-step {}  extinction {}  light {}  emission dir {}  emission pos {}  free path {}  \
+             roulette {}  phase {}\n\
+             time {:.1} ms  ({:.3e} trials/s, {:.3e} segments/s)\n",
+            self.trial_count,
+            self.seed,
+            self.mean.value,
+            self.mean.se,
+            self.variance.value,
+            self.variance.se,
+            c.forward_rays,
+            c.forward_segments,
+            c.sphere_placements,
+            c.candidate_tests,
+            c.hits,
+            c.hg_evaluations,
+            d.sub_step,
+            d.extinction,
+            d.light_choice,
+            d.emission_direction,
+            d.emission_position,
+            d.free_path,
+            d.roulette,
+            d.phase,
+            self.wall_time_ms,
+            self.trials_per_second,
+            self.forward_segments_per_second,
+        )
+    }
+}
+
+/// One quantity, oracle beside tracer.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Side {
+    pub oracle: f64,
+    pub oracle_error: f64,
+    pub tracer: f64,
+    pub tracer_se: f64,
+    /// tracer/oracle.
+    pub ratio: f64,
+    /// (tracer − oracle)/√(se² + bar²).
+    pub z: f64,
+}
+
+impl Side {
+    pub fn new(oracle: f64, oracle_error: f64, tracer: WithError) -> Side {
+        let z = (tracer.value - oracle) / (tracer.se * tracer.se + oracle_error * oracle_error).sqrt();
+        Side { oracle, oracle_error, tracer: tracer.value, tracer_se: tracer.se, ratio: tracer.value / oracle, z }
+    }
+}
+
+/// The JSON of `mcrt-noise compare`.
+#[derive(Debug, Clone, Serialize)]
+pub struct Comparison {
+    pub trials: u64,
+    pub seed: u64,
+    pub mean: Side,
+    pub variance: Side,
+    /// |z| ≤ this for both quantities passes.
+    pub z_limit: f64,
+    pub pass: bool,
+    pub verdict: String,
+}
+
+/// |z| beyond this fails `compare` (two-sided 6·10⁻⁵ for a normal z).
+pub const Z_LIMIT: f64 = 4.0;
+
+impl Comparison {
+    pub fn new(oracle: &Report, tracer: &Summary, trials: u64, seed: u64) -> Comparison {
+        let mean = Side::new(oracle.mean_luminance.value, oracle.mean_luminance.error, tracer.mean);
+        let variance = Side::new(oracle.variance.exact.value, oracle.variance.exact.error, tracer.variance);
+        let pass = mean.z.abs() <= Z_LIMIT && variance.z.abs() <= Z_LIMIT;
+        let verdict = format!(
+            "{}: mean z = {:+.2}, variance z = {:+.2} (limit |z| <= {Z_LIMIT}; the oracle's O(R) model error is not \
+             included)",
+            if pass { "AGREE" } else { "DISAGREE" },
+            mean.z,
+            variance.z
+        );
+        Comparison { trials, seed, mean, variance, z_limit: Z_LIMIT, pass, verdict }
+    }
+
+    pub fn table(&self) -> String {
+        let row = |name: &str, s: &Side| {
+            format!(
+                "{name:<9} oracle {:.8e} ± {:.1e}   tracer {:.8e} ± {:.1e}   ratio {:.5}   z {:+.2}\n",
+                s.oracle, s.oracle_error, s.tracer, s.tracer_se, s.ratio, s.z
+            )
+        };
+        format!(
+            "trials {}  seed {}\n{}{}{}\n",
+            self.trials,
+            self.seed,
+            row("mean L", &self.mean),
+            row("Var L", &self.variance),
+            self.verdict
+        )
+    }
+}

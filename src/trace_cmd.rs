@@ -1,0 +1,117 @@
+//! The tracer's commands: `trace`, `merge`, `compare`.
+
+use indicatif::{ProgressBar, ProgressStyle};
+use mcrt_noise::compare::{Comparison, TraceReport};
+use mcrt_noise::oracle::Precision;
+use mcrt_noise::scene::Scene;
+use mcrt_reference::{merge, trace, HitMethod, Run, Shard, Tracer};
+use std::io::IsTerminal;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// `--trials M` (0..M) or `--trials A..B`.
+pub fn parse_trials(text: &str) -> Result<Range<u64>, String> {
+    let bad = || format!("--trials: \"{text}\" is neither a count M >= 4 nor a range A..B with A < B");
+    let range = match text.split_once("..") {
+        Some((a, b)) => a.trim().parse::<u64>().map_err(|_| bad())?..b.trim().parse::<u64>().map_err(|_| bad())?,
+        None => 0..text.trim().parse::<u64>().map_err(|_| bad())?,
+    };
+    if range.start >= range.end {
+        return Err(bad());
+    }
+    Ok(range)
+}
+
+/// Runs `f` on a pool of `threads` threads (all cores when `None`).
+fn with_threads<R: Send>(threads: Option<usize>, f: impl FnOnce() -> R + Send) -> Result<R, String> {
+    match threads {
+        None => Ok(f()),
+        Some(0) => Err("--threads: must be at least 1".into()),
+        Some(n) => {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(n).build().map_err(|e| e.to_string())?;
+            Ok(pool.install(f))
+        }
+    }
+}
+
+/// Traces the range with a progress bar on a terminal for long runs.
+fn traced(scene: &Scene, seed: u64, range: Range<u64>, threads: Option<usize>) -> Result<(Run, f64), String> {
+    let tracer = Tracer::new(scene).map_err(|e| e.to_string())?;
+    let total = range.end - range.start;
+    let bar = if std::io::stderr().is_terminal() && total >= 100_000 {
+        let bar = ProgressBar::new(total);
+        bar.set_style(
+            ProgressStyle::with_template("{bar:40} {pos}/{len} trials  {per_sec}  eta {eta}")
+                .map_err(|e| e.to_string())?,
+        );
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    let start = Instant::now();
+    let run = with_threads(threads, || trace(&tracer, seed, range, HitMethod::Sorted, &|n| bar.inc(n)))?;
+    bar.finish_and_clear();
+    Ok((run, start.elapsed().as_secs_f64()))
+}
+
+pub fn trace_cmd(
+    scene: &Scene,
+    trials: &str,
+    seed: u64,
+    threads: Option<usize>,
+    json: bool,
+    out: Option<&Path>,
+) -> Result<(), String> {
+    let range = parse_trials(trials)?;
+    let (run, seconds) = traced(scene, seed, range, threads)?;
+    if let Some(path) = out {
+        let text = serde_json::to_string_pretty(&run.to_shard()).map_err(|e| e.to_string())?;
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    print_report(&TraceReport::new(&run, seconds)?, json)
+}
+
+pub fn merge_cmd(paths: &[PathBuf], json: bool, out: Option<&Path>) -> Result<(), String> {
+    let runs = paths
+        .iter()
+        .map(|p| {
+            let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+            let shard: Shard = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?;
+            Run::from_shard(&shard).map_err(|e| format!("{}: {e}", p.display()))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let run = merge(&runs)?;
+    if let Some(path) = out {
+        let text = serde_json::to_string_pretty(&run.to_shard()).map_err(|e| e.to_string())?;
+        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    print_report(&TraceReport::new(&run, 0.0)?, json)
+}
+
+fn print_report(report: &TraceReport, json: bool) -> Result<(), String> {
+    if json {
+        println!("{}", serde_json::to_string_pretty(report).map_err(|e| e.to_string())?);
+    } else {
+        print!("{}", report.table());
+    }
+    Ok(())
+}
+
+pub fn compare_cmd(scene: &Scene, trials: &str, seed: u64, threads: Option<usize>, json: bool) -> Result<(), String> {
+    let range = parse_trials(trials)?;
+    let oracle = mcrt_noise::oracle::run(scene, Precision::F64, None).map_err(|e| e.to_string())?;
+    let (run, _) = traced(scene, seed, range, threads)?;
+    let summary = run.summary().ok_or("fewer than 4 trials")?;
+    let cmp = Comparison::new(&oracle, &summary, run.counters.trials, seed);
+    if json {
+        println!("{}", serde_json::to_string_pretty(&cmp).map_err(|e| e.to_string())?);
+    } else {
+        print!("{}", cmp.table());
+    }
+    if cmp.pass {
+        Ok(())
+    } else {
+        Err(cmp.verdict)
+    }
+}

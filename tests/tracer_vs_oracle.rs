@@ -1,0 +1,209 @@
+//! The reference tracer against the oracle's exact prediction (release mode).
+//!
+//! Each point runs the real estimator M times with a fixed seed and compares
+//! the ensemble mean and variance of L with the oracle's ⟨⟨L⟩⟩ and Var L:
+//!
+//!   |tracer − oracle| ≤ 4·√(se² + bar²) + ε(R)·|oracle|,
+//!
+//! se the tracer's standard error (variance: from the fourth moment), bar the
+//! oracle's error bar, and ε(R) the oracle model's own error (the
+//! small-sphere assumptions of §4.3), *measured*, not assumed: for every
+//! point, |tracer/oracle − 1| at R = 0.1 with the same q, N_F, N_B (4·10⁶
+//! trials or more), plus two of its standard errors, carried to the point's
+//! R by `mcrt_noise::prec::model_error_scale` (R ln(1/R) scaling). The
+//! ignored test `model_error_at_the_reference_radius` re-measures those
+//! constants (`cargo test --release --test tracer_vs_oracle -- --ignored
+//! --nocapture`, ~5 min).
+//! Every point also states its resolution (relative standard errors), so
+//! that it cannot pass by being noisy: a point whose se exceeds its stated
+//! resolution fails.
+
+use mcrt_noise::compare::Side;
+use mcrt_noise::oracle::{run, Precision};
+use mcrt_noise::prec::{model_error_scale, MODEL_ERROR_RADIUS};
+use mcrt_reference::{trace, HitMethod, Tracer};
+use mcrt_scene::{Phase, ScatteringOrders, Scene};
+use std::path::Path;
+
+/// A comparison point: a bundled scene with its estimator parameters set.
+struct Point {
+    scene: &'static str,
+    q: f64,
+    radius: f64,
+    forward_rays: u64,
+    camera_rays: u64,
+    /// Henyey–Greenstein g instead of the scene's phase function.
+    hg: Option<f64>,
+    trials: u64,
+    /// Largest relative standard errors this point may have (mean, variance).
+    resolution: (f64, f64),
+    /// Measured |tracer/oracle − 1| + 2 se at R = 0.1 (mean, variance).
+    model_at_r0: (f64, f64),
+    /// Trials of that measurement.
+    model_trials: u64,
+}
+
+fn scene_of(p: &Point) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(format!("{}.toml", p.scene));
+    let mut s = Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    s.estimator.q = p.q;
+    s.estimator.radius = p.radius;
+    s.estimator.forward_rays = p.forward_rays;
+    s.estimator.camera_rays = p.camera_rays;
+    if let Some(g) = p.hg {
+        s.medium.phase = Phase::HenyeyGreenstein { g };
+    }
+    s
+}
+
+fn check(p: Point, seed: u64) {
+    assert!(p.radius <= MODEL_ERROR_RADIUS);
+    let scene = scene_of(&p);
+    let oracle = run(&scene, Precision::F64, None).unwrap_or_else(|e| panic!("{}: oracle: {e}", p.scene));
+    let tracer = Tracer::new(&scene).unwrap();
+    let measured = trace(&tracer, seed, 0..p.trials, HitMethod::Sorted, &|_| {});
+    let s = measured.summary().unwrap();
+    let mean = Side::new(oracle.mean_luminance.value, oracle.mean_luminance.error, s.mean);
+    let var = Side::new(oracle.variance.exact.value, oracle.variance.exact.error, s.variance);
+    let order = match scene.effects.scattering_orders {
+        ScatteringOrders::Limited(k) => k,
+        ScatteringOrders::All => u32::MAX,
+    };
+    let scale = model_error_scale(p.radius);
+    let eps = (p.model_at_r0.0 * scale, p.model_at_r0.1 * scale);
+    let line = |name: &str, side: &Side, model: f64| {
+        let allowed = 4.0 * (side.tracer_se.powi(2) + side.oracle_error.powi(2)).sqrt() + model * side.oracle.abs();
+        let diff = side.tracer - side.oracle;
+        println!(
+            "{} order {order} q={} R={} NF={} NB={}: {name} ratio {:.5} z {:+.2}, |diff| {:.2e} allowed {:.2e} \
+             (model {:.1e})",
+            p.scene,
+            p.q,
+            p.radius,
+            p.forward_rays,
+            p.camera_rays,
+            side.ratio,
+            side.z,
+            diff.abs(),
+            allowed,
+            model
+        );
+        (diff.abs(), allowed)
+    };
+    let (dm, am) = line("mean", &mean, eps.0);
+    let (dv, av) = line("variance", &var, eps.1);
+    assert!(dm <= am, "{}: mean disagrees: {mean:?}", p.scene);
+    assert!(dv <= av, "{}: variance disagrees: {var:?}", p.scene);
+    let (rm, rv) = (mean.tracer_se / mean.tracer, var.tracer_se / var.tracer);
+    assert!(
+        rm <= p.resolution.0 && rv <= p.resolution.1,
+        "{}: resolution {rm:.2e}, {rv:.2e} worse than stated",
+        p.scene
+    );
+}
+
+/// |tracer/oracle − 1| + 2 se at R = 0.1 for a point (mean, variance), and
+/// the relative standard errors.
+fn model_error_at_r0(p: &Point, seed: u64) -> ((f64, f64), (f64, f64)) {
+    let mut scene = scene_of(p);
+    scene.estimator.radius = MODEL_ERROR_RADIUS;
+    let oracle = run(&scene, Precision::F64, None).unwrap();
+    let tracer = Tracer::new(&scene).unwrap();
+    let s = trace(&tracer, seed, 0..p.model_trials, HitMethod::Sorted, &|_| {}).summary().unwrap();
+    let rel = |o: f64, t: f64, se: f64| ((t / o - 1.0).abs() + 2.0 * se / o, se / o);
+    let m = rel(oracle.mean_luminance.value, s.mean.value, s.mean.se);
+    let v = rel(oracle.variance.exact.value, s.variance.value, s.variance.se);
+    ((m.0, v.0), (m.1, v.1))
+}
+
+/// The comparison points: q ∈ {1, 0.5, 0.2}, R ∈ {0.05, 0.02}, N_F ∈ {1, 200},
+/// N_B ∈ {1, 8}, orders 0 and 1, point light and beam, isotropic and HG.
+fn points() -> Vec<Point> {
+    let p = |scene, q, radius, forward_rays, camera_rays, trials, resolution, model_at_r0, model_trials| Point {
+        scene,
+        q,
+        radius,
+        forward_rays,
+        camera_rays,
+        hg: None,
+        trials,
+        resolution,
+        model_at_r0,
+        model_trials,
+    };
+    vec![
+        p("point-isotropic", 1.0, 0.05, 200, 8, 1_000_000, (0.003, 0.01), (4.9e-03, 1.3e-02), 4_000_000),
+        p("point-isotropic", 0.5, 0.02, 1, 1, 30_000_000, (0.03, 0.04), (1.4e-02, 1.3e-02), 40_000_000),
+        p("point-hg-forward", 0.2, 0.02, 200, 1, 1_000_000, (0.01, 0.02), (1.3e-02, 7.7e-02), 4_000_000),
+        p("point-hg-backward", 0.5, 0.05, 1, 8, 10_000_000, (0.02, 0.03), (1.2e-02, 5.3e-02), 40_000_000),
+        p("beam-isotropic", 0.2, 0.02, 200, 8, 500_000, (0.005, 0.01), (5.0e-03, 1.1e-02), 4_000_000),
+        p("beam-isotropic", 1.0, 0.05, 1, 8, 10_000_000, (0.01, 0.02), (6.6e-03, 2.1e-02), 40_000_000),
+        p("point-isotropic-order1", 0.5, 0.05, 200, 8, 500_000, (0.005, 0.01), (3.1e-03, 7.0e-02), 4_000_000),
+        p("point-isotropic-order1", 0.2, 0.02, 1, 1, 30_000_000, (0.03, 0.04), (1.1e-02, 8.1e-02), 40_000_000),
+        p("point-hg-forward", 1.0, 0.05, 1, 1, 20_000_000, (0.03, 0.04), (3.0e-02, 6.5e-02), 40_000_000),
+    ]
+}
+
+fn point(k: usize) {
+    let p = points().into_iter().nth(k).unwrap();
+    check(p, 2026 + k as u64);
+}
+
+#[test]
+fn point_0_isotropic_q1_r005_many_rays() {
+    point(0);
+}
+#[test]
+fn point_1_isotropic_q05_r002_single_rays() {
+    point(1);
+}
+#[test]
+fn point_2_hg_forward_q02_r002_one_camera_ray() {
+    point(2);
+}
+#[test]
+fn point_3_hg_backward_q05_r005_one_forward_ray() {
+    point(3);
+}
+#[test]
+fn point_4_beam_q02_r002_many_rays() {
+    point(4);
+}
+#[test]
+fn point_5_beam_q1_r005_one_forward_ray() {
+    point(5);
+}
+#[test]
+fn point_6_order1_q05_r005_many_rays() {
+    point(6);
+}
+#[test]
+fn point_7_order1_q02_r002_single_rays() {
+    point(7);
+}
+#[test]
+fn point_8_hg_forward_q1_r005_single_rays() {
+    point(8);
+}
+
+/// Re-measures every point's model error at R = 0.1 (seed 1) and checks the
+/// stored constant: at least the measurement, and at most 10 % + 10⁻⁴ above
+/// it (stored values are the measurement rounded up to two digits).
+#[test]
+#[ignore = "measurement of the model-error constants, ~5 min in release mode"]
+fn model_error_at_the_reference_radius() {
+    let mut wrong = Vec::new();
+    for (k, p) in points().iter().enumerate() {
+        let (bound, se) = model_error_at_r0(p, 1);
+        println!(
+            "point {k} {} q={} NF={} NB={}: mean {:.2e} (se {:.1e}), variance {:.2e} (se {:.1e}); stored {:?}",
+            p.scene, p.q, p.forward_rays, p.camera_rays, bound.0, se.0, bound.1, se.1, p.model_at_r0
+        );
+        for (stored, measured) in [(p.model_at_r0.0, bound.0), (p.model_at_r0.1, bound.1)] {
+            if !(stored >= measured && stored <= 1.1 * measured + 1e-4) {
+                wrong.push(format!("point {k}: stored {stored}, measured {measured}"));
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "{wrong:#?}");
+}
