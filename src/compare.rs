@@ -20,8 +20,10 @@ pub struct TraceReport {
     /// Trial ranges [start, end) covered.
     pub trials: Vec<[u64; 2]>,
     pub trial_count: u64,
-    pub mean: WithError,
-    pub variance: WithError,
+    /// `None` (JSON null) below 4 trials, where the variance's error is not
+    /// defined: a small shard is still written and merges normally.
+    pub mean: Option<WithError>,
+    pub variance: Option<WithError>,
     pub counters: Counters,
     pub wall_time_ms: f64,
     pub trials_per_second: f64,
@@ -30,40 +32,43 @@ pub struct TraceReport {
 
 impl TraceReport {
     /// The report of a run that took `wall_seconds` (0 for merged shards).
-    pub fn new(run: &Run, wall_seconds: f64) -> Result<TraceReport, String> {
-        let summary = run.summary().ok_or("fewer than 4 trials: the variance's error is not defined")?;
+    pub fn new(run: &Run, wall_seconds: f64) -> TraceReport {
+        let summary = run.summary();
         let per_second = |n: u64| if wall_seconds > 0.0 { n as f64 / wall_seconds } else { 0.0 };
-        Ok(TraceReport {
+        TraceReport {
             seed: run.seed,
             trials: run.ranges.iter().map(|r| [r.start, r.end]).collect(),
             trial_count: run.counters.trials,
-            mean: summary.mean,
-            variance: summary.variance,
+            mean: summary.map(|s| s.mean),
+            variance: summary.map(|s| s.variance),
             counters: run.counters,
             wall_time_ms: wall_seconds * 1e3,
             trials_per_second: per_second(run.counters.trials),
             forward_segments_per_second: per_second(run.counters.forward_segments),
-        })
+        }
     }
 
     /// A readable table.
     pub fn table(&self) -> String {
         let c = &self.counters;
         let d = &c.draws;
+        let stats = match (&self.mean, &self.variance) {
+            (Some(m), Some(v)) => format!(
+                "mean L          {:.10e} ± {:.2e} (s.e.)\nVar L           {:.10e} ± {:.2e} (s.e., from the 4th \
+                 moment)\n",
+                m.value, m.se, v.value, v.se
+            ),
+            _ => "mean L, Var L   not given below 4 trials (merge shards first)\n".to_string(),
+        };
         format!(
             "trials {}  seed {}\n\
-             mean L          {:.10e} ± {:.2e} (s.e.)\n\
-             Var L           {:.10e} ± {:.2e} (s.e., from the 4th moment)\n\
+             {stats}\
              forward rays {}  segments {}  spheres {}  candidate tests {}  hits {}  HG evaluations {}\n\
              draws: sub-step {}  extinction {}  light {}  emission dir {}  emission pos {}  free path {}  \
              roulette {}  phase {}\n\
              time {:.1} ms  ({:.3e} trials/s, {:.3e} segments/s)\n",
             self.trial_count,
             self.seed,
-            self.mean.value,
-            self.mean.se,
-            self.variance.value,
-            self.variance.se,
             c.forward_rays,
             c.forward_segments,
             c.sphere_placements,

@@ -23,5 +23,6 @@ pub mod real;
 pub mod report;
 pub mod special;
 pub mod sweep;
+pub mod tracer_checks;
 
 pub use mcrt_scene as scene;

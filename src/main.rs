@@ -76,6 +76,9 @@ enum Command {
         /// Worker threads (default: all cores). The numbers do not depend on it.
         #[arg(long)]
         threads: Option<usize>,
+        /// Sphere radius R instead of the scene's estimator.radius.
+        #[arg(long)]
+        radius: Option<f64>,
         #[arg(long)]
         json: bool,
         /// Also write the run as a shard file for `merge`.
@@ -100,12 +103,22 @@ enum Command {
         seed: u64,
         #[arg(long)]
         threads: Option<usize>,
+        /// Sphere radius R instead of the scene's estimator.radius.
+        #[arg(long)]
+        radius: Option<f64>,
         #[arg(long)]
         json: bool,
     },
     /// Regenerate docs/asymptotic-checks.md (and its SVG figures) from the bundled scenes.
     AsymptoticChecks {
         #[arg(long, default_value = "docs/asymptotic-checks.md")]
+        out: PathBuf,
+        #[arg(long, default_value = "scenes")]
+        scenes: PathBuf,
+    },
+    /// Regenerate docs/tracer-checks.md: tracer against oracle as R falls, and the tracer's speed.
+    TracerChecks {
+        #[arg(long, default_value = "docs/tracer-checks.md")]
         out: PathBuf,
         #[arg(long, default_value = "scenes")]
         scenes: PathBuf,
@@ -139,16 +152,19 @@ fn main() -> ExitCode {
             report::kernel_cli(&theta, &radius, &precision, rel_tol, bare)
         }
         Command::Sweep { scene, radii, json } => sweep(&scene, &radii, json),
-        Command::Trace { scene, trials, seed, threads, json, out } => {
-            load(&scene).and_then(|s| trace_cmd::trace_cmd(&s, &trials, seed, threads, json, out.as_deref()))
-        }
+        Command::Trace { scene, trials, seed, threads, radius, json, out } => load_with_radius(&scene, radius)
+            .and_then(|s| trace_cmd::trace_cmd(&s, &trials, seed, threads, json, out.as_deref())),
         Command::Merge { shards, json, out } => trace_cmd::merge_cmd(&shards, json, out.as_deref()),
-        Command::Compare { scene, trials, seed, threads, json } => {
-            load(&scene).and_then(|s| trace_cmd::compare_cmd(&s, &trials, seed, threads, json))
+        Command::Compare { scene, trials, seed, threads, radius, json } => {
+            load_with_radius(&scene, radius).and_then(|s| trace_cmd::compare_cmd(&s, &trials, seed, threads, json))
         }
         Command::AsymptoticChecks { out, scenes } => {
             let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
             write_or_print(mcrt_noise::sweep::asymptotic_checks_markdown(&scenes, &figures), Some(out))
+        }
+        Command::TracerChecks { out, scenes } => {
+            let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
+            write_or_print(mcrt_noise::tracer_checks::markdown(&scenes, &figures), Some(out))
         }
         Command::Accuracy { points, out } => write_or_print(report::accuracy_markdown(points), out),
         Command::Cost { out, repeats } => write_or_print(report::cost_markdown(repeats), out),
@@ -175,6 +191,18 @@ fn validate(path: &PathBuf) -> Result<(), String> {
 fn load(path: &PathBuf) -> Result<Scene, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     Scene::from_toml_str(&text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The scene with estimator.radius replaced (validated as in a scene file).
+fn load_with_radius(path: &PathBuf, radius: Option<f64>) -> Result<Scene, String> {
+    let mut scene = load(path)?;
+    if let Some(r) = radius {
+        if !(r.is_finite() && r > 0.0) {
+            return Err(format!("--radius = {r}: must be finite and > 0"));
+        }
+        scene.estimator.radius = r;
+    }
+    Ok(scene)
 }
 
 fn oracle(path: &PathBuf, precision: &str, rel_tol: Option<f64>, json: bool) -> Result<(), String> {

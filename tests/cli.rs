@@ -122,3 +122,63 @@ fn sweep_prints_ratios_and_order() {
         .unwrap();
     assert!(!bad.status.success());
 }
+
+fn trace_json(args: &[&str]) -> serde_json::Value {
+    let out = bin().args(args).output().unwrap();
+    assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn shards_traced_by_separate_processes_merge_into_the_single_run() {
+    let dir = std::env::temp_dir().join(format!("mcrt-noise-shards-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-hg-forward.toml");
+    let scene = scene.to_str().unwrap();
+    let whole = trace_json(&["trace", scene, "--trials", "9000", "--seed", "4", "--threads", "1", "--json"]);
+    let mut shards = Vec::new();
+    for (k, range) in ["0..2500", "2500..8999", "8999..9000"].iter().enumerate() {
+        let path = dir.join(format!("shard{k}.json"));
+        let p = path.to_str().unwrap().to_string();
+        trace_json(&["trace", scene, "--trials", range, "--seed", "4", "--threads", "2", "--json", "--out", &p]);
+        shards.push(p);
+    }
+    let mut args = vec!["merge", "--json"];
+    args.extend(shards.iter().map(String::as_str));
+    let merged = trace_json(&args);
+    for key in ["mean", "variance", "counters", "trials", "trial_count", "seed"] {
+        assert_eq!(merged[key], whole[key], "{key}");
+    }
+    // The same shard twice overlaps itself: refused.
+    let out = bin().args(["merge", &shards[0], &shards[0]]).output().unwrap();
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("overlap"));
+}
+
+#[test]
+fn trace_refuses_bad_trial_ranges_and_thread_counts() {
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
+    for (args, needle) in [
+        (vec!["--trials", "5..5"], "--trials"),
+        (vec!["--trials", "ten"], "--trials"),
+        (vec!["--trials", "100", "--threads", "0"], "--threads"),
+        (vec!["--trials", "100", "--radius=-1"], "--radius"),
+    ] {
+        let out = bin().arg("trace").arg(&scene).args(&args).output().unwrap();
+        assert!(!out.status.success(), "{args:?}");
+        assert!(out.stdout.is_empty());
+        assert!(String::from_utf8_lossy(&out.stderr).contains(needle), "{args:?}");
+    }
+}
+
+#[test]
+fn compare_prints_both_sides_and_a_verdict() {
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
+    let json = trace_json(&["compare", scene.to_str().unwrap(), "--trials", "200000", "--seed", "3", "--json"]);
+    for side in ["mean", "variance"] {
+        for key in ["oracle", "oracle_error", "tracer", "tracer_se", "ratio", "z"] {
+            assert!(json[side][key].is_f64(), "{side}.{key}");
+        }
+    }
+    assert_eq!(json["pass"], true, "{json}");
+    assert!(json["verdict"].as_str().unwrap().starts_with("AGREE"));
+}
