@@ -85,8 +85,7 @@ impl Verdict {
 fn measure(radius: f64, trials: u64) -> (Report, WithError, WithError) {
     let s = scene(radius);
     let report = run(&s, Precision::F64, None).unwrap();
-    let summary =
-        trace(&Tracer::new(&s).unwrap(), 77, 0..trials, HitMethod::Sorted, &|_| {}).summary().unwrap();
+    let summary = trace(&Tracer::new(&s).unwrap(), 77, 0..trials, HitMethod::Sorted, &|_| {}).summary().unwrap();
     (report, summary.mean, summary.variance)
 }
 
@@ -102,7 +101,13 @@ fn tracer_rejects_the_papers_formulas_and_accepts_the_corrected_ones() {
     assert!((exact - r.variance.exact.value).abs() <= 1e-12 * exact, "variance recomposed: {exact}");
     let verdicts = [
         Verdict { name: "E1 (10): mean squared", corrected: mu, paper: mu * mu, tracer: mean, model: em },
-        Verdict { name: "E7 (19): mean without the albedo", corrected: mu, paper: mu / albedo, tracer: mean, model: em },
+        Verdict {
+            name: "E7 (19): mean without the albedo",
+            corrected: mu,
+            paper: mu / albedo,
+            tracer: mean,
+            model: em,
+        },
         Verdict {
             name: "E7 (19), (20): Var without the albedo",
             corrected: exact,

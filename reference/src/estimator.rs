@@ -183,20 +183,32 @@ impl Tracer {
 
     /// One forward ray: Σ over its segments of hits × f(−u·v).
     fn forward_ray(&self, stream: &mut Stream, centres: &[f64], method: HitMethod, counters: &mut Counters) -> f64 {
+        let mut sum_f = 0.0;
+        self.walk_forward_ray(stream, counters, &mut |seg, counters| {
+            let hits = self.hits(seg, centres, method, counters);
+            if hits > 0 {
+                sum_f += hits as f64 * self.phase_value(-self.line.dir.dot(seg.dir), counters);
+            }
+        });
+        sum_f
+    }
+
+    /// Generates one forward ray's segments, in order, handing each to `visit`.
+    pub fn walk_forward_ray(
+        &self,
+        stream: &mut Stream,
+        counters: &mut Counters,
+        visit: &mut dyn FnMut(&Segment, &mut Counters),
+    ) {
         counters.forward_rays += 1;
         let medium = &self.scene.medium;
         let (mut pos, mut dir) = self.emit(stream);
-        let mut sum_f = 0.0;
         let mut order = 0u32;
         loop {
-            // Step 1: the free path to the next interaction, and its hits.
+            // Step 1: the free path to the next interaction; the segment.
             let length = exponential(stream, medium.sigma_ext, Draw::FreePath);
-            let seg = Segment { start: pos, dir, length };
             counters.forward_segments += 1;
-            let hits = self.hits(&seg, centres, method, counters);
-            if hits > 0 {
-                sum_f += hits as f64 * self.phase_value(-self.line.dir.dot(dir), counters);
-            }
+            visit(&Segment { start: pos, dir, length }, counters);
             // Step 2: stop after the last order the scene asks for.
             if self.max_orders.is_some_and(|k| order >= k) {
                 break;
@@ -216,7 +228,18 @@ impl Tracer {
             };
             order += 1;
         }
-        sum_f
+    }
+
+    /// The camera line and sphere radius.
+    pub fn line(&self) -> &Line {
+        &self.line
+    }
+
+    /// 𝒞 of a segment travelling along `dir` (5): σ_sc f(−u·v) 𝓕/(σ_ext π R²).
+    pub fn contribution(&self, dir: glam::DVec3) -> f64 {
+        let m = &self.scene.medium;
+        let r = self.scene.estimator.radius;
+        m.sigma_sc() * m.phase.eval(-self.line.dir.dot(dir)) * self.scene.total_flux() / (m.sigma_ext * PI * r * r)
     }
 
     /// Emission point and direction of a light chosen in proportion to flux.

@@ -12,8 +12,10 @@
 //! - [`hits`]: which spheres a forward segment hits (sorted search, brute force);
 //! - [`estimator`]: one trial (one iteration of one pixel), with counters;
 //! - [`moments`]: exact power sums, mean, variance and standard errors;
-//! - [`run`]: parallel runs over trial ranges, shards and their exact merge.
+//! - [`run`]: parallel runs over trial ranges, shards and their exact merge;
+//! - [`correlation`]: a direct measurement of ⟨𝒞(s)𝒞(s+t)⟩.
 
+pub mod correlation;
 pub mod estimator;
 pub mod hits;
 pub mod moments;
