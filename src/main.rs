@@ -67,20 +67,8 @@ enum Command {
     },
     /// Run the estimator many times (reference tracer): mean and variance of L with standard errors.
     Trace {
-        scene: PathBuf,
-        /// A count M (trials 0..M) or a range A..B of trial indices.
-        #[arg(long)]
-        trials: String,
-        #[arg(long, default_value_t = 1)]
-        seed: u64,
-        /// Worker threads (default: all cores). The numbers do not depend on it.
-        #[arg(long)]
-        threads: Option<usize>,
-        /// Sphere radius R instead of the scene's estimator.radius.
-        #[arg(long)]
-        radius: Option<f64>,
-        #[arg(long)]
-        json: bool,
+        #[command(flatten)]
+        run: TraceArgs,
         /// Also write the run as a shard file for `merge`.
         #[arg(long)]
         out: Option<PathBuf>,
@@ -96,18 +84,8 @@ enum Command {
     },
     /// Oracle beside tracer for the mean and variance of L, with z-scores and a verdict.
     Compare {
-        scene: PathBuf,
-        #[arg(long)]
-        trials: String,
-        #[arg(long, default_value_t = 1)]
-        seed: u64,
-        #[arg(long)]
-        threads: Option<usize>,
-        /// Sphere radius R instead of the scene's estimator.radius.
-        #[arg(long)]
-        radius: Option<f64>,
-        #[arg(long)]
-        json: bool,
+        #[command(flatten)]
+        run: TraceArgs,
     },
     /// Regenerate docs/asymptotic-checks.md (and its SVG figures) from the bundled scenes.
     AsymptoticChecks {
@@ -143,6 +121,26 @@ enum Command {
     },
 }
 
+/// What `trace` and `compare` share: the scene and the run.
+#[derive(clap::Args)]
+struct TraceArgs {
+    scene: PathBuf,
+    /// A count M (trials 0..M) or a range A..B of trial indices.
+    #[arg(long)]
+    trials: String,
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Worker threads (default: all cores). The numbers do not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Sphere radius R instead of the scene's estimator.radius.
+    #[arg(long)]
+    radius: Option<f64>,
+    /// One JSON object instead of the table.
+    #[arg(long)]
+    json: bool,
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -152,12 +150,11 @@ fn main() -> ExitCode {
             report::kernel_cli(&theta, &radius, &precision, rel_tol, bare)
         }
         Command::Sweep { scene, radii, json } => sweep(&scene, &radii, json),
-        Command::Trace { scene, trials, seed, threads, radius, json, out } => load_with_radius(&scene, radius)
-            .and_then(|s| trace_cmd::trace_cmd(&s, &trials, seed, threads, json, out.as_deref())),
+        Command::Trace { run: a, out } => load_with_radius(&a.scene, a.radius)
+            .and_then(|s| trace_cmd::trace_cmd(&s, &a.trials, a.seed, a.threads, a.json, out.as_deref())),
         Command::Merge { shards, json, out } => trace_cmd::merge_cmd(&shards, json, out.as_deref()),
-        Command::Compare { scene, trials, seed, threads, radius, json } => {
-            load_with_radius(&scene, radius).and_then(|s| trace_cmd::compare_cmd(&s, &trials, seed, threads, json))
-        }
+        Command::Compare { run: a } => load_with_radius(&a.scene, a.radius)
+            .and_then(|s| trace_cmd::compare_cmd(&s, &a.trials, a.seed, a.threads, a.json)),
         Command::AsymptoticChecks { out, scenes } => {
             let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
             write_or_print(mcrt_noise::sweep::asymptotic_checks_markdown(&scenes, &figures), Some(out))
