@@ -12,6 +12,7 @@ pub mod correlations;
 pub mod field;
 pub mod moments;
 pub mod noise;
+pub mod periodic;
 pub mod scattered;
 
 use crate::quad::Failure;
