@@ -48,9 +48,12 @@ pub struct Summary {
 }
 
 impl PowerSums {
-    /// Adds one trial's L (finite).
+    /// Adds one trial's L. Panics if L or L⁴ is not a finite double (|L| ≥
+    /// ~10⁷⁷: the scene's flux is then beyond what the fourth-moment sums
+    /// can hold; rescale the flux, L is linear in it).
     pub fn push(&mut self, l: f64) {
-        assert!(l.is_finite(), "a trial's luminance is not finite: {l}");
+        let fourth = (l * l) * (l * l);
+        assert!(l.is_finite() && fourth.is_finite(), "a trial's luminance {l:e} or its fourth power is not finite");
         self.count += 1;
         let mut power = l;
         for (k, sum) in self.sums.iter_mut().enumerate() {
