@@ -263,7 +263,8 @@ pub fn markdown(scenes_dir: &Path, figures_dir: &Path) -> Result<String, String>
         .unwrap();
     }
     writeln!(w).unwrap();
-    writeln!(w, "![tracer/oracle against R, with the variance’s ±2 se band](figures/tracer-ratio-point-isotropic.svg)").unwrap();
+    writeln!(w, "![tracer/oracle against R, with the variance’s ±2 se band](figures/tracer-ratio-point-isotropic.svg)")
+        .unwrap();
     writeln!(w).unwrap();
     writeln!(
         w,
