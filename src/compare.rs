@@ -110,6 +110,14 @@ impl Side {
     }
 }
 
+/// Mean and variance, oracle beside tracer.
+pub fn sides(oracle: &Report, tracer: &Summary) -> (Side, Side) {
+    (
+        Side::new(oracle.mean_luminance.value, oracle.mean_luminance.error, tracer.mean),
+        Side::new(oracle.variance.exact.value, oracle.variance.exact.error, tracer.variance),
+    )
+}
+
 /// The JSON of `mcrt-noise compare`.
 #[derive(Debug, Clone, Serialize)]
 pub struct Comparison {
@@ -128,8 +136,7 @@ pub const Z_LIMIT: f64 = 4.0;
 
 impl Comparison {
     pub fn new(oracle: &Report, tracer: &Summary, trials: u64, seed: u64) -> Comparison {
-        let mean = Side::new(oracle.mean_luminance.value, oracle.mean_luminance.error, tracer.mean);
-        let variance = Side::new(oracle.variance.exact.value, oracle.variance.exact.error, tracer.variance);
+        let (mean, variance) = sides(oracle, tracer);
         let pass = mean.z.abs() <= Z_LIMIT && variance.z.abs() <= Z_LIMIT;
         let verdict = format!(
             "{}: mean z = {:+.2}, variance z = {:+.2} (limit |z| <= {Z_LIMIT}; the oracle's O(R) model error is not \

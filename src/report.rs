@@ -140,12 +140,17 @@ fn oracle_rows(s: &mut String) -> Result<(), String> {
     tracer_rows(s)
 }
 
+/// A bundled scene, `scenes/NAME.toml`.
+fn bundled_scene(name: &str) -> Result<mcrt_scene::Scene, String> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/{name}.toml"));
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    mcrt_scene::Scene::from_toml_str(&text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
 /// The reference tracer's speed on the isotropic point-light scene with
 /// R = 0.05 (issue 4's benchmark), on 1 and 2 threads.
 fn tracer_rows(s: &mut String) -> Result<(), String> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut scene = mcrt_scene::Scene::from_toml_str(&text).map_err(|e| e.to_string())?;
+    let mut scene = bundled_scene("point-isotropic")?;
     scene.estimator.radius = 0.05;
     writeln!(s).unwrap();
     writeln!(s, "## The reference tracer on `scenes/point-isotropic.toml` with R = 0.05").unwrap();
@@ -166,9 +171,7 @@ fn tracer_rows(s: &mut String) -> Result<(), String> {
 /// the wall times in seconds.
 fn oracle_bench_table(s: &mut String, name: &str, precisions: &[crate::oracle::Precision]) -> Result<Vec<f64>, String> {
     use crate::oracle::run;
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/{name}.toml"));
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let scene = mcrt_scene::Scene::from_toml_str(&text).map_err(|e| e.to_string())?;
+    let scene = bundled_scene(name)?;
     writeln!(s).unwrap();
     writeln!(s, "| precision | rel. tolerance | relative noise Var/L² | evaluations | wall time |").unwrap();
     writeln!(s, "|---|---:|---|---:|---:|").unwrap();

@@ -66,8 +66,7 @@ pub fn trace_cmd(
     let range = parse_trials(trials)?;
     let (run, seconds) = traced(scene, seed, range, threads)?;
     if let Some(path) = out {
-        let text = serde_json::to_string_pretty(&run.to_shard()).map_err(|e| e.to_string())?;
-        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        write_shard(&run, path)?;
     }
     print_report(&TraceReport::new(&run, seconds), json)
 }
@@ -83,10 +82,15 @@ pub fn merge_cmd(paths: &[PathBuf], json: bool, out: Option<&Path>) -> Result<()
         .collect::<Result<Vec<_>, _>>()?;
     let run = merge(&runs)?;
     if let Some(path) = out {
-        let text = serde_json::to_string_pretty(&run.to_shard()).map_err(|e| e.to_string())?;
-        std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        write_shard(&run, path)?;
     }
     print_report(&TraceReport::new(&run, 0.0), json)
+}
+
+/// The run as a shard file for `merge`.
+fn write_shard(run: &Run, path: &Path) -> Result<(), String> {
+    let text = serde_json::to_string_pretty(&run.to_shard()).map_err(|e| e.to_string())?;
+    std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 fn print_report(report: &TraceReport, json: bool) -> Result<(), String> {

@@ -2,7 +2,7 @@
 //! oracle as R falls on one scene (the oracle model's own error, measured),
 //! and the tracer's speed.
 
-use crate::compare::Side;
+use crate::compare::{sides, Side};
 use crate::model::correlations::pointwise;
 use crate::model::field::Field;
 use crate::oracle::{run, Precision};
@@ -42,11 +42,8 @@ pub fn sweep(scene: &Scene, radii: &[f64], trials: u64, seed: u64) -> Result<Vec
             let tracer = Tracer::new(&s).map_err(|e| e.to_string())?;
             let summary =
                 trace(&tracer, seed, 0..trials, HitMethod::Sorted, &|_| {}).summary().ok_or("too few trials")?;
-            Ok(SweepRow {
-                radius,
-                mean: Side::new(oracle.mean_luminance.value, oracle.mean_luminance.error, summary.mean),
-                variance: Side::new(oracle.variance.exact.value, oracle.variance.exact.error, summary.variance),
-            })
+            let (mean, variance) = sides(&oracle, &summary);
+            Ok(SweepRow { radius, mean, variance })
         })
         .collect()
 }

@@ -18,7 +18,7 @@
 //! that it cannot pass by being noisy: a point whose se exceeds its stated
 //! resolution fails.
 
-use mcrt_noise::compare::Side;
+use mcrt_noise::compare::{sides, Side};
 use mcrt_noise::oracle::{run, Precision};
 use mcrt_noise::prec::{model_error_scale, MODEL_ERROR_RADIUS};
 use mcrt_reference::{trace, HitMethod, Tracer};
@@ -63,8 +63,7 @@ fn check(p: Point, seed: u64) {
     let tracer = Tracer::new(&scene).unwrap();
     let measured = trace(&tracer, seed, 0..p.trials, HitMethod::Sorted, &|_| {});
     let s = measured.summary().unwrap();
-    let mean = Side::new(oracle.mean_luminance.value, oracle.mean_luminance.error, s.mean);
-    let var = Side::new(oracle.variance.exact.value, oracle.variance.exact.error, s.variance);
+    let (mean, var) = sides(&oracle, &s);
     let order = match scene.effects.scattering_orders {
         ScatteringOrders::Limited(k) => k,
         ScatteringOrders::All => u32::MAX,

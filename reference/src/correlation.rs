@@ -34,11 +34,13 @@ pub fn pair_correlation(tracer: &Tracer, seed: u64, rays: Range<u64>, s: f64, ed
             let mut acc = vec![(0.0, 0.0); bins];
             let mut x = vec![0.0; bins];
             let mut counters = Counters::default();
+            // (lo − s, hi − s, 𝒞) of a ray's segments, reused across rays.
+            let mut hits: Vec<(f64, f64, f64)> = Vec::new();
             for i in chunk {
                 x.iter_mut().for_each(|v| *v = 0.0);
+                hits.clear();
                 let mut stream = Stream::new(seed, i);
                 let mut c_at_s = 0.0;
-                let mut hits: Vec<(f64, f64, f64)> = Vec::new();
                 tracer.walk_forward_ray(&mut stream, &mut counters, &mut |seg, _| {
                     if let Some((lo, hi)) = hit_interval(tracer.line(), seg) {
                         let c = tracer.contribution(seg.dir);

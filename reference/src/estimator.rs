@@ -103,7 +103,9 @@ pub struct Tracer {
     max_orders: Option<u32>,
     /// Cumulative flux fractions of the lights (choice in proportion to flux).
     cumulative: Vec<f64>,
-    /// q·σ_sc·𝓕/(σ_ext π R² N_F N_B): L = this × Σ_hits f.
+    /// 𝒞 per unit of f, σ_sc 𝓕/(σ_ext π R²) (5).
+    c_per_f: f64,
+    /// q 𝒞/(f N_F N_B): L = this × Σ_hits f.
     weight: f64,
 }
 
@@ -131,13 +133,14 @@ impl Tracer {
             })
             .collect();
         let est = &scene.estimator;
-        let weight = est.q * medium.sigma_sc() * total
-            / (medium.sigma_ext * PI * est.radius * est.radius * est.forward_rays as f64 * est.camera_rays as f64);
+        let c_per_f = medium.sigma_sc() * total / (medium.sigma_ext * PI * est.radius * est.radius);
+        let weight = est.q * c_per_f / (est.forward_rays as f64 * est.camera_rays as f64);
         Ok(Tracer {
             line: Line { origin: scene.camera.origin, dir: scene.camera.direction, radius: est.radius },
             alpha: medium.sigma_ext / est.q,
             max_orders,
             cumulative,
+            c_per_f,
             weight,
             scene: scene.clone(),
         })
@@ -237,9 +240,7 @@ impl Tracer {
 
     /// 𝒞 of a segment travelling along `dir` (5): σ_sc f(−u·v) 𝓕/(σ_ext π R²).
     pub fn contribution(&self, dir: glam::DVec3) -> f64 {
-        let m = &self.scene.medium;
-        let r = self.scene.estimator.radius;
-        m.sigma_sc() * m.phase.eval(-self.line.dir.dot(dir)) * self.scene.total_flux() / (m.sigma_ext * PI * r * r)
+        self.c_per_f * self.scene.medium.phase.eval(-self.line.dir.dot(dir))
     }
 
     /// Emission point and direction of a light chosen in proportion to flux.

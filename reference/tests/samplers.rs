@@ -7,6 +7,8 @@
 //! expected cell probabilities come from closed-form CDFs written here, not
 //! from the samplers' inversions.
 
+mod common;
+
 use glam::DVec3;
 use mcrt_reference::rng::{Draw, Stream};
 use mcrt_reference::sampling::{disk_point, exponential, hg_cosine, rotate, uniform_direction};
@@ -168,38 +170,22 @@ fn beam_points_cover_the_disk_evenly() {
 
 #[test]
 fn lights_are_chosen_in_proportion_to_flux() {
-    let text = r#"
-[medium]
-sigma_ext = 1.0
-albedo = 0.8
-[medium.phase]
-kind = "isotropic"
-[[lights]]
-kind = "point"
-position = [1.0, 0.0, 1.0]
-flux = 1.0
-[[lights]]
+    // The bundled point light (flux 1 at (1, 0, 1)) with a second point
+    // light and a beam added.
+    let more_lights = r#"[[lights]]
 kind = "point"
 position = [2.0, 0.0, 1.0]
 flux = 2.0
+
 [[lights]]
 kind = "beam"
 center = [-2.0, 0.0, 1.0]
 direction = [1.0, 0.0, 0.0]
 radius = 0.5
 flux = 5.0
-[camera]
-origin = [0.0, 0.0, 0.0]
-direction = [0.0, 0.0, 1.0]
-[estimator]
-radius = 0.01
-q = 0.5
-forward_rays = 1
-camera_rays = 1
-[effects]
-scattering_orders = 0
-"#;
-    let tracer = Tracer::new(&mcrt_scene::Scene::from_toml_str(text).unwrap()).unwrap();
+
+[camera]"#;
+    let tracer = Tracer::new(&common::scene("point-isotropic", &[("[camera]", more_lights)])).unwrap();
     let mut s = Stream::new(10, 0);
     let mut cells = vec![0u64; 3];
     for _ in 0..SAMPLES {
