@@ -227,3 +227,166 @@ pub fn sweep(func: SpecialFn, points: usize) -> Vec<SegmentSummary> {
         })
         .collect()
 }
+
+/// Accuracy of one special function of several arguments (the
+/// finite-sphere model's), over a seeded sample of its domain.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct MultiSummary {
+    pub function: &'static str,
+    pub domain: &'static str,
+    pub points: usize,
+    pub max_ulps: f64,
+    pub median_ulps: f64,
+    /// The bound the tests hold it to.
+    pub bound: f64,
+}
+
+/// A deterministic point of [0, 1)² … from an index (a Halton-like
+/// sequence in bases 2, 3, 5), so that the sweeps are reproducible.
+fn halton(i: usize, base: usize) -> f64 {
+    let (mut f, mut r, mut k) = (1.0, 0.0, i + 1);
+    while k > 0 {
+        f /= base as f64;
+        r += f * (k % base) as f64;
+        k /= base;
+    }
+    r
+}
+
+fn log_uniform(t: f64, lo: f64, hi: f64) -> f64 {
+    (lo.ln() + t * (hi.ln() - lo.ln())).exp()
+}
+
+/// The references, by the naive formulas at a precision that absorbs their
+/// cancellation (confirmed at 128 bits more).
+mod naive {
+    use rug::float::Constant;
+    use rug::Float;
+
+    pub fn segment(r: f64, l: f64, p: u32) -> Float {
+        let x = Float::with_val(p, r) * Float::with_val(p, l);
+        (Float::with_val(p, 1) - (-x).exp()) / Float::with_val(p, r)
+    }
+
+    pub fn triangle(r1: f64, r2: f64, l: f64, p: u32) -> Float {
+        if r1 == r2 {
+            let rl = Float::with_val(p, r1) * Float::with_val(p, l);
+            let r = Float::with_val(p, r1);
+            return (Float::with_val(p, 1) - (Float::with_val(p, 1) + rl.clone()) * (-rl).exp()) / (r.clone() * r);
+        }
+        (segment(r1, l, p) - segment(r2, l, p)) / (Float::with_val(p, r2) - Float::with_val(p, r1))
+    }
+
+    pub fn lens(r1: f64, r2: f64, d: f64, p: u32) -> Float {
+        let (a, b, dd) = (Float::with_val(p, r1), Float::with_val(p, r2), Float::with_val(p, d));
+        let d1 = (dd.clone() * dd.clone() + a.clone() * a.clone() - b.clone() * b.clone())
+            / (Float::with_val(p, 2) * dd.clone());
+        let d2 = dd - d1.clone();
+        let seg = |r: &Float, h: &Float| {
+            let x = h.clone() / r.clone();
+            let s = (Float::with_val(p, 1) - x.clone() * x.clone()).sqrt();
+            r.clone() * r.clone() * (x.clone().acos() - x * s)
+        };
+        seg(&a, &d1) + seg(&b, &d2)
+    }
+
+    pub fn elliptic(kp: f64, p: u32) -> Float {
+        let (mut a, mut b) = (Float::with_val(p, 1), Float::with_val(p, kp));
+        let mut c2 = Float::with_val(p, 1) - b.clone() * b.clone();
+        let mut w = Float::with_val(p, 0.5);
+        let mut sum = w.clone() * c2.clone();
+        for _ in 0..200 {
+            let c = (a.clone() - b.clone()) / 2u32;
+            let na = (a.clone() + b.clone()) / 2u32;
+            b = (a * b).sqrt();
+            a = na;
+            c2 = c.clone() * c;
+            w *= 2u32;
+            sum += w.clone() * c2.clone();
+            if c2.is_zero() || c2.get_exp().unwrap_or(0) < -(2 * p as i32) {
+                break;
+            }
+        }
+        Float::with_val(p, Constant::Pi) / (Float::with_val(p, 2) * a) * (Float::with_val(p, 1) - sum)
+    }
+}
+
+/// ulps of `got` against a reference computed at `p` and `p + 128` bits
+/// (which must agree in f64).
+fn multi_ulps(got: f64, reference: impl Fn(u32) -> Float, p: u32, what: &str) -> f64 {
+    let (r1, r2) = (reference(p), reference(p + 128));
+    assert_eq!(r1.to_f64(), r2.to_f64(), "{what}: reference unstable");
+    let diff = (Float::with_val(p + 128, got) - &r2).abs();
+    (diff / ulp(r2.to_f64())).to_f64()
+}
+
+/// Sweeps the finite-sphere model's special functions of several
+/// arguments: `points` seeded points each.
+pub fn multi_arg_sweep(points: usize) -> Vec<MultiSummary> {
+    use crate::special::{complete_elliptic_e, disc_overlap, exp_segment, exp_triangle};
+    let summarise = |function, domain, bound, mut errs: Vec<f64>| {
+        errs.sort_by(f64::total_cmp);
+        MultiSummary {
+            function,
+            domain,
+            points: errs.len(),
+            max_ulps: errs.last().copied().unwrap_or(0.0),
+            median_ulps: errs[errs.len() / 2],
+            bound,
+        }
+    };
+    let idx: Vec<usize> = (0..points).collect();
+    let seg: Vec<f64> = idx
+        .par_iter()
+        .map(|&i| {
+            let (r, l) = (log_uniform(halton(i, 2), 1e-3, 1e3), log_uniform(halton(i, 3), 1e-12, 1e3));
+            multi_ulps(exp_segment(&r, Some(&l)), |p| naive::segment(r, l, p), 320, "F₁")
+        })
+        .collect();
+    let tri: Vec<f64> = idx
+        .par_iter()
+        .map(|&i| {
+            let r1 = log_uniform(halton(i, 2), 1e-3, 1e3);
+            let ratio = if i % 8 == 0 { 1.0 } else { 1.0 + log_uniform(halton(i, 5), 1e-12, 10.0) };
+            let l = log_uniform(halton(i, 3), 1e-9, 1e3);
+            let r2 = r1 * ratio;
+            multi_ulps(exp_triangle(&r1, &r2, Some(&l)), |p| naive::triangle(r1, r2, l, p), 512, "F₂")
+        })
+        .collect();
+    let lens: Vec<f64> = idx
+        .par_iter()
+        .map(|&i| {
+            let r2 = log_uniform(halton(i, 2), 1e-8, 1e2);
+            let (lo, hi) = ((1.0 - r2).abs(), 1.0 + r2);
+            // Half the points graded towards either end of the overlap range.
+            let t = halton(i, 3);
+            let d = match i % 4 {
+                0 => lo + (hi - lo) * log_uniform(t, 1e-12, 1.0),
+                1 => hi - (hi - lo) * log_uniform(t, 1e-12, 1.0),
+                _ => lo + (hi - lo) * t,
+            };
+            if !(d > lo && d < hi) {
+                return 0.0;
+            }
+            multi_ulps(disc_overlap(&1.0, &r2, &d), |p| naive::lens(1.0, r2, d, p), 1024, "lens")
+        })
+        .collect();
+    let ell: Vec<f64> = idx
+        .par_iter()
+        .map(|&i| {
+            let kp = log_uniform(halton(i, 2), 1e-12, 1.0);
+            multi_ulps(complete_elliptic_e(&kp), |p| naive::elliptic(kp, p), 320, "E")
+        })
+        .collect();
+    vec![
+        summarise("F₁(r, L) = ∫₀^L e^{−rx} dx", "r ∈ [1e-3, 1e3], L ∈ [1e-12, 1e3], log-spaced", 4.0, seg),
+        summarise(
+            "F₂(r₁, r₂, L)",
+            "r₁ ∈ [1e-3, 1e3], r₂/r₁ − 1 ∈ {0} ∪ [1e-12, 10], L ∈ [1e-9, 1e3], log-spaced",
+            8.0,
+            tri,
+        ),
+        summarise("disc overlap (1, r₂, D)", "r₂ ∈ [1e-8, 1e2] log-spaced, D graded to both ends", 8.0, lens),
+        summarise("E(m) from k′ = √(1 − m)", "k′ ∈ [1e-12, 1], log-spaced", 8.0, ell),
+    ]
+}

@@ -16,6 +16,7 @@ pub mod accuracy;
 pub mod compare;
 pub mod kernel;
 pub mod model;
+pub mod model_error;
 pub mod oracle;
 pub mod prec;
 pub mod quad;

@@ -55,7 +55,7 @@ enum Command {
         #[arg(long)]
         bare: bool,
     },
-    /// Exact/asymptotic ratios of (23), (24) as R → 0, with the fitted order.
+    /// Exact/asymptotic ratios of (23), (24) as R → 0 with the fitted order, and the finite-sphere model against the small-sphere one.
     Sweep {
         scene: PathBuf,
         /// Comma-separated radii, e.g. 1e-1,1e-2,1e-3.
@@ -90,6 +90,13 @@ enum Command {
     /// Regenerate docs/asymptotic-checks.md (and its SVG figures) from the bundled scenes.
     AsymptoticChecks {
         #[arg(long, default_value = "docs/asymptotic-checks.md")]
+        out: PathBuf,
+        #[arg(long, default_value = "scenes")]
+        scenes: PathBuf,
+    },
+    /// Regenerate docs/model-error.md: the finite-sphere model against the small-sphere one, R = 1 … 1e-4.
+    ModelError {
+        #[arg(long, default_value = "docs/model-error.md")]
         out: PathBuf,
         #[arg(long, default_value = "scenes")]
         scenes: PathBuf,
@@ -159,6 +166,10 @@ fn main() -> ExitCode {
             let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
             write_or_print(mcrt_noise::sweep::asymptotic_checks_markdown(&scenes, &figures), Some(out))
         }
+        Command::ModelError { out, scenes } => {
+            let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
+            write_or_print(mcrt_noise::model_error::markdown(&scenes, &figures), Some(out))
+        }
         Command::TracerChecks { out, scenes } => {
             let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
             write_or_print(mcrt_noise::tracer_checks::markdown(&scenes, &figures), Some(out))
@@ -223,14 +234,21 @@ fn sweep(path: &PathBuf, radii: &[f64], json: bool) -> Result<(), String> {
     if json {
         use mcrt_noise::model::correlations::Which;
         use mcrt_noise::sweep::fit_order;
+        use mcrt_noise::sweep::{fit_finite_order, FiniteRatio};
         let out = serde_json::json!({
             "rows": rows,
             "order23": fit_order(&rows, Which::Eq23),
             "order24": fit_order(&rows, Which::Eq24),
+            "finite_order_mean": fit_finite_order(&rows, FiniteRatio::Mean),
+            "finite_order_variance": fit_finite_order(&rows, FiniteRatio::Variance),
         });
         println!("{}", serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?);
     } else {
         print!("{}", mcrt_noise::sweep::table(&rows));
+        if rows.iter().any(|r| r.finite.is_some()) {
+            println!("\nThe finite-sphere model (exact at each R) against the small-sphere one:\n");
+            print!("{}", mcrt_noise::sweep::finite_table(&rows));
+        }
     }
     Ok(())
 }

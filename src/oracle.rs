@@ -1,7 +1,15 @@
 //! The oracle end to end: scene → field → integrals → variance, at a chosen
 //! precision, as a serialisable report (`mcrt-noise oracle SCENE --json`).
+//!
+//! Two models are computed side by side: the small-sphere model of §4.3
+//! (exact only as R → 0; its exact (23), (24), their R → 0 forms and the
+//! §4.4 formula) and, for uncollided light, the finite-sphere model
+//! (`model::finite`, exact at the scene's R). The report's `prediction` is
+//! the finite-sphere model where it exists, the small-sphere one otherwise,
+//! and says which.
 
 use crate::model::field::Field;
+use crate::model::finite::{FiniteField, FiniteIntegrals};
 use crate::model::noise::{d_constants, relative_from_d, variance, Counts, Integrals, Valued};
 use crate::model::OracleError;
 use crate::quad::{CheckRule, Estimate, Options};
@@ -52,18 +60,32 @@ impl Precision {
 }
 
 /// A value and its error bar, in f64 for reports.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize)]
 pub struct ValueError {
     pub value: f64,
     pub error: f64,
 }
 
+impl ValueError {
+    /// This value over `other`, the bar propagated (relative bars add).
+    pub fn ratio(self, other: ValueError) -> ValueError {
+        let value = self.value / other.value;
+        ValueError { value, error: value.abs() * (self.error / self.value.abs() + other.error / other.value.abs()) }
+    }
+}
+
 /// A quadrature result for reports.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Copy, Serialize)]
 pub struct Integral {
     pub value: f64,
     pub error: f64,
     pub evaluations: u64,
+}
+
+impl From<Integral> for ValueError {
+    fn from(i: Integral) -> Self {
+        ValueError { value: i.value, error: i.error }
+    }
 }
 
 /// An asymptotic form: its value, or why it does not exist.
@@ -99,6 +121,55 @@ pub struct Variance {
     pub relative_asymptotic: Option<f64>,
 }
 
+/// The finite-sphere model's numbers (`model::finite`), exact at the scene's R.
+#[derive(Debug, Clone, Serialize)]
+pub struct FiniteReport {
+    /// ⟨⟨L⟩⟩ at the scene's R.
+    pub mean: ValueError,
+    /// Var L of one iteration with the scene's N_F, N_B, q, R.
+    pub variance: ValueError,
+    /// b(R) = ⟨⟨L⟩⟩(R) − ⟨⟨L⟩⟩(0), the estimator's bias (⟨⟨L⟩⟩(0): the
+    /// small-sphere mean, the luminance of the simulated orders).
+    pub bias: ValueError,
+    /// Var L/⟨⟨L⟩⟩².
+    pub relative_noise: ValueError,
+    /// finite/small-sphere ratios of the mean and of Var L.
+    pub mean_ratio: ValueError,
+    pub variance_ratio: ValueError,
+    /// The integrals: M₂, P, Q of (16), (17) and C₂₃, C₂₄ of (23), (24).
+    pub m2: Integral,
+    pub p: Integral,
+    pub q_pair: Integral,
+    pub corr23: Integral,
+    pub corr24: Integral,
+    /// This model's c₀ (`FiniteField::shift`).
+    pub attenuation_shift: f64,
+    pub evaluations: u64,
+}
+
+/// What the oracle predicts for the scene, and from which model.
+#[derive(Debug, Clone, Serialize)]
+pub struct Prediction {
+    /// `"finite-sphere"` (exact at the scene's R; uncollided light) or
+    /// `"small-sphere"` (§4.3, exact as R → 0; scenes with scattered light).
+    pub model: &'static str,
+    pub mean: ValueError,
+    pub variance: ValueError,
+    pub relative_noise: ValueError,
+    /// What the bars cover.
+    pub note: String,
+}
+
+/// The note of a small-sphere prediction: its own error is not in the bars.
+pub const SMALL_SPHERE_NOTE: &str = "exact only as R → 0; the bars are the quadrature's and do not include the \
+     model's own error at this R (the finite-sphere model covers uncollided light only; measured with the tracer on \
+     point-isotropic-order1 at R = 0.1: Var L 6.7 % and the mean 0.3 % off, falling like R ln(1/R); \
+     docs/tracer-checks.md)";
+
+/// The note of a finite-sphere prediction.
+pub const FINITE_NOTE: &str = "exact at this R for uncollided light; the bars are the quadrature's (the model \
+     approximates nothing)";
+
 /// Everything the oracle says about one scene.
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {
@@ -123,7 +194,13 @@ pub struct Report {
     pub attenuation_shift: f64,
     /// D₁…D₅ of §4.4, if the asymptotic forms exist.
     pub d: Option<[f64; 5]>,
+    /// Evaluations of the small-sphere model's integrals.
     pub evaluations: u64,
+    /// The finite-sphere model, for uncollided light (`None` with scattered light).
+    pub finite: Option<FiniteReport>,
+    /// The prediction to test a renderer against: the finite-sphere model
+    /// where it exists, else the small-sphere one.
+    pub prediction: Prediction,
     pub wall_time_ms: f64,
 }
 
@@ -173,7 +250,12 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
             "medium.albedo = 0: nothing is scattered towards the camera, the pixel is exactly dark (L = 0, Var L = 0) and the relative noise is undefined".into(),
         ));
     }
-    let ints = Integrals::compute(&field, &r, &Options::rel(rel_tol))?;
+    let finite_field = FiniteField::from_scene(scene, &field);
+    let (ints, finite) = rayon::join(
+        || Integrals::compute(&field, &r, &Options::rel(rel_tol)),
+        || finite_field.as_ref().map(|ff| ff.integrals(&Options::rel(rel_tol))).transpose(),
+    );
+    let (ints, finite) = (ints?, finite?);
     if ints.mean.value.is_zero() {
         return Err(OracleError::Unsupported(
             "the mean luminance is exactly 0 (no light reaches the camera ray): Var L = 0 and the relative noise is undefined".into(),
@@ -208,6 +290,33 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
     let log10 = |v: &T| v.abs().ln().to_f64() / std::f64::consts::LN_10;
     let shift_log10 = field.shift.to_f64() / std::f64::consts::LN_10;
     let relative_asymptotic = d.as_ref().map(|d| relative_from_d(d, &r, &field.sigma_ext, &counts).to_f64());
+    let small_mean = ValueError {
+        value: (ints.mean.value.clone() * k.clone()).to_f64(),
+        error: (ints.mean.error.clone() * k.clone()).to_f64(),
+    };
+    let small_variance =
+        ValueError { value: (var.value.clone() * k.clone()).to_f64(), error: (var.error.clone() * k.clone()).to_f64() };
+    let small_relative = ValueError { value: relative.to_f64(), error: relative_error.to_f64() };
+    let finite_report = match (&finite, &finite_field) {
+        (Some(f), Some(ff)) => Some(finite_report(f, ff, &counts, (&mean, &var, &field.shift))),
+        _ => None,
+    };
+    let prediction = match &finite_report {
+        Some(f) => Prediction {
+            model: "finite-sphere",
+            mean: f.mean,
+            variance: f.variance,
+            relative_noise: f.relative_noise,
+            note: FINITE_NOTE.into(),
+        },
+        None => Prediction {
+            model: "small-sphere",
+            mean: small_mean,
+            variance: small_variance,
+            relative_noise: small_relative,
+            note: SMALL_SPHERE_NOTE.into(),
+        },
+    };
     Ok(Report {
         precision: label,
         rel_tol,
@@ -215,18 +324,12 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
         q: scene.estimator.q,
         forward_rays: scene.estimator.forward_rays,
         camera_rays: scene.estimator.camera_rays,
-        mean_luminance: ValueError {
-            value: (ints.mean.value.clone() * k.clone()).to_f64(),
-            error: (ints.mean.error.clone() * k.clone()).to_f64(),
-        },
+        mean_luminance: small_mean,
         mean_luminance_log10: log10(&ints.mean.value) - shift_log10,
         corr23: correlation(&ints.c23, &ints.c23_asym, &k),
         corr24: correlation(&ints.c24, &ints.c24_asym, &k),
         variance: Variance {
-            exact: ValueError {
-                value: (var.value.clone() * k.clone()).to_f64(),
-                error: (var.error.clone() * k.clone()).to_f64(),
-            },
+            exact: small_variance,
             log10: log10(&var.value) - shift_log10,
             relative: relative.to_f64(),
             relative_error: relative_error.to_f64(),
@@ -238,8 +341,70 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
         attenuation_shift: field.shift.to_f64(),
         d: d.map(|d| d.map(|v| v.to_f64())),
         evaluations: ints.evaluations(),
+        finite: finite_report,
+        prediction,
         wall_time_ms: t0.elapsed().as_secs_f64() * 1e3,
     })
+}
+
+/// The finite-sphere model's report from its integrals, beside the
+/// small-sphere mean and variance (shifted by e^{c₀} of their own field:
+/// `small` = (mean, variance, c₀)) for the bias and the ratios, which are
+/// formed in the working precision (they stay finite where the values
+/// underflow f64).
+fn finite_report<T: CheckRule>(
+    f: &FiniteIntegrals<T>,
+    ff: &FiniteField<T>,
+    counts: &Counts<T>,
+    small: (&Valued<T>, &Valued<T>, &T),
+) -> FiniteReport {
+    let k = (-ff.shift.clone()).exp();
+    let mean_t = Valued::from(&f.mean);
+    let var = variance(
+        &mean_t,
+        &Valued::from(&f.m2),
+        &Valued::from(&f.c23),
+        &Valued::from(&f.p),
+        &Valued::from(&f.q),
+        &Valued::from(&f.c24),
+        counts,
+        &k,
+    );
+    let to =
+        |v: &T, e: &T| ValueError { value: (v.clone() * k.clone()).to_f64(), error: (e.clone() * k.clone()).to_f64() };
+    // finite/small of two shifted values: (a e^{−c₀}) / (b e^{−c₀′}).
+    let (small_mean, small_var, small_shift) = small;
+    let rescale = (small_shift.clone() - ff.shift.clone()).exp();
+    let ratio = |a: &Valued<T>, b: &Valued<T>| {
+        let value = a.value.clone() / b.value.clone() * rescale.clone();
+        let rel = a.error.clone() / a.value.abs() + b.error.clone() / b.value.abs();
+        ValueError { value: value.to_f64(), error: (value.abs() * rel).to_f64() }
+    };
+    let small_k = (-small_shift.clone()).exp();
+    let bias = mean_t.value.clone() * k.clone() - small_mean.value.clone() * small_k.clone();
+    let bias_error = mean_t.error.clone() * k.clone() + small_mean.error.clone() * small_k;
+    // Var/μ² = (Var e^{c₀}) e^{c₀}/μ_shifted², formed in the working precision.
+    let inv_k = ff.shift.exp();
+    let mu2 = mean_t.value.clone() * mean_t.value.clone();
+    let rel = var.value.clone() * inv_k.clone() / mu2.clone();
+    let rel_err =
+        var.error.clone() * inv_k / mu2 + rel.abs() * rel.lit(2.0) * mean_t.error.clone() / mean_t.value.abs();
+    let k2 = k.clone() * k.clone();
+    FiniteReport {
+        mean: to(&f.mean.value, &f.mean.error),
+        variance: to(&var.value, &var.error),
+        bias: ValueError { value: bias.to_f64(), error: bias_error.to_f64() },
+        relative_noise: ValueError { value: rel.to_f64(), error: rel_err.to_f64() },
+        mean_ratio: ratio(&mean_t, small_mean),
+        variance_ratio: ratio(&var, small_var),
+        m2: scaled(&f.m2, &k),
+        p: scaled(&f.p, &k2),
+        q_pair: scaled(&f.q, &k2),
+        corr23: scaled(&f.c23, &k),
+        corr24: scaled(&f.c24, &k),
+        attenuation_shift: ff.shift.to_f64(),
+        evaluations: f.evaluations(),
+    }
 }
 
 /// Runs the oracle at `precision` with its default tolerance (or `rel_tol`).

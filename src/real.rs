@@ -46,6 +46,10 @@ pub trait Real:
     fn ln(&self) -> Self;
     /// ln(1 + x), accurate for small x.
     fn ln_1p(&self) -> Self;
+    /// eˣ − 1, accurate for small x.
+    fn exp_m1(&self) -> Self;
+    /// arctan x ∈ (−π/2, π/2).
+    fn atan(&self) -> Self;
     fn sin(&self) -> Self;
     fn cos(&self) -> Self;
     fn asin(&self) -> Self;
@@ -127,6 +131,12 @@ impl Real for f64 {
     fn ln_1p(&self) -> Self {
         f64::ln_1p(*self)
     }
+    fn exp_m1(&self) -> Self {
+        f64::exp_m1(*self)
+    }
+    fn atan(&self) -> Self {
+        f64::atan(*self)
+    }
     fn sin(&self) -> Self {
         f64::sin(*self)
     }
@@ -193,6 +203,12 @@ impl Real for Float {
     }
     fn ln_1p(&self) -> Self {
         self.clone().ln_1p()
+    }
+    fn exp_m1(&self) -> Self {
+        self.clone().exp_m1()
+    }
+    fn atan(&self) -> Self {
+        self.clone().atan()
     }
     fn sin(&self) -> Self {
         self.clone().sin()

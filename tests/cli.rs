@@ -83,10 +83,23 @@ fn oracle_json_has_the_documented_keys() {
         "/variance/relative_asymptotic",
         "/evaluations",
         "/wall_time_ms",
+        "/finite/mean/value",
+        "/finite/mean/error",
+        "/finite/variance/value",
+        "/finite/variance/error",
+        "/finite/bias/value",
+        "/finite/bias/error",
+        "/finite/relative_noise/value",
+        "/finite/relative_noise/error",
+        "/finite/mean_ratio/value",
+        "/finite/variance_ratio/value",
+        "/prediction/mean/value",
+        "/prediction/variance/error",
     ] {
         let x = v.pointer(path).unwrap_or_else(|| panic!("missing {path}"));
         assert!(x.as_f64().is_some_and(f64::is_finite), "{path} = {x}");
     }
+    assert_eq!(v.pointer("/prediction/model").and_then(|m| m.as_str()), Some("finite-sphere"));
 }
 
 #[test]
@@ -180,5 +193,6 @@ fn compare_prints_both_sides_and_a_verdict() {
         }
     }
     assert_eq!(json["pass"], true, "{json}");
+    assert_eq!(json["model"], "finite-sphere", "{json}");
     assert!(json["verdict"].as_str().unwrap().starts_with("AGREE"));
 }

@@ -58,8 +58,22 @@ fn asymptotic_forms_converge_at_first_order() {
                 let factor = w[0][k] / w[1][k];
                 assert!((8.0..=12.0).contains(&factor), "{name} ({}) gap {:e} -> {:e}", 23 + k, w[0][k], w[1][k]);
             }
-            assert!(gaps[2][k].abs() <= 2e-3, "{name}: |1 - ratio| = {:e} at R = 1e-4", gaps[2][k]);
+            assert!(gaps[2][k].abs() <= 4e-4, "{name}: |1 - ratio| = {:e} at R = 1e-4", gaps[2][k]);
         }
+    }
+}
+
+/// Issue 3's convergence point as restated (issue 9): at R = 10⁻⁴ every
+/// bundled scene, single-scattered light included, has |1 − ratio| ≤ 4·10⁻⁴
+/// for (23) and (24) (the per-scene remainder coefficients are fitted in
+/// `docs/asymptotic-checks.md`). The order-0 scenes are checked above; this
+/// is the order-1 scene (~10 s).
+#[test]
+fn single_scattered_light_converges_to_4e_4_at_r_1e_4() {
+    let r = oracle(&with_radius(scene("point-isotropic-order1"), 1e-4));
+    for (label, c) in [("(23)", &r.corr23), ("(24)", &r.corr24)] {
+        let (ratio, bar) = (c.ratio.unwrap(), c.ratio_error.unwrap());
+        assert!((1.0 - ratio).abs() + bar <= 4e-4, "{label}: ratio {ratio} ± {bar:e} at R = 1e-4");
     }
 }
 
@@ -76,6 +90,18 @@ fn f64_and_128_bits_agree_within_their_bars() {
         close(a.corr23.exact.value, a.corr23.exact.error, b.corr23.exact.value, b.corr23.exact.error, "(23)");
         close(a.corr24.exact.value, a.corr24.exact.error, b.corr24.exact.value, b.corr24.exact.error, "(24)");
         close(a.variance.exact.value, a.variance.exact.error, b.variance.exact.value, b.variance.exact.error, "Var");
+        let (fa, fb) = (a.finite.as_ref().unwrap(), b.finite.as_ref().unwrap());
+        for (what, x, y) in [
+            ("finite mean", fa.mean, fb.mean),
+            ("finite Var", fa.variance, fb.variance),
+            ("finite (23)", fa.corr23.into(), fb.corr23.into()),
+            ("finite (24)", fa.corr24.into(), fb.corr24.into()),
+            ("finite P", fa.p.into(), fb.p.into()),
+            ("finite Q", fa.q_pair.into(), fb.q_pair.into()),
+        ] {
+            let (x, y): (mcrt_noise::oracle::ValueError, mcrt_noise::oracle::ValueError) = (x, y);
+            close(x.value, x.error, y.value, y.error, what);
+        }
     }
 }
 

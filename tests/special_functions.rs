@@ -139,3 +139,33 @@ fn laplace_series_of_a_matches_quadrature() {
         assert!(bound.to_f64() <= 1e-35 * v.to_f64().abs(), "β = {beta}: bound {:e}", bound.to_f64());
     }
 }
+
+/// The finite-sphere model's special functions of several arguments, f64
+/// against MPFR references from the naive formulas (`accuracy::multi_arg_sweep`),
+/// within their stated bounds.
+#[test]
+fn finite_sphere_functions_within_their_bounds() {
+    for s in mcrt_noise::accuracy::multi_arg_sweep(20_000) {
+        println!("{} | {} | max {:.2} ulp | median {:.2} ulp", s.function, s.domain, s.max_ulps, s.median_ulps);
+        assert!(s.max_ulps <= s.bound, "{}: {} ulps above the bound {}", s.function, s.max_ulps, s.bound);
+    }
+}
+
+/// E(m) at 128 bits against 40-digit values from mpmath (`ellipe`), an
+/// independent implementation.
+#[test]
+fn elliptic_e_at_128_bits_matches_mpmath() {
+    use mcrt_noise::special::complete_elliptic_e;
+    for (kp, reference) in [
+        ("0.70710678118654752440084436210484903928", "1.35064388104767550252017473533872584135"),
+        ("1e-1", "1.015993545025223935639448275295414094783"),
+        ("1e-3", "1.000003897026172061152689118414336731108"),
+        ("1e-6", "1.000000000007350902459544729574893536402"),
+    ] {
+        let k = Float::with_val(128, Float::parse(kp).unwrap());
+        let got = complete_elliptic_e(&k);
+        let want = Float::with_val(140, Float::parse(reference).unwrap());
+        let rel = (Float::with_val(140, &got - &want) / &want).abs().to_f64();
+        assert!(rel <= 2f64.powi(-120), "k′ = {kp}: rel {rel:e}");
+    }
+}

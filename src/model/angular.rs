@@ -158,7 +158,7 @@ pub(crate) fn decades_below<T: Real>(start: &T, limit: &T) -> Vec<T> {
 /// exact where it is small: x ∈ [0, π/2] and x′ = π − x ∈ [0, π/2], so that
 /// neither end's neighbourhood is quantised by ulp(π). Cuts are given as
 /// distances from x = 0 or from x = π.
-struct Halves<T> {
+pub(crate) struct Halves<T> {
     near: Vec<T>,
     far: Vec<T>,
     half_pi: T,
@@ -166,13 +166,13 @@ struct Halves<T> {
 }
 
 impl<T: CheckRule> Halves<T> {
-    fn new(like: &T) -> Self {
+    pub(crate) fn new(like: &T) -> Self {
         let pi = like.pi();
         Halves { near: Vec::new(), far: Vec::new(), half_pi: pi.clone() / like.lit(2.0), pi }
     }
 
     /// A cut at x = c.
-    fn cut_at(&mut self, c: T) {
+    pub(crate) fn cut_at(&mut self, c: T) {
         if c < self.half_pi {
             self.near.push(c)
         } else {
@@ -181,7 +181,7 @@ impl<T: CheckRule> Halves<T> {
     }
 
     /// A cut at x = π − c.
-    fn cut_before_pi(&mut self, c: T) {
+    pub(crate) fn cut_before_pi(&mut self, c: T) {
         if c < self.half_pi {
             self.far.push(c)
         } else {
@@ -190,7 +190,7 @@ impl<T: CheckRule> Halves<T> {
     }
 
     /// ∫₀^π f(x, π − x) dx, each half with the options `each`.
-    fn integrate(self, f: &dyn Fn(&T, &T, &Options) -> Outcome<T>, each: &Options) -> Outcome<T> {
+    pub(crate) fn integrate(self, f: &dyn Fn(&T, &T, &Options) -> Outcome<T>, each: &Options) -> Outcome<T> {
         let Halves { near, far, half_pi, pi } = self;
         let zero = pi.lit(0.0);
         let first = integrate_within_pass(

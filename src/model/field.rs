@@ -369,7 +369,7 @@ fn shortest_path(scene: &Scene) -> f64 {
 /// The interval of s ≥ 0 where the camera ray o + s u is inside the beam:
 /// perpendicular distance to the beam axis ≤ radius and depth ≥ 0. Returns
 /// (s_in, s_out) with s_in ≥ 0; (0, Some(0)) when the ray misses the beam.
-fn beam_interval(rel: DVec3, u: DVec3, v: DVec3, radius: f64, depth0: f64, mu: f64) -> (f64, Option<f64>) {
+pub(crate) fn beam_interval(rel: DVec3, u: DVec3, v: DVec3, radius: f64, depth0: f64, mu: f64) -> (f64, Option<f64>) {
     // Perpendicular components: w + s u_perp.
     let w = rel - v * rel.dot(v);
     let up = u - v * mu;

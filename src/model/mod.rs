@@ -6,10 +6,12 @@
 //! integral is computed by the engine in [`crate::quad`] and carries its error
 //! bar.
 
+pub mod along;
 pub mod angular;
 pub mod chebyshev;
 pub mod correlations;
 pub mod field;
+pub mod finite;
 pub mod moments;
 pub mod noise;
 pub mod periodic;

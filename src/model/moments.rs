@@ -18,18 +18,15 @@
 //! carry the weight q, so every single-sphere sum becomes
 //! ∫ … σ_ext e^{−σ_ext s} ds.
 
+use super::along::{MeanSource, RayLine};
 use super::angular::{Direction, Features, Pole};
 use super::chebyshev::{sample_options, Piecewise};
 use super::field::Field;
 use super::scattered::source_features;
 use super::OracleError;
-use crate::quad::{
-    decay_lengths, integrate, integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Failure, Options,
-    Outcome, Rule,
-};
+use crate::quad::{decay_lengths, CheckRule, Domain, Estimate, Failure, Options, Outcome, Rule};
 use crate::real::Real;
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 /// ⟨𝒞⟩ at s = field.center + x: mean contribution of one forward ray to a
 /// sphere there, paper (19). Domain: any x (0 where no light reaches).
@@ -222,7 +219,7 @@ pub fn scattered_mean_bound<T: Real>(field: &Field<T>, x: &T) -> T {
 /// and the attenuation e^{−σ_ext s} declared as the tail's decay.
 pub fn ray_domain<T: Real>(field: &Field<T>, lo: &T, hi: Option<&T>) -> Domain<T> {
     let mut d = match hi {
-        Some(h) => Domain::finite(lo.clone(), h.clone()),
+        Some(h) => Domain::finite(lo.clone(), h.clone()).with_decay(field.sigma_ext.clone()),
         None => Domain::semi_infinite(lo.clone()).with_decay(field.sigma_ext.clone()),
     };
     for c in &field.components {
@@ -234,240 +231,45 @@ pub fn ray_domain<T: Real>(field: &Field<T>, lo: &T, hi: Option<&T>) -> Domain<T
     d
 }
 
-/// The tolerance of the ⟨𝒞⟩ tables for an integral with options `opts`:
-/// that of its inner level in the primary pass (`integrate_nested`).
-fn table_tol(opts: &Options) -> f64 {
-    opts.rel_tol / 20.0
+/// The camera ray of the small-sphere model, for the integrals of
+/// [`super::along`].
+fn with_line<T: CheckRule, R>(field: &Field<T>, f: impl FnOnce(&RayLine<'_, T>) -> R) -> R {
+    let domain = |lo: &T, hi: Option<&T>| ray_domain(field, lo, hi);
+    f(&RayLine { sigma: field.sigma_ext.clone(), center: field.center.clone(), domain: &domain })
 }
 
-/// ∫₀^∞ σ e^{−σ s} g(s) ds for a g that is itself an integral with a bar
-/// (a smooth field's angular integral), as a nested integral.
-fn along_ray_nested<T: CheckRule>(
-    field: &Field<T>,
-    what: &'static str,
-    opts: &Options,
-    g: impl Fn(&T, &Options) -> Outcome<T> + Sync,
-) -> Result<Estimate<T>, OracleError> {
-    let sigma = field.sigma_ext.clone();
-    let x0 = field.x_camera();
-    integrate_nested(
-        |x: &T, inner: &Options| {
-            let w = sigma.clone() * (-(sigma.clone() * field.s_of(x))).exp();
-            if w.is_zero() {
-                return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, inner.rule));
-            }
-            let e = g(x, &Options { abs_tol: (inner.abs_tol / w.to_f64()).min(f64::MAX), ..inner.clone() })?;
-            Ok(Estimate::known(w.clone() * e.value, w * e.error, e.evaluations, inner.rule))
-        },
-        &ray_domain(field, &x0, None),
-        opts,
-    )
-    .map_err(OracleError::quad(what))
-}
-
-/// ∫₀^∞ σ e^{−σ s} g(s) ds for a plain g.
-fn along_ray<T: CheckRule>(
-    field: &Field<T>,
-    what: &'static str,
-    opts: &Options,
-    g: impl Fn(&T) -> T,
-) -> Result<Estimate<T>, OracleError> {
-    let sigma = field.sigma_ext.clone();
-    let x0 = field.x_camera();
-    integrate(
-        |x: &T| sigma.clone() * (-(sigma.clone() * field.s_of(x))).exp() * g(x),
-        &ray_domain(field, &x0, None),
-        opts,
-    )
-    .map_err(OracleError::quad(what))
+/// ⟨𝒞⟩ of the small-sphere model as [`super::along`] takes it, handed to `f`.
+fn with_mean<T: CheckRule, R>(field: &Field<T>, f: impl FnOnce(&RayLine<'_, T>, &MeanSource<'_, T>) -> R) -> R {
+    let plain = |x: &T| mean_contribution(field, x);
+    let tabled = |x: &T, tol: f64, o: &Options| mean_contribution_tabled(field, x, tol, o);
+    let source = if field.is_smooth() { MeanSource::WithBar(&tabled) } else { MeanSource::Plain(&plain) };
+    with_line(field, |line| f(line, &source))
 }
 
 /// Mean pixel luminance ⟨⟨L⟩⟩ = ∫ σ e^{−σs} ⟨𝒞⟩(s) ds (paper (15)).
 pub fn mean_luminance<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
-    let what = "mean luminance (15)";
-    if field.is_smooth() {
-        let tol = table_tol(opts);
-        return along_ray_nested(field, what, opts, |x, o| mean_contribution_tabled(field, x, tol.max(o.rel_tol), o));
-    }
-    along_ray(field, what, opts, |s| mean_contribution(field, s))
+    with_mean(field, |line, mean| line.mean(mean, opts))
 }
 
 /// M₂ = ∫ σ e^{−σs} ⟨𝒞²⟩(s) ds, the single-sphere part of (16).
 pub fn m2<T: CheckRule>(field: &Field<T>, r: &T, opts: &Options) -> Result<Estimate<T>, OracleError> {
     let what = "∫⟨𝒞²⟩ of (16)";
-    if field.is_smooth() {
-        return along_ray_nested(field, what, opts, |x, o| second_moment_estimate(field, x, r, o));
-    }
-    along_ray(field, what, opts, |s| second_moment(field, s, r))
+    with_line(field, |line| {
+        if field.is_smooth() {
+            line.integral_nested(what, opts, |x, o| second_moment_estimate(field, x, r, o))
+        } else {
+            line.integral(what, opts, |s| second_moment(field, s, r))
+        }
+    })
 }
 
 /// P = ∫ σ e^{−σs} ⟨𝒞⟩(s)² ds, the single-sphere part of (17).
 pub fn p_single<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
-    let what = "∫⟨𝒞⟩² of (17)";
-    if field.is_smooth() {
-        let tol = table_tol(opts);
-        return along_ray_nested(field, what, opts, |x, o| {
-            let m = mean_contribution_tabled(field, x, tol.max(o.rel_tol), o)?;
-            let value = m.value.clone() * m.value.clone();
-            let error = x.lit(2.0) * m.value.abs() * m.error.clone() + m.error.clone() * m.error;
-            Ok(Estimate::known(value, error, m.evaluations, o.rule))
-        });
-    }
-    along_ray(field, what, opts, |s| {
-        let m = mean_contribution(field, s);
-        m.clone() * m
-    })
+    with_mean(field, |line, mean| line.p_single(mean, opts))
 }
 
-/// Q = ∫∫_{t>0} ⟨𝒞⟩(s)⟨𝒞⟩(s+t) σ² e^{−σ(s+t)} ds dt, the pair part of (17),
-/// computed with p = s + t as ∫₀^∞ σ e^{−σp} ⟨𝒞⟩(p) G(p) dp,
-/// G(p) = ∫₀^p σ ⟨𝒞⟩(s) ds.
-///
-/// G is cumulative: rather than integrating from the camera again at every
-/// outer node, G(p) = G(p′) + ∫_{p′}^{p} σ⟨𝒞⟩ from the nearest p′ < p already
-/// known, whose bar it inherits. The memory is kept per pass (rule and
-/// tolerances), so the check pass builds its own G with its own rule and the
-/// two passes stay independent.
+/// Q = ∫∫_{t>0} ⟨𝒞⟩(s)⟨𝒞⟩(s+t) σ² e^{−σ(s+t)} ds dt, the pair part of (17)
+/// ([`RayLine::q_pair`]).
 pub fn q_pair<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
-    let sigma = field.sigma_ext.clone();
-    let x0 = field.x_camera();
-    // One memory per pass; the passes run side by side, each locks its own.
-    let memory: Mutex<HashMap<PassKey, PassMemory<T>>> = Mutex::new(HashMap::new());
-    let pass_memory = |inner: &Options| {
-        memory
-            .lock()
-            .expect("no pass panics while holding the memory")
-            .entry(PassKey::of(inner))
-            .or_insert_with(|| Arc::new(Mutex::new(vec![Known::start(&x0)])))
-            .clone()
-    };
-    integrate_nested(
-        |p: &T, inner: &Options| {
-            let zero = || Ok(Estimate::known(p.lit(0.0), p.lit(0.0), 0, inner.rule));
-            let weight = sigma.clone() * (-(sigma.clone() * field.s_of(p))).exp();
-            if !(p.clone() > x0.clone()) || weight.is_zero() {
-                return zero();
-            }
-            let pass = pass_memory(inner);
-            let mut known = pass.lock().expect("no pass panics while holding its memory");
-            if field.is_smooth() {
-                return smooth_pair_sample(field, &mut known, p, &weight, inner);
-            }
-            let outer = weight * mean_contribution(field, p);
-            if outer.is_zero() {
-                return zero();
-            }
-            let g = cumulative(field, &mut known, p, inner)?;
-            Ok(Estimate::known(outer.clone() * g.value, outer.abs() * g.error, g.evaluations, inner.rule))
-        },
-        &ray_domain(field, &x0, None),
-        opts,
-    )
-    .map_err(OracleError::quad("∫∫⟨𝒞⟩⟨𝒞⟩ of (17)"))
-}
-
-/// σe^{−σp}⟨𝒞⟩(p)G(p) for a smooth field, where ⟨𝒞⟩ is an angular integral
-/// with a bar: ⟨𝒞⟩(p) to the tolerance left by the G known below p (G grows
-/// with p), then G(p) cumulatively, each short piece a nested integral of
-/// the same pass.
-fn smooth_pair_sample<T: CheckRule>(
-    field: &Field<T>,
-    known: &mut Vec<Known<T>>,
-    p: &T,
-    weight: &T,
-    inner: &Options,
-) -> Outcome<T> {
-    let below = known[known.partition_point(|k| k.at <= *p) - 1].value.abs().to_f64();
-    let m_abs = if below > 0.0 { (inner.abs_tol / (2.0 * weight.to_f64() * below)).min(f64::MAX) } else { 0.0 };
-    let tol = inner.rel_tol;
-    let m = mean_contribution_tabled(field, p, tol, &Options { abs_tol: m_abs, ..inner.clone() })?;
-    let outer = weight.clone() * m.value.clone();
-    if outer.is_zero() {
-        return Ok(Estimate::known(p.lit(0.0), p.lit(0.0), m.evaluations, inner.rule));
-    }
-    let sigma = field.sigma_ext.clone();
-    // A thousandth of the inner goal, for outer·G and for G itself.
-    let short_abs = (inner.abs_tol / (1000.0 * outer.abs().to_f64())).max(inner.rel_tol * below / 1000.0);
-    let short = Options { abs_tol: short_abs.min(f64::MAX), ..inner.clone() };
-    let g = cumulative_with(known, p, inner, |a: &T, b: &T| {
-        integrate_within_pass(
-            |s: &T, o: &Options| {
-                let e = mean_contribution_tabled(
-                    field,
-                    s,
-                    tol,
-                    &Options { abs_tol: o.abs_tol / sigma.to_f64(), ..o.clone() },
-                )?;
-                Ok(Estimate::known(sigma.clone() * e.value, sigma.clone() * e.error, e.evaluations, o.rule))
-            },
-            &ray_domain(field, a, Some(b)),
-            &short,
-        )
-    })?;
-    let value = outer.clone() * g.value.clone();
-    let error = outer.abs() * g.error.clone() + (weight.clone() * g.value.clone()).abs() * m.error.clone();
-    Ok(Estimate::known(value, error, g.evaluations + m.evaluations, inner.rule))
-}
-
-/// The G values one pass has computed, sorted by position.
-type PassMemory<T> = Arc<Mutex<Vec<Known<T>>>>;
-
-/// The options of a pass, as a hashable key.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-struct PassKey(Rule, u64, u64);
-
-impl PassKey {
-    fn of(o: &Options) -> Self {
-        PassKey(o.rule, o.rel_tol.to_bits(), o.abs_tol.to_bits())
-    }
-}
-
-/// G at a point already computed: value and bar.
-#[derive(Debug, Clone)]
-struct Known<T> {
-    at: T,
-    value: T,
-    error: T,
-}
-
-impl<T: Real> Known<T> {
-    fn start(x0: &T) -> Self {
-        Known { at: x0.clone(), value: x0.lit(0.0), error: x0.lit(0.0) }
-    }
-}
-
-/// G(p) from the nearest known point below p (kept sorted), with the short
-/// integral's tolerance a thousandth of the inner one so that a chain of many
-/// pieces stays within the inner budget.
-fn cumulative<T: CheckRule>(
-    field: &Field<T>,
-    known: &mut Vec<Known<T>>,
-    p: &T,
-    inner: &Options,
-) -> Result<Estimate<T>, Failure<T>> {
-    let sigma = field.sigma_ext.clone();
-    let short = Options { abs_tol: inner.abs_tol / 1000.0, ..inner.clone() };
-    cumulative_with(known, p, inner, |a: &T, b: &T| {
-        integrate(|s: &T| sigma.clone() * mean_contribution(field, s), &ray_domain(field, a, Some(b)), &short)
-    })
-}
-
-/// G(p) = G(p′) + ∫_{p′}^{p} from the nearest known p′ ≤ p, the piece
-/// computed by `piece(p′, p)`; the new point is remembered.
-fn cumulative_with<T: CheckRule>(
-    known: &mut Vec<Known<T>>,
-    p: &T,
-    inner: &Options,
-    piece: impl FnOnce(&T, &T) -> Outcome<T>,
-) -> Outcome<T> {
-    let idx = known.partition_point(|k| k.at <= *p);
-    let base = known[idx - 1].clone();
-    if base.at == *p {
-        return Ok(Estimate::known(base.value, base.error, 0, inner.rule));
-    }
-    let piece = piece(&base.at, p)?;
-    let value = base.value + piece.value.clone();
-    let error = base.error + piece.error.clone();
-    known.insert(idx, Known { at: p.clone(), value: value.clone(), error: error.clone() });
-    Ok(Estimate::known(value, error, piece.evaluations, inner.rule))
+    with_mean(field, |line, mean| line.q_pair(mean, opts))
 }

@@ -148,10 +148,11 @@ pub struct Domain<T> {
     /// Interior points where the integrand is not smooth (kinks, jumps, edges
     /// of support). Points outside (lo, hi) are ignored.
     pub breakpoints: Vec<T>,
-    /// For [lo, ∞): a known exponential decay rate λ of the integrand. The
-    /// piece variable is then u = 1 − e^{−λ(t − lo)} (so e^{−λt} dt is flat
+    /// A known exponential decay rate λ of the integrand. For [lo, ∞) the
+    /// tail's variable is then u = 1 − e^{−λ(t − lo)} (so e^{−λt} dt is flat
     /// in u) instead of the default rational map u = (t − lo)/(1 + t − lo),
-    /// which suits algebraic decay.
+    /// which suits algebraic decay, and the tail is cut at decay lengths; a
+    /// finite domain longer than 2·4^K decay lengths is cut at them too.
     pub decay: Option<T>,
 }
 
@@ -162,7 +163,7 @@ impl<T: Real> Domain<T> {
     pub fn semi_infinite(lo: T) -> Self {
         Domain { lo, hi: None, breakpoints: Vec::new(), decay: None }
     }
-    /// Declares exponential decay at rate `rate` > 0 (semi-infinite domains).
+    /// Declares exponential decay at rate `rate` > 0.
     pub fn with_decay(mut self, rate: T) -> Self {
         self.decay = Some(rate);
         self
@@ -282,7 +283,9 @@ pub(crate) fn decay_lengths<T: Real>(like: &T) -> Vec<f64> {
 }
 
 /// For [lo, ∞) with a declared decay rate λ: breakpoints at b + 4^k/λ,
-/// k = 0 … K, beyond the last breakpoint b (or lo), with e^{−4^K} below the
+/// k = 0 … K, beyond the last breakpoint b (or lo), and at lo + 4^k/λ too
+/// when b lies beyond 2·4^K decay lengths (likewise for a finite domain
+/// that long, which gets only the latter), with e^{−4^K} below the
 /// working precision squared. The content of the tail then lies in finite
 /// pieces on which both rules converge geometrically, and the mapped
 /// remainder [b + 2^K/λ, ∞) holds nothing the goal can see. Without them,
@@ -291,11 +294,24 @@ pub(crate) fn decay_lengths<T: Real>(like: &T) -> Vec<f64> {
 /// Gauss–Legendre converges only algebraically.
 fn with_decay_lengths<T: Real>(domain: &Domain<T>) -> Option<Domain<T>> {
     let rate = domain.decay.as_ref()?;
-    if domain.hi.is_some() || !(rate.clone() > rate.lit(0.0)) || !rate.is_finite() {
+    if !(rate.clone() > rate.lit(0.0)) || !rate.is_finite() {
         return None;
     }
+    let lengths = decay_lengths(&domain.lo);
+    let from_lo = || lengths.iter().map(|&k| domain.lo.clone() + rate.lit(k) / rate.clone());
+    // A piece reaching far into the decay (a beam nearly parallel to the
+    // camera ray leaves it 10⁶ decay lengths away) would hold its content
+    // in a sliver at its start, which the check rule's first panel cannot
+    // see: such a piece is cut at the decay lengths from lo.
+    let reach = domain.lo.clone() + rate.lit(2.0 * lengths.last().expect("non-empty")) / rate.clone();
+    if let Some(hi) = &domain.hi {
+        return (*hi > reach).then(|| domain.clone().with_breakpoints(from_lo()));
+    }
     let b = split_tail(domain).unwrap_or_else(|| domain.lo.clone());
-    let extra: Vec<T> = decay_lengths(&domain.lo).into_iter().map(|k| b.clone() + rate.lit(k) / rate.clone()).collect();
+    let mut extra: Vec<T> = lengths.iter().map(|&k| b.clone() + rate.lit(k) / rate.clone()).collect();
+    if b > reach {
+        extra.extend(from_lo());
+    }
     Some(domain.clone().with_breakpoints(extra))
 }
 
@@ -383,9 +399,7 @@ fn integrate_pieces<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, o
     cuts.sort_by(|x, y| x.partial_cmp(y).expect("finite breakpoints"));
     cuts.dedup_by(|x, y| x == y);
     let found = cuts.len().saturating_sub(declared_count);
-    let mut edges = vec![a.clone()];
-    edges.extend(cuts);
-    edges.push(b.clone());
+    let edges = merged_edges(&a, &b, cuts);
     let pieces: Vec<Piece<T>> =
         edges.windows(2).filter(|w| w[0] < w[1]).map(|w| Piece { a: w[0].clone(), b: w[1].clone() }).collect();
 
@@ -415,6 +429,27 @@ fn integrate_pieces<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, o
     };
     let check = check.map(|c| Estimate { rule: opts.rule.other(), ..estimate(&c) });
     reconcile(estimate(&primary), check, opts)
+}
+
+/// The piece ends a, cuts…, b, without pieces narrower than 8 ulps of
+/// their position: two kinks that close (the ends of a hit window of width
+/// 10⁻¹⁷ at the camera, say) are one kink at the working precision, and a
+/// sliver piece between them is below what either rule can place nodes in
+/// (tanh–sinh drops nodes within 4 ulps of an end), so it would only spend
+/// the budget.
+fn merged_edges<T: Real>(a: &T, b: &T, cuts: Vec<T>) -> Vec<T> {
+    let close = |x: &T, y: &T| {
+        let scale = x.abs().max_of(y.abs());
+        (x.clone() - y.clone()).abs() <= scale * x.eps() * x.lit(8.0)
+    };
+    let mut edges = vec![a.clone()];
+    for c in cuts {
+        if !close(&c, edges.last().expect("non-empty")) && !close(&c, b) {
+            edges.push(c);
+        }
+    }
+    edges.push(b.clone());
+    edges
 }
 
 /// Judges a primary result against its cross-check and the goal.

@@ -33,15 +33,40 @@ pub fn overlap_a<T: Real>(x: &T) -> T {
     if x.clone() < x.lit(SERIES_FROM) {
         return overlap_a_closed(x);
     }
-    let u = x.lit(1.0) - x.clone(); // exact in f64 (Sterbenz), u ≤ 0.5
+    a_near_one(&(x.lit(1.0) - x.clone())) // u = 1 − x exact (Sterbenz), u ≤ 0.5
+}
+
+/// A(1 − u) for 0 ≤ u ≤ 1/2, from the gap u itself.
+fn a_near_one<T: Real>(u: &T) -> T {
     if T::CAN_RAISE_PRECISION {
         // MPFR: the closed form with guard bits for the ~log₂(1/u) bits its
         // cancellation loses is 4× faster than the series at 128 bits.
         let lost = (-u.to_f64().log2()).max(0.0).ceil() as u32;
-        return overlap_a_closed(&x.raised(lost + 16)).rounded_to(x.prec());
+        let raised = u.raised(lost + 16);
+        return overlap_a_closed(&(raised.lit(1.0) - raised)).rounded_to(u.prec());
     }
     // √(8u³) rounds once less than 2√2·u·√u.
-    (x.lit(8.0) * u.clone() * u.clone() * u.clone()).sqrt() * sqrt_half_series(&u, 1.5, false)
+    (u.lit(8.0) * u.clone() * u.clone() * u.clone()).sqrt() * sqrt_half_series(u, 1.5, false)
+}
+
+/// A(1 − u) = arccos(1 − u) − (1 − u)√(u(2 − u)) for 0 ≤ u ≤ 2: the area of
+/// the segment of height u cut from a unit disc (π at u = 2), computed from
+/// the height itself, so that a segment thinner than ulp(1) keeps its
+/// relative accuracy (`lens::disc_overlap`). Domain: [0, 2] (NaN outside).
+pub fn overlap_a_gap<T: Real>(u: &T) -> T {
+    if !(u.clone() >= u.lit(0.0) && u.clone() <= u.lit(2.0)) {
+        return u.lit(f64::NAN);
+    }
+    if u.clone() <= u.lit(SERIES_FROM) {
+        return a_near_one(u);
+    }
+    if u.clone() < u.lit(1.5) {
+        // 1 − u ∈ (−1/2, 1/2], exact (Sterbenz); the closed form holds for
+        // negative arguments too and is well conditioned here.
+        return overlap_a_closed(&(u.lit(1.0) - u.clone()));
+    }
+    // A(−x) = π − A(x); 2 − u ∈ [0, 1/2] is exact.
+    u.pi() - a_near_one(&(u.lit(2.0) - u.clone()))
 }
 
 /// The closed form arccos x − x√((1−x)(1+x)), well conditioned for x ≤ 1/2.

@@ -1,0 +1,272 @@
+//! Integrals along the camera ray of a single-sphere average ⟨𝒞⟩(s), shared
+//! by the small-sphere model ([`super::moments`]) and the finite-sphere one
+//! ([`super::finite`]): ∫σe^{−σs}g(s) ds for g = ⟨𝒞⟩, ⟨𝒞²⟩, ⟨𝒞⟩² (paper
+//! (15)–(17)) and the pair integral Q of (17).
+//!
+//! A model hands its ⟨𝒞⟩ either as a plain function (closed forms: every
+//! integral is then a plain cross-checked [`integrate`]) or as a value with
+//! a bar whose inner work is done by the rule of the pass that asks
+//! (tables, angular quadrature: the integrals are then nested, and each
+//! pass computes its own).
+
+use super::OracleError;
+use crate::quad::{
+    integrate, integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Failure, Options, Outcome, Rule,
+};
+use crate::real::Real;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+/// The camera ray as the integrals need it: σ, the origin of the
+/// integration variable (s = center + x) and the domain with every
+/// breakpoint of the model's ⟨𝒞⟩ between two points (`None`: to ∞, with
+/// the decay e^{−σs} declared).
+pub struct RayLine<'a, T> {
+    pub sigma: T,
+    pub center: T,
+    pub domain: &'a (dyn Fn(&T, Option<&T>) -> Domain<T> + Sync),
+}
+
+/// ⟨𝒞⟩ at x as a model gives it.
+pub enum MeanSource<'a, T> {
+    /// A plain value (closed form).
+    Plain(&'a (dyn Fn(&T) -> T + Sync)),
+    /// A value with a bar, computed with the rule and tolerances of the
+    /// options; the f64 is the tolerance of any table behind it.
+    WithBar(&'a (dyn Fn(&T, f64, &Options) -> Outcome<T> + Sync)),
+}
+
+impl<T: CheckRule> RayLine<'_, T> {
+    pub fn s_of(&self, x: &T) -> T {
+        self.center.clone() + x.clone()
+    }
+
+    /// The camera, in x.
+    pub fn x_camera(&self) -> T {
+        -self.center.clone()
+    }
+
+    /// σe^{−σs} at x.
+    pub fn weight(&self, x: &T) -> T {
+        self.sigma.clone() * (-(self.sigma.clone() * self.s_of(x))).exp()
+    }
+
+    /// ∫₀^∞ σ e^{−σ s} g(s) ds for a plain g.
+    pub fn integral(
+        &self,
+        what: &'static str,
+        opts: &Options,
+        g: impl Fn(&T) -> T,
+    ) -> Result<Estimate<T>, OracleError> {
+        integrate(|x: &T| self.weight(x) * g(x), &(self.domain)(&self.x_camera(), None), opts)
+            .map_err(OracleError::quad(what))
+    }
+
+    /// ∫₀^∞ σ e^{−σ s} g(s) ds for a g that is itself computed with a bar
+    /// by the pass's rule, as a nested integral.
+    pub fn integral_nested(
+        &self,
+        what: &'static str,
+        opts: &Options,
+        g: impl Fn(&T, &Options) -> Outcome<T> + Sync,
+    ) -> Result<Estimate<T>, OracleError> {
+        integrate_nested(
+            |x: &T, inner: &Options| {
+                let w = self.weight(x);
+                if w.is_zero() {
+                    return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, inner.rule));
+                }
+                let e = g(x, &Options { abs_tol: (inner.abs_tol / w.to_f64()).min(f64::MAX), ..inner.clone() })?;
+                Ok(Estimate::known(w.clone() * e.value, w * e.error, e.evaluations, inner.rule))
+            },
+            &(self.domain)(&self.x_camera(), None),
+            opts,
+        )
+        .map_err(OracleError::quad(what))
+    }
+
+    /// ∫σe^{−σs}⟨𝒞⟩ ds (15).
+    pub fn mean(&self, mean: &MeanSource<'_, T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        let what = "mean luminance (15)";
+        match mean {
+            MeanSource::Plain(m) => self.integral(what, opts, m),
+            MeanSource::WithBar(m) => {
+                let tol = table_tol(opts);
+                self.integral_nested(what, opts, |x, o| m(x, tol.max(o.rel_tol), o))
+            }
+        }
+    }
+
+    /// P = ∫σe^{−σs}⟨𝒞⟩² ds, the single-sphere part of (17).
+    pub fn p_single(&self, mean: &MeanSource<'_, T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        let what = "∫⟨𝒞⟩² of (17)";
+        match mean {
+            MeanSource::Plain(m) => self.integral(what, opts, |x| {
+                let v = m(x);
+                v.clone() * v
+            }),
+            MeanSource::WithBar(m) => {
+                let tol = table_tol(opts);
+                self.integral_nested(what, opts, |x, o| {
+                    let m = m(x, tol.max(o.rel_tol), o)?;
+                    let value = m.value.clone() * m.value.clone();
+                    let error = x.lit(2.0) * m.value.abs() * m.error.clone() + m.error.clone() * m.error;
+                    Ok(Estimate::known(value, error, m.evaluations, o.rule))
+                })
+            }
+        }
+    }
+
+    /// Q = ∫∫_{t>0} ⟨𝒞⟩(s)⟨𝒞⟩(s+t) σ² e^{−σ(s+t)} ds dt, the pair part of
+    /// (17), computed with p = s + t as ∫₀^∞ σ e^{−σp} ⟨𝒞⟩(p) G(p) dp,
+    /// G(p) = ∫₀^p σ ⟨𝒞⟩(s) ds.
+    ///
+    /// G is cumulative: rather than integrating from the camera again at
+    /// every outer node, G(p) = G(p′) + ∫_{p′}^{p} σ⟨𝒞⟩ from the nearest
+    /// p′ < p already known, whose bar it inherits. The memory is kept per
+    /// pass (rule and tolerances), so the check pass builds its own G with
+    /// its own rule and the two passes stay independent.
+    pub fn q_pair(&self, mean: &MeanSource<'_, T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        let x0 = self.x_camera();
+        // One memory per pass; the passes run side by side, each locks its own.
+        let memory: Mutex<HashMap<PassKey, PassMemory<T>>> = Mutex::new(HashMap::new());
+        let pass_memory = |inner: &Options| {
+            memory
+                .lock()
+                .expect("no pass panics while holding the memory")
+                .entry(PassKey::of(inner))
+                .or_insert_with(|| Arc::new(Mutex::new(vec![Known::start(&x0)])))
+                .clone()
+        };
+        integrate_nested(
+            |p: &T, inner: &Options| {
+                let zero = || Ok(Estimate::known(p.lit(0.0), p.lit(0.0), 0, inner.rule));
+                let weight = self.weight(p);
+                if !(p.clone() > x0.clone()) || weight.is_zero() {
+                    return zero();
+                }
+                let pass = pass_memory(inner);
+                let mut known = pass.lock().expect("no pass panics while holding its memory");
+                match mean {
+                    MeanSource::WithBar(m) => self.pair_sample_with_bar(m, &mut known, p, &weight, inner),
+                    MeanSource::Plain(m) => {
+                        let outer = weight * m(p);
+                        if outer.is_zero() {
+                            return zero();
+                        }
+                        let sigma = self.sigma.clone();
+                        let short = short_options(&known, p, &outer, inner);
+                        let g = cumulative_with(&mut known, p, inner, |a: &T, b: &T| {
+                            integrate(|s: &T| sigma.clone() * m(s), &(self.domain)(a, Some(b)), &short)
+                        })?;
+                        Ok(Estimate::known(outer.clone() * g.value, outer.abs() * g.error, g.evaluations, inner.rule))
+                    }
+                }
+            },
+            &(self.domain)(&x0, None),
+            opts,
+        )
+        .map_err(OracleError::quad("∫∫⟨𝒞⟩⟨𝒞⟩ of (17)"))
+    }
+
+    /// σe^{−σp}⟨𝒞⟩(p)G(p) where ⟨𝒞⟩ has a bar: ⟨𝒞⟩(p) to the tolerance
+    /// left by the G known below p (G grows with p), then G(p)
+    /// cumulatively, each short piece an integral of the same pass.
+    fn pair_sample_with_bar(
+        &self,
+        mean: &(dyn Fn(&T, f64, &Options) -> Outcome<T> + Sync),
+        known: &mut Vec<Known<T>>,
+        p: &T,
+        weight: &T,
+        inner: &Options,
+    ) -> Outcome<T> {
+        let below = known[known.partition_point(|k| k.at <= *p) - 1].value.abs().to_f64();
+        let m_abs = if below > 0.0 { (inner.abs_tol / (2.0 * weight.to_f64() * below)).min(f64::MAX) } else { 0.0 };
+        let tol = inner.rel_tol;
+        let m = mean(p, tol, &Options { abs_tol: m_abs, ..inner.clone() })?;
+        let outer = weight.clone() * m.value.clone();
+        if outer.is_zero() {
+            return Ok(Estimate::known(p.lit(0.0), p.lit(0.0), m.evaluations, inner.rule));
+        }
+        let sigma = self.sigma.clone();
+        let short = short_options(known, p, &outer, inner);
+        let g = cumulative_with(known, p, inner, |a: &T, b: &T| {
+            integrate_within_pass(
+                |s: &T, o: &Options| {
+                    let e = mean(s, tol, &Options { abs_tol: o.abs_tol / sigma.to_f64(), ..o.clone() })?;
+                    Ok(Estimate::known(sigma.clone() * e.value, sigma.clone() * e.error, e.evaluations, o.rule))
+                },
+                &(self.domain)(a, Some(b)),
+                &short,
+            )
+        })?;
+        let value = outer.clone() * g.value.clone();
+        let error = outer.abs() * g.error.clone() + (weight.clone() * g.value.clone()).abs() * m.error.clone();
+        Ok(Estimate::known(value, error, g.evaluations + m.evaluations, inner.rule))
+    }
+}
+
+/// The options of one short piece of G(p) = ∫₀^p σ⟨𝒞⟩, whose error is
+/// multiplied by `outer` = σe^{−σp}⟨𝒞⟩(p) in Q's integrand: a thousandth
+/// of the inner goal for outer·G, and of the relative goal for G itself
+/// (G(p′) known below p), so that a chain of many pieces stays within the
+/// inner budget without asking a piece for more than its own rounding
+/// allows (a beam's edge crossed over 10⁻⁶ of the ray).
+fn short_options<T: Real>(known: &[Known<T>], p: &T, outer: &T, inner: &Options) -> Options {
+    let below = known[known.partition_point(|k| k.at <= *p) - 1].value.abs().to_f64();
+    let short_abs = (inner.abs_tol / (1000.0 * outer.abs().to_f64())).max(inner.rel_tol * below / 1000.0);
+    Options { abs_tol: short_abs.min(f64::MAX), ..inner.clone() }
+}
+
+/// The tolerance of the ⟨𝒞⟩ tables for an integral with options `opts`:
+/// that of its inner level in the primary pass (`integrate_nested`).
+pub fn table_tol(opts: &Options) -> f64 {
+    opts.rel_tol / 20.0
+}
+
+/// The G values one pass has computed, sorted by position.
+type PassMemory<T> = Arc<Mutex<Vec<Known<T>>>>;
+
+/// The options of a pass, as a hashable key.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+struct PassKey(Rule, u64, u64);
+
+impl PassKey {
+    fn of(o: &Options) -> Self {
+        PassKey(o.rule, o.rel_tol.to_bits(), o.abs_tol.to_bits())
+    }
+}
+
+/// G at a point already computed: value and bar.
+#[derive(Debug, Clone)]
+struct Known<T> {
+    at: T,
+    value: T,
+    error: T,
+}
+
+impl<T: Real> Known<T> {
+    fn start(x0: &T) -> Self {
+        Known { at: x0.clone(), value: x0.lit(0.0), error: x0.lit(0.0) }
+    }
+}
+
+/// G(p) = G(p′) + ∫_{p′}^{p} from the nearest known p′ ≤ p, the piece
+/// computed by `piece(p′, p)`; the new point is remembered.
+fn cumulative_with<T: CheckRule>(
+    known: &mut Vec<Known<T>>,
+    p: &T,
+    inner: &Options,
+    piece: impl FnOnce(&T, &T) -> Result<Estimate<T>, Failure<T>>,
+) -> Outcome<T> {
+    let idx = known.partition_point(|k| k.at <= *p);
+    let base = known[idx - 1].clone();
+    if base.at == *p {
+        return Ok(Estimate::known(base.value, base.error, 0, inner.rule));
+    }
+    let piece = piece(&base.at, p)?;
+    let value = base.value + piece.value.clone();
+    let error = base.error + piece.error.clone();
+    known.insert(idx, Known { at: p.clone(), value: value.clone(), error: error.clone() });
+    Ok(Estimate::known(value, error, piece.evaluations, inner.rule))
+}

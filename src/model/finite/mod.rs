@@ -1,0 +1,364 @@
+//! The finite-sphere model: the estimator's exact mean, variance and bias at
+//! any sphere radius R, for uncollided light (scattering order 0) from point
+//! lights and beams. Derivation: `docs/model.md` §9.
+//!
+//! The small-sphere model of §4.3 ([`super::moments`], [`super::correlations`])
+//! takes the phase function and the attenuation at a sphere's centre and
+//! lets one segment cross whole spheres; it is exact only as R → 0. Here
+//! nothing is approximated: the moments (13)–(18) of the estimator as the
+//! reference tracer runs it (`docs/tracer.md`) are integrals over one
+//! forward ray, and for an uncollided ray the integrals over its free path
+//! and over the spheres' positions are closed forms of its *hit interval*
+//! on the camera line ([`ray`]). What remains is a 2-D integral over the
+//! ray's direction (point light, [`point`]) or its starting point on the
+//! disk (beam, [`beam`]), with every kink declared to the quadrature
+//! engine, which cross-checks it as always.
+//!
+//! - μ = ⟨⟨Ĉ⟩⟩, M₂, C₂₃, C₂₄: ray-centric ([`Functional`]);
+//! - P = ∫σe^{−σs}⟨𝒞⟩_R², Q (17): sphere-centric, from ⟨𝒞⟩_R(s), the mean
+//!   contribution of one ray to a sphere at s, in closed form for isotropic
+//!   media and beams and by quadrature over the sphere's cap (tabled along
+//!   the ray per pass) for Henyey–Greenstein media ([`tables`]).
+//!
+//! Then (7)–(9) hold as they stand (`super::noise::variance`), and the bias
+//! is b(R) = μ(R) − μ(0), μ(0) the small-sphere mean, the luminance of the
+//! simulated orders.
+
+pub mod angles;
+pub mod beam;
+pub mod point;
+pub mod ray;
+mod tables;
+
+use super::along::{MeanSource, RayLine};
+use super::angular::Direction;
+use super::field::{beam_interval, Field};
+use super::OracleError;
+use crate::quad::{decay_lengths, CheckRule, Domain, Estimate, Options, Outcome, Rule};
+use crate::real::Real;
+use beam::BeamLight;
+use mcrt_scene::{DVec3, Light, Phase, ScatteringOrders, Scene};
+use point::PointLight;
+pub use ray::Functional;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+/// One light of the finite-sphere model.
+#[derive(Debug, Clone)]
+pub enum FiniteLight<T> {
+    Point(PointLight<T>),
+    Beam(BeamLight<T>),
+}
+
+/// The scene as the finite-sphere model needs it.
+#[derive(Debug, Clone)]
+pub struct FiniteField<T> {
+    pub lights: Vec<FiniteLight<T>>,
+    pub sigma: T,
+    pub albedo: T,
+    pub phase: Phase,
+    /// Total flux 𝓕 (5).
+    pub total_flux: T,
+    /// Sphere radius R.
+    pub radius: T,
+    /// c₀ = σ × a lower bound of every path light → sphere's closest point
+    /// → camera (|y − o| − R for a point, the entry of the camera ray into
+    /// the beam widened by R for a beam): every ray functional and ⟨𝒞⟩_R is
+    /// carried times e^{c₀} and stays ≤ its value at c₀ = 0 times 1.
+    pub shift: T,
+    /// Origin of the along-ray variable, s = center + x (as [`Field::center`]).
+    pub center: T,
+    tables: tables::Tables<T>,
+}
+
+/// Phase function f at the scattering-angle cosine −μ (5), from 1 ∓ μ so
+/// that a Henyey–Greenstein peak at μ = ∓1 keeps its relative accuracy.
+pub fn phase_of<T: Real>(phase: &Phase, dir: &Direction<T>) -> T {
+    let like = &dir.mu;
+    match *phase {
+        Phase::Isotropic => like.lit(1.0) / (like.pi() * like.lit(4.0)),
+        Phase::HenyeyGreenstein { g } => {
+            let (g, one) = (like.lit(g), like.lit(1.0));
+            // 1 + g² − 2g cos θ with cos θ = −μ.
+            let denom = if g >= like.lit(0.0) {
+                (one.clone() - g.clone()) * (one.clone() - g.clone())
+                    + like.lit(2.0) * g.clone() * dir.one_plus_mu.clone()
+            } else {
+                (one.clone() + g.clone()) * (one.clone() + g.clone())
+                    - like.lit(2.0) * g.clone() * dir.one_minus_mu.clone()
+            };
+            (one.clone() - g.clone()) * (one + g) / (like.pi() * like.lit(4.0) * denom.clone() * denom.sqrt())
+        }
+    }
+}
+
+impl<T: CheckRule> FiniteField<T> {
+    /// The model of `scene` (built beside its small-sphere `field`), or
+    /// `None` when the scene has scattered light (orders ≥ 1), which the
+    /// finite-sphere model does not cover.
+    pub fn from_scene(scene: &Scene, field: &Field<T>) -> Option<FiniteField<T>> {
+        if scene.effects.scattering_orders != ScatteringOrders::Limited(0) {
+            return None;
+        }
+        let like = &field.sigma_ext;
+        let (u, o) = (scene.camera.direction, scene.camera.origin);
+        let r = scene.estimator.radius;
+        let radius = like.lit(r);
+        let lights = scene
+            .lights
+            .iter()
+            .map(|light| match *light {
+                Light::Point { position, flux } => {
+                    let rel = position - o;
+                    let (z, b) = (like.lit(rel.dot(u)), like.lit(rel.cross(u).length()));
+                    FiniteLight::Point(PointLight::new(z, b, like.lit(flux), &radius))
+                }
+                Light::Beam { center, direction, radius: a, flux } => {
+                    let rel = o - center;
+                    let n = u.cross(direction);
+                    let sin = n.length();
+                    let (xi0, eta0) = if sin > 0.0 {
+                        let e_n = n / sin;
+                        let e_m = direction.cross(e_n);
+                        (rel.dot(e_m), rel.dot(e_n))
+                    } else {
+                        ((rel - direction * rel.dot(direction)).length(), 0.0)
+                    };
+                    FiniteLight::Beam(BeamLight::new(
+                        like.lit(u.dot(direction)),
+                        like.lit(sin),
+                        like.lit(xi0),
+                        like.lit(eta0),
+                        like.lit(rel.dot(direction)),
+                        like.lit(a),
+                        like.lit(flux),
+                    ))
+                }
+            })
+            .collect();
+        let sigma = scene.medium.sigma_ext;
+        Some(FiniteField {
+            lights,
+            sigma: field.sigma_ext.clone(),
+            albedo: field.albedo.clone(),
+            phase: scene.medium.phase,
+            total_flux: field.total_flux.clone(),
+            radius,
+            shift: like.lit(sigma * shortest_path(scene, o, u, r)),
+            center: field.center.clone(),
+            tables: tables::Tables::default(),
+        })
+    }
+
+    /// (albedo 𝓕/(πR²))^k (Φ/𝓕): the per-hit contribution 𝒞 = albedo f 𝓕/(πR²)
+    /// (5) to the k-th power, without f, for a light of flux Φ chosen with
+    /// probability Φ/𝓕.
+    pub fn per_hit_power(&self, k: i32, flux: &T) -> T {
+        let c = self.albedo.clone() * self.total_flux.clone() / (flux.pi() * self.radius.clone() * self.radius.clone());
+        let ck = if k == 1 { c } else { c.clone() * c };
+        ck * flux.clone() / self.total_flux.clone()
+    }
+
+    pub fn per_hit(&self, which: Functional, flux: &T) -> T {
+        self.per_hit_power(which.power(), flux)
+    }
+
+    /// The widths of the phase function's peaks at the poles: (at v = +u,
+    /// g < 0; at v = −u, g > 0), 1 − |g|.
+    pub fn phase_floors(&self) -> (Option<T>, Option<T>) {
+        match self.phase {
+            Phase::HenyeyGreenstein { g } if g > 0.0 => (None, Some(self.sigma.lit(1.0 - g))),
+            Phase::HenyeyGreenstein { g } if g < 0.0 => (Some(self.sigma.lit(1.0 + g)), None),
+            _ => (None, None),
+        }
+    }
+
+    /// One ray-centric moment, summed over the lights.
+    pub fn ray_total(&self, which: Functional, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        let mut total: Option<Estimate<T>> = None;
+        for light in &self.lights {
+            let e = match light {
+                FiniteLight::Point(p) => p.ray_integral(self, which, opts),
+                FiniteLight::Beam(b) => b.ray_integral(self, which, opts),
+            }
+            .map_err(OracleError::quad(which.name()))?;
+            total = Some(match total {
+                None => e,
+                Some(t) => t.plus(e),
+            });
+        }
+        total.ok_or_else(|| OracleError::Unsupported("the scene has no light".into()))
+    }
+
+    /// Whether ⟨𝒞⟩_R has a closed form for every light (isotropic medium,
+    /// or beams only).
+    pub fn is_closed_form(&self) -> bool {
+        self.phase == Phase::Isotropic || self.lights.iter().all(|l| matches!(l, FiniteLight::Beam(_)))
+    }
+
+    /// ⟨𝒞⟩_R·e^{c₀} at s = center + x where it has a closed form.
+    fn mean_closed(&self, x: &T) -> T {
+        self.lights.iter().fold(x.lit(0.0), |sum, light| {
+            sum + match light {
+                FiniteLight::Point(p) => p.moment_isotropic(self, x, 1),
+                FiniteLight::Beam(b) => b.moment(self, x, 1),
+            }
+        })
+    }
+
+    /// ⟨𝒞⟩_R·e^{c₀} at x with its bar: beams in closed form, points of a
+    /// Henyey–Greenstein medium from the tables of the pass (`opts.rule`,
+    /// tolerance `table_tol`).
+    fn mean_with_bar(&self, x: &T, table_tol: f64, opts: &Options) -> Outcome<T> {
+        let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, opts.rule);
+        for (i, light) in self.lights.iter().enumerate() {
+            let e = match light {
+                FiniteLight::Beam(b) => Estimate::known(b.moment(self, x, 1), x.lit(0.0), 1, opts.rule),
+                FiniteLight::Point(p) => self.tables.mean(self, i, p, x, table_tol, opts.rule)?,
+            };
+            total.value = total.value + e.value;
+            total.error = total.error + e.error;
+            total.evaluations += e.evaluations;
+        }
+        Ok(total)
+    }
+
+    /// ⟨𝒞²⟩_R·e^{c₀} at x with its bar, sphere-centric: closed forms for
+    /// beams and isotropic media, the cap quadrature otherwise (with the
+    /// rule of `opts`).
+    fn second_with_bar(&self, x: &T, opts: &Options) -> Outcome<T> {
+        let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, opts.rule);
+        for light in &self.lights {
+            let e = match light {
+                FiniteLight::Beam(b) => Estimate::known(b.moment(self, x, 2), x.lit(0.0), 1, opts.rule),
+                FiniteLight::Point(p) if self.phase == Phase::Isotropic => {
+                    Estimate::known(p.moment_isotropic(self, x, 2), x.lit(0.0), 1, opts.rule)
+                }
+                FiniteLight::Point(p) => p.moment_cap(self, x, 2, opts)?,
+            };
+            total.value = total.value + e.value;
+            total.error = total.error + e.error;
+            total.evaluations += e.evaluations;
+        }
+        Ok(total)
+    }
+
+    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩_R ds, sphere-centric (a check of the ray-centric
+    /// [`Functional::Second`]).
+    pub fn second_sphere_centric(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        self.with_mean(|line, _| {
+            line.integral_nested("finite-sphere ∫⟨𝒞²⟩, sphere-centric", opts, |x, o| {
+                self.second_with_bar(x, o)
+            })
+        })
+    }
+
+    /// The along-ray domain [lo, hi) in x with every light's breakpoints and
+    /// the decay e^{−σs} declared.
+    pub fn ray_domain(&self, lo: &T, hi: Option<&T>) -> Domain<T> {
+        let mut d = match hi {
+            Some(h) => Domain::finite(lo.clone(), h.clone()).with_decay(self.sigma.clone()),
+            None => Domain::semi_infinite(lo.clone()).with_decay(self.sigma.clone()),
+        };
+        for light in &self.lights {
+            d = d.with_breakpoints(match light {
+                FiniteLight::Point(p) => p.ray_breakpoints(self),
+                FiniteLight::Beam(b) => b.ray_breakpoints(self),
+            });
+        }
+        d
+    }
+
+    /// [x_camera, last breakpoint + 4^K/σ]: where along-ray tables are used
+    /// (the last of the engine's cuts of a decaying tail).
+    fn table_range(&self) -> (T, T) {
+        let lo = -self.center.clone();
+        let last = self.ray_domain(&lo, None).breakpoints.iter().cloned().fold(lo.clone(), |m, b| m.max_of(b));
+        let longest = *decay_lengths(&lo).last().expect("non-empty");
+        (lo.clone(), last + lo.lit(longest) / self.sigma.clone())
+    }
+
+    /// Runs `f` with the camera ray and this model's ⟨𝒞⟩_R.
+    fn with_mean<R>(&self, f: impl FnOnce(&RayLine<'_, T>, &MeanSource<'_, T>) -> R) -> R {
+        let domain = |lo: &T, hi: Option<&T>| self.ray_domain(lo, hi);
+        let line = RayLine { sigma: self.sigma.clone(), center: self.center.clone(), domain: &domain };
+        let plain = |x: &T| self.mean_closed(x);
+        let with_bar = |x: &T, tol: f64, o: &Options| self.mean_with_bar(x, tol, o);
+        let source = if self.is_closed_form() { MeanSource::Plain(&plain) } else { MeanSource::WithBar(&with_bar) };
+        f(&line, &source)
+    }
+
+    /// ∫σe^{−σs}⟨𝒞⟩_R ds, sphere-centric: the mean luminance again, by an
+    /// independent route (a check of the ray-centric [`Functional::Mean`]).
+    pub fn mean_sphere_centric(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        self.with_mean(|line, mean| line.mean(mean, opts))
+    }
+
+    /// P and Q of (17) from ⟨𝒞⟩_R along the camera ray (shifted by e^{2c₀}).
+    pub fn p_and_q(&self, opts: &Options) -> (Result<Estimate<T>, OracleError>, Result<Estimate<T>, OracleError>) {
+        self.with_mean(|line, m| rayon::join(|| line.p_single(m, opts), || line.q_pair(m, opts)))
+    }
+
+    /// Every integral of the model for the scene's R (each shifted by e^{c₀},
+    /// P and Q by e^{2c₀}), computed side by side.
+    pub fn integrals(&self, opts: &Options) -> Result<FiniteIntegrals<T>, OracleError> {
+        let o = &opts.clone().declared();
+        let (((mean, m2), (c23, c24)), (p, q)) = rayon::join(
+            || {
+                rayon::join(
+                    || rayon::join(|| self.ray_total(Functional::Mean, o), || self.ray_total(Functional::Second, o)),
+                    || rayon::join(|| self.ray_total(Functional::Pair23, o), || self.ray_total(Functional::Pair24, o)),
+                )
+            },
+            || self.p_and_q(o),
+        );
+        Ok(FiniteIntegrals { mean: mean?, m2: m2?, c23: c23?, c24: c24?, p: p?, q: q? })
+    }
+}
+
+/// The six integrals of the finite-sphere model; μ, M₂, C₂₃, C₂₄ carry
+/// e^{c₀}, P and Q e^{2c₀} (as the small-sphere ones, `noise::variance`).
+#[derive(Debug, Clone)]
+pub struct FiniteIntegrals<T> {
+    pub mean: Estimate<T>,
+    pub m2: Estimate<T>,
+    pub p: Estimate<T>,
+    pub q: Estimate<T>,
+    pub c23: Estimate<T>,
+    pub c24: Estimate<T>,
+}
+
+impl<T: Real> FiniteIntegrals<T> {
+    pub fn evaluations(&self) -> u64 {
+        [&self.mean, &self.m2, &self.p, &self.q, &self.c23, &self.c24].iter().map(|e| e.evaluations).sum()
+    }
+}
+
+/// σ·c₀/σ: a lower bound of every light → sphere → camera path (module doc
+/// of [`FiniteField::shift`]), 0 when no light can reach.
+fn shortest_path(scene: &Scene, o: DVec3, u: DVec3, r: f64) -> f64 {
+    let paths = scene.lights.iter().filter_map(|light| match *light {
+        Light::Point { position, .. } => Some(((position - o).length() - r).max(0.0)),
+        Light::Beam { center, direction, radius, .. } => {
+            let mu = u.dot(direction);
+            let depth0 = (o - center).dot(direction);
+            let (s_in, s_out) = beam_interval(o - center, u, direction, radius + r, depth0, mu);
+            if s_out == Some(s_in) {
+                return None;
+            }
+            Some((s_in * (1.0 + mu) + depth0).max(0.0))
+        }
+    });
+    let shortest = paths.fold(f64::INFINITY, f64::min);
+    if shortest.is_finite() {
+        shortest
+    } else {
+        0.0
+    }
+}
+
+/// The key of a table: the pass's rule and tolerance.
+type TableKey = (Rule, u64);
+
+/// A shared map from keys to lazily built values.
+type Shared<K, V> = Arc<Mutex<HashMap<K, V>>>;

@@ -1,0 +1,430 @@
+//! A point light in the finite-sphere model (`docs/model.md` §9.2).
+//!
+//! The light sits at axial abscissa z on the camera line (absolute s of
+//! its foot) and distance b ≥ 0 from it. A forward ray has polar angle ϑ
+//! about u and azimuth χ about u, χ = 0 heading straight towards the
+//! camera line. Its line passes the camera line at distance b|sin χ|, so it
+//! can hit only when b|sin χ| ≤ R; with ρ = √(R² − b² sin²χ) and
+//! B = b cos χ the centres within R of the line are s_c ± ρ/sin ϑ,
+//! s_c = z + B cot ϑ, where τ(s_c) = B/sin ϑ, and τ = 0 at
+//! s_τ = z − B tan ϑ. The hit interval J is
+//!
+//!   [max(s_c − ρ/sin ϑ, 0, s_τ if μ > 0), min(s_c + ρ/sin ϑ, s_τ if μ < 0)],
+//!
+//! its length and the path P = a + τ(a) are formed per pair of active
+//! bounds so that nothing cancels (below). The kinks in ϑ are where two
+//! bounds meet: z sin ϑ + B cos ϑ = ±ρ (the window's ends at the camera),
+//! cos ϑ = ±B/ρ (the window's ends at the light), z cos ϑ = B sin ϑ
+//! (s_τ = 0) and ϑ = π/2 (the pair orientation); all are roots of
+//! A sin ϑ + B cos ϑ = C with discriminants |y − o|² − R², R² − b², or
+//! B² + z², given without cancellation ([`super::angles`]).
+//!
+//! Ray-centric integrals: (1/4π)∫dω = (1/2π)∫₀^π dχ ∫₀^π sin ϑ dϑ (χ ↔ −χ
+//! symmetric). For b > R only a window χ ≤ arcsin(R/b) towards the line
+//! can hit (the other side would need the closest point behind the light),
+//! integrated in η = b sin χ/R ∈ [0, 1], dχ = (R/b) dη/cos χ, ρ = R√(1 − η²);
+//! for b ≤ R every χ can, and χ ∈ [0, π] is integrated directly.
+//!
+//! Sphere-centric ⟨𝒞⟩_R(s): a light at distance d from the centre sees the
+//! sphere as a cap of half-angle ψ_R = arcsin(R/d) about w = (x(s) − y)/d
+//! (the hemisphere ψ ≤ π/2 when d ≤ R, the light inside); the segment must
+//! reach the closest point, at d cos ψ:
+//!
+//!   ⟨𝒞^k⟩_R = (albedo 𝓕/(πR²))^k (Φ/𝓕) ∫_cap f^k e^{−σ d cos ψ} dω/(4π).
+//!
+//! For an isotropic medium this is closed: (1/2) e^{−σ√(d² − R²)} F₁(σd, h),
+//! h = 1 − cos ψ_R = R²/(d(d + √(d² − R²))); otherwise (ψ, χ) about w with
+//! the phase function's poles declared (`angular::Frame::around`).
+
+use super::angles::{roots, sum_and_difference};
+use super::ray::{functional, Functional, Hit};
+use super::{phase_of, FiniteField};
+use crate::model::angular::{decades_below, view_direction, Direction, Features, Frame, Halves, Pole};
+use crate::quad::{integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
+use crate::special::{complete_elliptic_e, exp_segment};
+use mcrt_scene::Phase;
+
+/// A point light as the finite-sphere model sees it.
+#[derive(Debug, Clone)]
+pub struct PointLight<T> {
+    /// Axial abscissa of the light's foot on the camera line (absolute s).
+    pub z: T,
+    /// Distance of the light from the camera line (≥ 0).
+    pub b: T,
+    pub flux: T,
+    /// |y − o|² − R² = z² + b² − R².
+    disc_camera: T,
+    /// b² − R² = (b − R)(b + R).
+    b2_minus_r2: T,
+}
+
+/// A ray's azimuth as the hit geometry needs it.
+#[derive(Debug, Clone)]
+struct Azimuth<T> {
+    /// B = b cos χ (> 0: heading towards the camera line).
+    bcos: T,
+    /// ρ = √(R² − b² sin²χ), half-width of the window (in the plane ⊥ v).
+    rho: T,
+    /// B + ρ and B − ρ, without cancellation ((B + ρ)(B − ρ) = b² − R²).
+    plus: T,
+    minus: T,
+}
+
+/// Which bound of the hit interval is active.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Bound {
+    /// The window of centres within R of the ray's line.
+    Window,
+    /// The camera (s ≥ 0), lower bound only.
+    Camera,
+    /// The light (τ ≥ 0).
+    Light,
+}
+
+impl<T: CheckRule> PointLight<T> {
+    pub fn new(z: T, b: T, flux: T, r: &T) -> Self {
+        let disc_camera = z.clone() * z.clone() + (b.clone() - r.clone()) * (b.clone() + r.clone());
+        let b2_minus_r2 = (b.clone() - r.clone()) * (b.clone() + r.clone());
+        PointLight { z, b, flux, disc_camera, b2_minus_r2 }
+    }
+
+    fn azimuth(&self, bcos: T, rho: T) -> Azimuth<T> {
+        let (plus, minus) = sum_and_difference(&bcos, &rho, &self.b2_minus_r2);
+        Azimuth { bcos, rho, plus, minus }
+    }
+
+    /// The hit interval of the ray (ϑ, χ), or `None` when it hits nothing.
+    fn hit(&self, dir: &Direction<T>, az: &Azimuth<T>) -> Option<Hit<T>> {
+        let (s, mu, z) = (&dir.sin, &dir.mu, &self.z);
+        let (bb, rho) = (&az.bcos, &az.rho);
+        let zero = s.lit(0.0);
+        if !(s.clone() > zero) {
+            return None;
+        }
+        // τ is constant at μ = 0: B/sin ϑ, which must be ≥ 0.
+        if mu.is_zero() && bb.clone() < zero {
+            return None;
+        }
+        let window_lo = z.clone() + (bb.clone() * mu.clone() - rho.clone()) / s.clone();
+        let window_hi = z.clone() + (bb.clone() * mu.clone() + rho.clone()) / s.clone();
+        let light = z.clone() - bb.clone() * s.clone() / mu.clone(); // s_τ (μ ≠ 0)
+        let mut lower = (Bound::Window, window_lo);
+        if zero > lower.1 {
+            lower = (Bound::Camera, zero.clone());
+        }
+        if *mu > zero && light > lower.1 {
+            lower = (Bound::Light, light.clone());
+        }
+        let mut upper = (Bound::Window, window_hi);
+        if *mu < zero && light < upper.1 {
+            upper = (Bound::Light, light);
+        }
+        // The length from the pair of active bounds (a window narrower than
+        // ulp(z) is invisible in the positions themselves); ≤ 0: no hit.
+        let len = match (lower.0, upper.0) {
+            (Bound::Window, Bound::Window) => s.lit(2.0) * rho.clone() / s.clone(),
+            (Bound::Camera, _) => upper.1.clone(),
+            (Bound::Light, Bound::Window) => (bb.clone() + rho.clone() * mu.clone()) / (s.clone() * mu.clone()),
+            (Bound::Window, Bound::Light) => (rho.clone() * mu.clone() - bb.clone()) / (s.clone() * mu.clone()),
+            _ => upper.1.clone() - lower.1.clone(),
+        };
+        if !(len > zero) {
+            return None;
+        }
+        let path = match lower.0 {
+            Bound::Window => z.clone() + dir.one_plus_mu.clone() * az.minus.clone() / s.clone(),
+            Bound::Camera => bb.clone() * s.clone() - z.clone() * mu.clone(),
+            Bound::Light => lower.1.clone(),
+        };
+        Some(Hit { start: lower.1, len, path })
+    }
+
+    /// The kinks of the ϑ-integrand at azimuth `az` (module doc), plus
+    /// decades towards both poles from the light's angular scale and the
+    /// phase function's poles.
+    fn kinks(&self, ff: &FiniteField<T>, az: &Azimuth<T>) -> Halves<T> {
+        let like = &self.z;
+        let mut halves = Halves::new(like);
+        let (z, bb, rho) = (&self.z, &az.bcos, &az.rho);
+        let r2_minus_b2 = -self.b2_minus_r2.clone();
+        let mut found = Vec::new();
+        // The window's ends at the camera: z sin ϑ + B cos ϑ = ±ρ.
+        found.extend(roots(z, &az.plus, &(rho.clone() - bb.clone()), &self.disc_camera));
+        found.extend(roots(z, &az.minus, &(-az.plus.clone()), &self.disc_camera));
+        // The window's ends at the light: ρ cos ϑ = ±B.
+        found.extend(roots(&like.lit(0.0), &az.plus, &az.minus, &r2_minus_b2));
+        found.extend(roots(&like.lit(0.0), &(rho.clone() - bb.clone()), &(-az.plus.clone()), &r2_minus_b2));
+        // s_τ = 0: z cos ϑ − B sin ϑ = 0.
+        found.extend(roots(&(-bb.clone()), z, &(-z.clone()), &(bb.clone() * bb.clone() + z.clone() * z.clone())));
+        for (t, tc) in found {
+            if t <= tc {
+                halves.cut_at(t);
+            } else {
+                halves.cut_before_pi(tc);
+            }
+        }
+        halves.cut_at(like.pi() / like.lit(2.0));
+        for d in self.pole_scales(ff) {
+            halves.cut_at(d.clone());
+            halves.cut_before_pi(d);
+        }
+        let (plus, minus) = ff.phase_floors();
+        for d in plus.iter().flat_map(|f| decades_below(&(f.clone() / like.lit(10.0)), &(like.pi() / like.lit(2.0)))) {
+            halves.cut_at(d);
+        }
+        for d in minus.iter().flat_map(|f| decades_below(&(f.clone() / like.lit(10.0)), &(like.pi() / like.lit(2.0)))) {
+            halves.cut_before_pi(d);
+        }
+        halves
+    }
+
+    /// Angular distances from the poles graded by decades from the light's
+    /// own scale: where the window's position z + B cot ϑ runs off along
+    /// the camera line (ϑ ~ min(b, R)/|y − o|, or ~ σ min(b, R)).
+    fn pole_scales(&self, ff: &FiniteField<T>) -> Vec<T> {
+        let like = &self.z;
+        let size = self.b.clone().min_of(ff.radius.clone());
+        if !(size > like.lit(0.0)) {
+            return Vec::new();
+        }
+        let dist = (self.z.clone() * self.z.clone() + self.b.clone() * self.b.clone()).sqrt().max_of(ff.radius.clone());
+        let start = size / like.lit(10.0) * (like.lit(1.0) / dist).min_of(ff.sigma.clone());
+        decades_below(&start.max_of(like.lit(1e-30)), &(like.pi() / like.lit(2.0)))
+    }
+
+    /// (1/2π)∫dχ ∫ sin ϑ f^k G dϑ for one functional, as a nested integral
+    /// (outer: the azimuth window, inner: ϑ in two halves), times the
+    /// functional's constant. Domain: R > 0, σ > 0.
+    pub fn ray_integral(&self, ff: &FiniteField<T>, which: Functional, opts: &Options) -> Outcome<T> {
+        let like = &self.z;
+        let (zero, one) = (like.lit(0.0), like.lit(1.0));
+        let r = &ff.radius;
+        let inner = |az: Azimuth<T>, jac: T, o: &Options| -> Outcome<T> {
+            let halves = self.kinks(ff, &az);
+            let sample = |theta: &T, theta_c: &T, _: &Options| {
+                let dir = view_direction(theta, theta_c);
+                let value = match self.hit(&dir, &az) {
+                    Some(hit) => {
+                        let f = phase_of(&ff.phase, &dir);
+                        let weight = if which.power() == 1 { f } else { f.clone() * f };
+                        weight * dir.sin.clone() * functional(which, &hit, &dir, &ff.sigma, &ff.shift)
+                    }
+                    None => zero.clone(),
+                };
+                Ok(Estimate::known(value, zero.clone(), 1, o.rule))
+            };
+            let each = Options { abs_tol: (o.abs_tol / jac.to_f64()).min(f64::MAX), ..o.clone() };
+            let e = halves.integrate(&sample, &each)?;
+            Ok(Estimate { value: e.value * jac.clone(), error: e.error * jac, ..e })
+        };
+        let e = if self.b > *r {
+            // η = b sin χ/R ∈ [0, 1].
+            let ratio = r.clone() / self.b.clone();
+            integrate_nested(
+                |eta: &T, o: &Options| {
+                    let sin_chi = eta.clone() * ratio.clone();
+                    let cos_chi = ((one.clone() - sin_chi.clone()) * (one.clone() + sin_chi)).sqrt();
+                    let rho = r.clone() * ((one.clone() - eta.clone()) * (one.clone() + eta.clone())).sqrt();
+                    let jac = ratio.clone() / cos_chi.clone();
+                    inner(self.azimuth(self.b.clone() * cos_chi, rho), jac, o)
+                },
+                &Domain::finite(zero.clone(), one.clone()),
+                opts,
+            )?
+        } else {
+            integrate_nested(
+                |chi: &T, o: &Options| {
+                    let bs = self.b.clone() * chi.sin();
+                    let rho = ((r.clone() - bs.clone()) * (r.clone() + bs)).sqrt();
+                    inner(self.azimuth(self.b.clone() * chi.cos(), rho), one.clone(), o)
+                },
+                &Domain::finite(zero.clone(), like.pi()).with_breakpoints([like.pi() / like.lit(2.0)]),
+                opts,
+            )?
+        };
+        let front = ff.per_hit(which, &self.flux) / (like.pi() * like.lit(2.0));
+        Ok(Estimate {
+            value: e.value * front.clone(),
+            error: e.error * front.clone(),
+            check_value: e.check_value * front,
+            ..e
+        })
+    }
+
+    /// Distance d from the light and (cos γ, sin γ) of w = (x(s) − y)/d
+    /// against u, at s = center + x.
+    fn seen_from(&self, ff: &FiniteField<T>, x: &T) -> (T, T, T) {
+        let dz = (ff.center.clone() - self.z.clone()) + x.clone(); // s − z
+        let d = (dz.clone() * dz.clone() + self.b.clone() * self.b.clone()).sqrt();
+        (d.clone(), dz / d.clone(), self.b.clone() / d)
+    }
+
+    /// ⟨𝒞^k⟩_R·e^{c₀} at s = center + x in an isotropic medium (f = 1/4π),
+    /// closed form (module doc). Domain: any x; R > 0; isotropic phase only
+    /// (the caller's choice, [`super::FiniteField::mean_at`]).
+    pub fn moment_isotropic(&self, ff: &FiniteField<T>, x: &T, power: i32) -> T {
+        let (d, _, _) = self.seen_from(ff, x);
+        let r = &ff.radius;
+        let (reach, h) = if d > *r {
+            let t = ((d.clone() - r.clone()) * (d.clone() + r.clone())).sqrt();
+            (t.clone(), r.clone() * r.clone() / (d.clone() * (d.clone() + t)))
+        } else {
+            (x.lit(0.0), x.lit(1.0))
+        };
+        let cap = (ff.shift.clone() - ff.sigma.clone() * reach).exp() * exp_segment(&(ff.sigma.clone() * d), Some(&h))
+            / x.lit(2.0);
+        let f = x.lit(1.0) / (x.pi() * x.lit(4.0));
+        let fk = if power == 1 { f } else { f.clone() * f };
+        ff.per_hit_power(power, &self.flux) * fk * cap
+    }
+
+    /// ⟨𝒞^k⟩_R·e^{c₀} at s = center + x in a Henyey–Greenstein medium:
+    /// a 1-D quadrature over the cap's polar angle ψ about w, the azimuthal
+    /// integral of f^k in closed form. With p̂ = −sgn(g)u the peak direction
+    /// and γ its angle from w, 1 + g² − 2g(−u·v) = A − B cos χ with
+    /// A ∓ |B| = (1 − |g|)² + 4|g| sin²((ψ ∓ γ)/2), |B| = 2|g| sin ψ sin γ, and
+    ///
+    /// ∫₀^{2π} (A − B cos χ)^{−3/2} dχ = 4E(m)/((A − |B|)√(A + |B|)), 1 − m = (A − |B|)/(A + |B|),
+    /// ∫₀^{2π} (A − B cos χ)^{−3} dχ = π(2A² + B²)/((A − |B|)(A + |B|))^{5/2}
+    ///
+    /// (E: [`complete_elliptic_e`]). The peak's circle ψ = γ is declared with
+    /// decades of width 1 − |g| about it. Domain: any x; R > 0; |g| < 1.
+    pub fn moment_cap(&self, ff: &FiniteField<T>, x: &T, power: i32, opts: &Options) -> Outcome<T> {
+        let g = match ff.phase {
+            Phase::HenyeyGreenstein { g } if g != 0.0 => g,
+            _ => return Ok(Estimate::known(self.moment_isotropic(ff, x, power), x.lit(0.0), 1, opts.rule)),
+        };
+        let (d, cos_g, sin_g) = self.seen_from(ff, x);
+        let r = &ff.radius;
+        let psi_r = if d > *r { (r.clone() / d.clone()).asin() } else { x.pi() / x.lit(2.0) };
+        let frame = Frame::new(cos_g, sin_g.clone());
+        let gamma = if g > 0.0 { frame.psi_mirror.clone() } else { frame.psi_u.clone() };
+        let (plus, minus) = ff.phase_floors();
+        let features = Features {
+            plus: Pole { floor: plus, marks: Vec::new() },
+            minus: Pole { floor: minus, marks: Vec::new() },
+            equator_jump: false,
+            source_near_0: None,
+            source_near_pi: None,
+        };
+        let cuts: Vec<T> = frame.psi_breakpoints(&features).into_iter().filter(|p| *p < psi_r).collect();
+        let (two, ga) = (x.lit(2.0), x.lit(g.abs()));
+        let floor = (x.lit(1.0) - ga.clone()) * (x.lit(1.0) - ga.clone());
+        let norm = (x.lit(1.0) - ga.clone() * ga.clone()) / (x.pi() * x.lit(4.0));
+        let azimuthal = |psi: &T| {
+            let sq = |a: T| {
+                let s = (a / two.clone()).sin();
+                s.clone() * s
+            };
+            let lo = floor.clone() + x.lit(4.0) * ga.clone() * sq(psi.clone() - gamma.clone());
+            let hi = floor.clone() + x.lit(4.0) * ga.clone() * sq(psi.clone() + gamma.clone());
+            if power == 1 {
+                let kp = (lo.clone() / hi.clone()).sqrt();
+                norm.clone() * x.lit(4.0) * complete_elliptic_e(&kp) / (lo * hi.sqrt())
+            } else {
+                let b = two.clone() * ga.clone() * psi.sin() * sin_g.clone();
+                let a = (lo.clone() + hi.clone()) / two.clone();
+                let prod = lo * hi;
+                norm.clone() * norm.clone() * x.pi() * (two.clone() * a.clone() * a + b.clone() * b)
+                    / (prod.clone() * prod.clone() * prod.sqrt())
+            }
+        };
+        let front = ff.per_hit_power(power, &self.flux) / (x.pi() * x.lit(4.0));
+        let e = integrate_within_pass(
+            |psi: &T, o: &Options| {
+                // e^{c₀ − σ d cos ψ}, with d cos ψ = d − 2d sin²(ψ/2).
+                let half = (psi.clone() / two.clone()).sin();
+                let reach = d.clone() - two.clone() * d.clone() * half.clone() * half;
+                let w = psi.sin() * (ff.shift.clone() - ff.sigma.clone() * reach).exp();
+                Ok(Estimate::known(w * azimuthal(psi), x.lit(0.0), 1, o.rule))
+            },
+            &Domain::finite(x.lit(0.0), psi_r).with_breakpoints(cuts),
+            &Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() },
+        )?;
+        Ok(Estimate { value: e.value * front.clone(), error: e.error * front, ..e })
+    }
+
+    /// ⟨𝒞^k⟩_R·e^{c₀} at s = center + x by a 2-D quadrature over the cap,
+    /// (ψ, χ) about w with the phase function's poles declared: an
+    /// independent route to [`PointLight::moment_cap`] (tests). Domain: any
+    /// x; R > 0.
+    pub fn moment_cap_2d(&self, ff: &FiniteField<T>, x: &T, power: i32, opts: &Options) -> Outcome<T> {
+        let (d, cos_g, sin_g) = self.seen_from(ff, x);
+        let r = &ff.radius;
+        let psi_r = if d > *r { (r.clone() / d.clone()).asin() } else { x.pi() / x.lit(2.0) };
+        let frame = Frame::new(cos_g, sin_g);
+        let (plus, minus) = ff.phase_floors();
+        let features = Features {
+            plus: Pole { floor: plus, marks: Vec::new() },
+            minus: Pole { floor: minus, marks: Vec::new() },
+            equator_jump: false,
+            source_near_0: None,
+            source_near_pi: None,
+        };
+        let g = |dir: &Direction<T>, o: &Options| {
+            let f = phase_of(&ff.phase, dir);
+            let fk = if power == 1 { f } else { f.clone() * f };
+            Ok(Estimate::known(fk, x.lit(0.0), 1, o.rule))
+        };
+        let cuts: Vec<T> = frame.psi_breakpoints(&features).into_iter().filter(|p| *p < psi_r).collect();
+        let two = x.lit(2.0);
+        let front = ff.per_hit_power(power, &self.flux) / (x.pi() * x.lit(4.0));
+        let e = integrate_within_pass(
+            |psi: &T, o: &Options| {
+                // e^{c₀ − σ d cos ψ}, with d cos ψ = d − 2d sin²(ψ/2).
+                let half = (psi.clone() / two.clone()).sin();
+                let reach = d.clone() - two.clone() * d.clone() * half.clone() * half;
+                let w = psi.sin() * (ff.shift.clone() - ff.sigma.clone() * reach).exp();
+                if w.is_zero() {
+                    return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule));
+                }
+                let a = frame.around(
+                    psi,
+                    &features,
+                    &g,
+                    &Options { abs_tol: (o.abs_tol / w.to_f64()).min(f64::MAX), ..o.clone() },
+                )?;
+                Ok(Estimate { value: a.value * w.clone(), error: a.error * w, ..a })
+            },
+            &Domain::finite(x.lit(0.0), psi_r).with_breakpoints(cuts),
+            &Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() },
+        )?;
+        Ok(Estimate { value: e.value * front.clone(), error: e.error * front, ..e })
+    }
+
+    /// The points along the camera ray (in x) where d = R, when b < R: the
+    /// sphere starts or stops containing the light. Outside them the cap's
+    /// half-angle arcsin(R/d) reaches π/2 like √(d − R), so ⟨𝒞⟩_R is an
+    /// analytic function of √(±(x − k)) there, with the sign (−1 for the
+    /// first, +1 for the second) telling which side is outside.
+    pub fn containment_kinks(&self, ff: &FiniteField<T>) -> Vec<(T, i32)> {
+        if !(self.b < ff.radius) {
+            return Vec::new();
+        }
+        let a = self.z.clone() - ff.center.clone();
+        let inside = (-self.b2_minus_r2.clone()).sqrt();
+        vec![(a.clone() - inside.clone(), -1), (a + inside, 1)]
+    }
+
+    /// Breakpoints along the camera ray (in x): the foot of the light, the
+    /// Lorentzian of width b graded by decades, the same graded from R (the
+    /// cap's size), and the two points where d = R ([`PointLight::containment_kinks`]).
+    pub fn ray_breakpoints(&self, ff: &FiniteField<T>) -> Vec<T> {
+        let a = self.z.clone() - ff.center.clone();
+        let scale = a.abs().max_of(a.lit(1.0));
+        let mut v = vec![a.clone(), a.clone() + scale.clone()];
+        for width in [self.b.clone(), ff.radius.clone()] {
+            let mut step = width;
+            for _ in 0..24 {
+                if !(step < scale) || step.is_zero() {
+                    break;
+                }
+                v.push(a.clone() - step.clone());
+                v.push(a.clone() + step.clone());
+                step = step * a.lit(10.0);
+            }
+        }
+        v.extend(self.containment_kinks(ff).into_iter().map(|(k, _)| k));
+        v
+    }
+}

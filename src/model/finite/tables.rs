@@ -1,0 +1,150 @@
+//! ⟨𝒞⟩_R(s) of a point light in a Henyey–Greenstein medium along the
+//! camera ray, as a piecewise Chebyshev table per pass (P and Q need it at
+//! thousands of points, and each value is a quadrature over the sphere's
+//! cap, `point::PointLight::moment_cap`). Each pass builds its own with its
+//! own rule, so the two passes of P and Q stay independent; the table's
+//! relative error joins every value's bar (`chebyshev`).
+//!
+//! Where the sphere starts to contain the light (d = R) ⟨𝒞⟩_R has a
+//! square-root singularity on the outside ([`PointLight::containment_kinks`]):
+//! there the table is built in y with x = k ± (y − k)²/w on [k, k ± w], in
+//! which the function is analytic ([`KinkMap`]).
+
+use super::point::PointLight;
+use super::{FiniteField, Shared, TableKey};
+use crate::model::chebyshev::{sample_options, Piecewise};
+use crate::model::field::phase_eval;
+use crate::quad::{decay_lengths, CheckRule, Estimate, Options, Outcome, Rule};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+/// One built table: the interpolant in y and its variable map.
+type Table<T> = Arc<(Piecewise<T>, KinkMap<T>)>;
+
+/// Tables per (light, rule, tolerance), built on first use.
+#[derive(Debug, Clone)]
+pub(super) struct Tables<T> {
+    map: Shared<(usize, TableKey), Table<T>>,
+}
+
+/// The table's variable: y = x except on [k, k + w] (or [k − w, k]) on the
+/// outside of each containment kink k, where x = k ± (y − k)²/w, so that
+/// √(±(x − k)) = |y − k|/√w; the map fixes k and k ± w.
+#[derive(Debug, Clone)]
+struct KinkMap<T> {
+    /// (k, w, side): side +1 maps [k, k + w], −1 maps [k − w, k].
+    kinks: Vec<(T, T, i32)>,
+}
+
+impl<T: CheckRule> KinkMap<T> {
+    fn mapped(&self, v: &T) -> Option<&(T, T, i32)> {
+        self.kinks.iter().find(|(k, w, side)| {
+            if *side > 0 {
+                *v >= *k && *v <= k.clone() + w.clone()
+            } else {
+                *v <= *k && *v >= k.clone() - w.clone()
+            }
+        })
+    }
+
+    fn x_of(&self, y: &T) -> T {
+        match self.mapped(y) {
+            Some((k, w, side)) => {
+                let d = y.clone() - k.clone();
+                k.clone() + y.lit(f64::from(*side)) * d.clone() * d / w.clone()
+            }
+            None => y.clone(),
+        }
+    }
+
+    fn y_of(&self, x: &T) -> T {
+        match self.mapped(x) {
+            Some((k, w, side)) => {
+                let root = ((x.clone() - k.clone()).abs() * w.clone()).sqrt();
+                k.clone() + x.lit(f64::from(*side)) * root
+            }
+            None => x.clone(),
+        }
+    }
+}
+
+impl<T> Default for Tables<T> {
+    fn default() -> Self {
+        Tables { map: Arc::new(Mutex::new(HashMap::new())) }
+    }
+}
+
+impl<T: CheckRule> Tables<T> {
+    /// ⟨𝒞⟩_R·e^{c₀} of light `index` (the point `p`) at x, with its bar.
+    /// Beyond the table's range (past 4^K decay lengths, where the weight
+    /// e^{−σs} leaves nothing a goal can see) the value is B/2 ± B/2 with
+    /// B the isotropic closed form times max f/(1/4π), a bound.
+    pub(super) fn mean(
+        &self,
+        ff: &FiniteField<T>,
+        index: usize,
+        p: &PointLight<T>,
+        x: &T,
+        tol: f64,
+        rule: Rule,
+    ) -> Outcome<T> {
+        let (lo, end) = ff.table_range();
+        if *x > end {
+            let f_max = phase_eval(&ff.phase, &x.lit(1.0)).max_of(phase_eval(&ff.phase, &x.lit(-1.0)));
+            let half = p.moment_isotropic(ff, x, 1) * f_max * x.pi() * x.lit(2.0);
+            return Ok(Estimate::known(half.clone(), half, 1, rule));
+        }
+        if *x < lo {
+            return p.moment_cap(ff, x, 1, &sample_options(x, tol, rule));
+        }
+        let table = self.get(ff, index, p, tol, rule)?;
+        let (table, map) = (&table.0, &table.1);
+        let v = table.eval(&map.y_of(x));
+        Ok(Estimate::known(v.clone(), v.abs() * table.rel_error.clone(), 1, rule))
+    }
+
+    fn get(
+        &self,
+        ff: &FiniteField<T>,
+        index: usize,
+        p: &PointLight<T>,
+        tol: f64,
+        rule: Rule,
+    ) -> Result<Table<T>, crate::quad::Failure<T>> {
+        let key = (index, (rule, tol.to_bits()));
+        if let Some(t) = self.map.lock().expect("no panic while holding the tables").get(&key) {
+            return Ok(t.clone());
+        }
+        let (lo, end) = ff.table_range();
+        let mut cuts: Vec<T> = p.ray_breakpoints(ff).into_iter().filter(|b| *b > lo && *b < end).collect();
+        let last = cuts.iter().cloned().fold(lo.clone(), |m, b| m.max_of(b));
+        for k in decay_lengths(&lo) {
+            cuts.push(last.clone() + lo.lit(k) / ff.sigma.clone());
+        }
+        cuts.push(lo.clone());
+        cuts.push(end.clone());
+        // Each kink's mapped neighbourhood reaches half-way to the nearest
+        // other cut on its outside (or to the table's end).
+        let mut kinks = Vec::new();
+        for (k, side) in p.containment_kinks(ff) {
+            if !(k > lo && k < end) {
+                continue;
+            }
+            let outside = cuts.iter().filter(|c| ((*c).clone() - k.clone()) * k.lit(f64::from(side)) > k.lit(0.0));
+            let gap = outside
+                .map(|c| (c.clone() - k.clone()).abs())
+                .fold(None, |m: Option<T>, g| Some(m.map_or(g.clone(), |m| m.min_of(g))));
+            if let Some(gap) = gap {
+                let w = gap / k.lit(2.0);
+                cuts.push(k.clone() + k.lit(f64::from(side)) * w.clone());
+                kinks.push((k, w, side));
+            }
+        }
+        let map = KinkMap { kinks };
+        let opts: Options = sample_options(&lo, tol, rule);
+        let table = Piecewise::build(|y: &T| p.moment_cap(ff, &map.x_of(y), 1, &opts), &cuts, tol / 4.0)?;
+        let table = Arc::new((table, map));
+        self.map.lock().expect("no panic while holding the tables").insert(key, table.clone());
+        Ok(table)
+    }
+}
