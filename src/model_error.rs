@@ -113,7 +113,7 @@ pub fn markdown(scenes_dir: &Path, figures_dir: &Path) -> Result<String, String>
         writeln!(s, "\n## `{name}`: {label}\n").unwrap();
         writeln!(
             s,
-            "q = {}, N_F = {}, N_B = {}. b(R)/μ(0) is the estimator's relative bias.\n",
+            "q = {}, N_F = {}, N_B = {}. The mean's relative difference is the estimator's relative bias b(R)/μ(0): μ(0), the small-sphere mean, is the luminance it converges to as R → 0.\n",
             scene.estimator.q, scene.estimator.forward_rays, scene.estimator.camera_rays
         )
         .unwrap();

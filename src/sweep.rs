@@ -13,9 +13,8 @@ pub struct FiniteColumns {
     /// finite/small-sphere ratios of the mean and of Var L.
     pub mean_ratio: ValueError,
     pub variance_ratio: ValueError,
-    /// b(R) = μ(R) − μ(0), and relative to μ(0).
+    /// b(R) = μ(R) − μ(0) (relative to μ(0) it is `mean_ratio` − 1).
     pub bias: ValueError,
-    pub relative_bias: ValueError,
 }
 
 /// One radius of a sweep.
@@ -70,11 +69,6 @@ pub fn sweep(scene: &Scene, radii: &[f64]) -> Result<Vec<Row>, String> {
                 mean_ratio: f.mean_ratio,
                 variance_ratio: f.variance_ratio,
                 bias: f.bias,
-                relative_bias: ValueError {
-                    value: f.bias.value / rep.mean_luminance.value,
-                    error: f.bias.error / rep.mean_luminance.value
-                        + (f.bias.value * rep.mean_luminance.error / rep.mean_luminance.value.powi(2)).abs(),
-                },
             });
             Ok(Row {
                 radius: r,
@@ -135,7 +129,7 @@ pub fn fit_finite_order(rows: &[Row], which: FiniteRatio) -> Option<Order> {
 /// Plain-text table of the finite-sphere model against the small-sphere one.
 pub fn finite_table(rows: &[Row]) -> String {
     let mut s = String::new();
-    writeln!(s, "| R | mean: finite/small − 1 | Var L: finite/small − 1 | bias b(R)/μ(0) |").unwrap();
+    writeln!(s, "| R | mean: finite/small − 1 = b(R)/μ(0) | Var L: finite/small − 1 | bias b(R) |").unwrap();
     writeln!(s, "|---:|---:|---:|---:|").unwrap();
     for r in rows {
         let Some(f) = r.finite else { continue };
@@ -147,8 +141,8 @@ pub fn finite_table(rows: &[Row]) -> String {
             f.mean_ratio.error,
             f.variance_ratio.value - 1.0,
             f.variance_ratio.error,
-            f.relative_bias.value,
-            f.relative_bias.error
+            f.bias.value,
+            f.bias.error
         )
         .unwrap();
     }

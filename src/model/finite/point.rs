@@ -145,15 +145,15 @@ impl<T: CheckRule> PointLight<T> {
     fn kinks(&self, ff: &FiniteField<T>, az: &Azimuth<T>) -> Halves<T> {
         let like = &self.z;
         let mut halves = Halves::new(like);
-        let (z, bb, rho) = (&self.z, &az.bcos, &az.rho);
+        let (z, bb) = (&self.z, &az.bcos);
         let r2_minus_b2 = -self.b2_minus_r2.clone();
         let mut found = Vec::new();
         // The window's ends at the camera: z sin ϑ + B cos ϑ = ±ρ.
-        found.extend(roots(z, &az.plus, &(rho.clone() - bb.clone()), &self.disc_camera));
+        found.extend(roots(z, &az.plus, &(-az.minus.clone()), &self.disc_camera));
         found.extend(roots(z, &az.minus, &(-az.plus.clone()), &self.disc_camera));
         // The window's ends at the light: ρ cos ϑ = ±B.
         found.extend(roots(&like.lit(0.0), &az.plus, &az.minus, &r2_minus_b2));
-        found.extend(roots(&like.lit(0.0), &(rho.clone() - bb.clone()), &(-az.plus.clone()), &r2_minus_b2));
+        found.extend(roots(&like.lit(0.0), &(-az.minus.clone()), &(-az.plus.clone()), &r2_minus_b2));
         // s_τ = 0: z cos ϑ − B sin ϑ = 0.
         found.extend(roots(&(-bb.clone()), z, &(-z.clone()), &(bb.clone() * bb.clone() + z.clone() * z.clone())));
         for (t, tc) in found {
@@ -192,9 +192,13 @@ impl<T: CheckRule> PointLight<T> {
         decades_below(&start.max_of(like.lit(1e-30)), &(like.pi() / like.lit(2.0)))
     }
 
-    /// (1/2π)∫dχ ∫ sin ϑ f^k G dϑ for one functional, as a nested integral
-    /// (outer: the azimuth window, inner: ϑ in two halves), times the
-    /// functional's constant. Domain: R > 0, σ > 0.
+    /// This light's part of μ (13), M₂ (16), C₂₃ (16), (23) or C₂₄ (18),
+    /// (24): (1/2π)∫dχ ∫ sin ϑ f^k G dϑ, a nested integral (outer: the
+    /// azimuth window, inner: ϑ in two halves), times the functional's
+    /// constant (albedo 𝓕/(πR²))^k Φ/𝓕. Domain: R > 0, σ > 0, any light
+    /// position. Deviation: the paper's (13)–(24) take f and the
+    /// attenuation at the sphere's centre (§4.3); this is the estimator's
+    /// exact moment (`docs/model.md` §9).
     pub fn ray_integral(&self, ff: &FiniteField<T>, which: Functional, opts: &Options) -> Outcome<T> {
         let like = &self.z;
         let (zero, one) = (like.lit(0.0), like.lit(1.0));
@@ -260,8 +264,10 @@ impl<T: CheckRule> PointLight<T> {
     }
 
     /// ⟨𝒞^k⟩_R·e^{c₀} at s = center + x in an isotropic medium (f = 1/4π),
-    /// closed form (module doc). Domain: any x; R > 0; isotropic phase only
-    /// (the caller's choice, [`super::FiniteField::mean_at`]).
+    /// closed form (module doc): the finite-R (19) (k = 1) and (20) (k = 2).
+    /// Domain: any x; R > 0; isotropic phase only (the caller's choice).
+    /// Deviation: exact at R, where (19), (20) take the field at the
+    /// sphere's centre; carries the albedo (E7).
     pub fn moment_isotropic(&self, ff: &FiniteField<T>, x: &T, power: i32) -> T {
         let (d, _, _) = self.seen_from(ff, x);
         let r = &ff.radius;
@@ -288,7 +294,9 @@ impl<T: CheckRule> PointLight<T> {
     /// ∫₀^{2π} (A − B cos χ)^{−3} dχ = π(2A² + B²)/((A − |B|)(A + |B|))^{5/2}
     ///
     /// (E: [`complete_elliptic_e`]). The peak's circle ψ = γ is declared with
-    /// decades of width 1 − |g| about it. Domain: any x; R > 0; |g| < 1.
+    /// decades of width 1 − |g| about it. The finite-R (19) (k = 1) and (20)
+    /// (k = 2). Domain: any x; R > 0; |g| < 1. Deviation: exact at R (the
+    /// paper takes f at the sphere's centre); carries the albedo (E7).
     pub fn moment_cap(&self, ff: &FiniteField<T>, x: &T, power: i32, opts: &Options) -> Outcome<T> {
         let g = match ff.phase {
             Phase::HenyeyGreenstein { g } if g != 0.0 => g,
