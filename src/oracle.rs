@@ -286,7 +286,6 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
     let relative_error = var.error.clone() * inv_k.clone() / mu2.clone()
         + relative.abs() * like.lit(2.0) * mean.error.clone() / mean.value.abs();
     let d = d_constants(&ints, &r, &field.sigma_ext, &inv_k);
-    let k2 = k.clone() * k.clone();
     let log10 = |v: &T| v.abs().ln().to_f64() / std::f64::consts::LN_10;
     let shift_log10 = field.shift.to_f64() / std::f64::consts::LN_10;
     let relative_asymptotic = d.as_ref().map(|d| relative_from_d(d, &r, &field.sigma_ext, &counts).to_f64());
@@ -336,8 +335,8 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
             relative_asymptotic,
         },
         m2: scaled(&ints.m2, &k),
-        p: scaled(&ints.p, &k2),
-        q_pair: scaled(&ints.q, &k2),
+        p: scaled(&ints.p, &k),
+        q_pair: scaled(&ints.q, &k),
         attenuation_shift: field.shift.to_f64(),
         d: d.map(|d| d.map(|v| v.to_f64())),
         evaluations: ints.evaluations(),
@@ -389,7 +388,6 @@ fn finite_report<T: CheckRule>(
     let rel = var.value.clone() * inv_k.clone() / mu2.clone();
     let rel_err =
         var.error.clone() * inv_k / mu2 + rel.abs() * rel.lit(2.0) * mean_t.error.clone() / mean_t.value.abs();
-    let k2 = k.clone() * k.clone();
     FiniteReport {
         mean: to(&f.mean.value, &f.mean.error),
         variance: to(&var.value, &var.error),
@@ -398,8 +396,8 @@ fn finite_report<T: CheckRule>(
         mean_ratio: ratio(&mean_t, small_mean),
         variance_ratio: ratio(&var, small_var),
         m2: scaled(&f.m2, &k),
-        p: scaled(&f.p, &k2),
-        q_pair: scaled(&f.q, &k2),
+        p: scaled(&f.p, &k),
+        q_pair: scaled(&f.q, &k),
         corr23: scaled(&f.c23, &k),
         corr24: scaled(&f.c24, &k),
         attenuation_shift: ff.shift.to_f64(),

@@ -303,7 +303,7 @@ pub fn markdown(scenes_dir: &Path, figures_dir: &Path) -> Result<String, String>
     writeln!(
         w,
         "The statistical tests compare the tracer with the finite-sphere model with no allowance at all \
-         (`tests/tracer_vs_finite.rs`: 13 points; `tests/tracer_vs_oracle.rs`: its order-0 points). For \
+         (`tests/tracer_vs_finite.rs`: 14 points; `tests/tracer_vs_oracle.rs`: its order-0 points). For \
          single-scattered light, which the finite-sphere model does not cover, `tests/tracer_vs_oracle.rs` \
          allows for the small-sphere model's error, measured at R = 0.1 with each point's own q, N_F, N_B (plus \
          two standard errors) and carried to the point's R by R ln(1/R) (`prec::model_error_scale`); `cargo test \

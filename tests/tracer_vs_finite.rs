@@ -9,7 +9,7 @@
 //! from the fourth moment) and bar the oracle's quadrature bar: the model
 //! is exact at every R, so only statistics and quadrature remain. Each point
 //! states the resolution it must reach (relative standard errors), so it
-//! cannot pass by being noisy. Four points resolve Var L to ≤ 0.3 % and
+//! cannot pass by being noisy. Five points resolve Var L to ≤ 0.3 % and
 //! there require the small-sphere model of §4.3 to be *rejected* (|z| > 6):
 //! the test shows it can tell a model that is a few per cent off.
 //!
@@ -17,51 +17,31 @@
 //! −0.5 and 0.99; point lights and beams; two lights (a point and a beam);
 //! q ∈ {1, 0.5, 0.2}; N_F ∈ {1, 20, 200}; N_B ∈ {1, 2, 8}; a light 0.1 from
 //! the camera line with R = 0.2 (spheres that contain the light); a beam
-//! whose edge crosses the spheres. 13 points × 2 quantities at |z| ≤ 4: a
-//! family-wise false-alarm rate of 1.6·10⁻³ if the model is right (fixed
-//! seeds: the outcome is deterministic).
+//! whose edge crosses the spheres; a beam travelling towards the camera's
+//! side (its reach along the camera line ends). 14 points × 2 quantities at
+//! |z| ≤ 4: a family-wise false-alarm rate of 1.8·10⁻³ if the model is
+//! right (fixed seeds: the outcome is deterministic).
 
 use mcrt_noise::compare::{sides, small_sphere_sides, Side};
 use mcrt_noise::oracle::{run, Precision};
 use mcrt_reference::{trace, HitMethod, Tracer};
-use mcrt_scene::{DVec3, Light, Phase, Scene};
-use std::path::Path;
+use mcrt_scene::{Phase, Scene};
+
+mod common;
 
 /// |z| above which a point fails.
 const Z_LIMIT: f64 = 4.0;
 /// |z| the small-sphere model must exceed where a point says so.
 const REJECT: f64 = 6.0;
 
-fn bundled(name: &str) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(format!("{name}.toml"));
-    Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-/// The scenes of the points: bundled ones and three variations.
+/// The scenes of the points: bundled ones and three variations (`common`).
 fn scene(name: &str) -> Scene {
     match name {
-        "near-light" => {
-            let mut s = bundled("point-isotropic");
-            s.lights[0] = Light::Point { position: DVec3::new(0.1, 0.0, 1.0), flux: 1.0 };
-            s
-        }
-        "beam-edge" => {
-            let mut s = bundled("beam-isotropic");
-            s.lights[0] =
-                Light::Beam { center: DVec3::new(-2.0, 0.45, 1.0), direction: DVec3::X, radius: 0.5, flux: 1.0 };
-            s
-        }
-        "point-and-beam" => {
-            let mut s = bundled("point-hg-backward");
-            s.lights.push(Light::Beam {
-                center: DVec3::new(-2.0, 0.3, 1.5),
-                direction: DVec3::new(1.0, 0.0, 0.2).normalize(),
-                radius: 0.5,
-                flux: 2.0,
-            });
-            s
-        }
-        other => bundled(other),
+        "near-light" => common::near_light(),
+        "beam-edge" => common::beam_edge(),
+        "point-and-beam" => common::point_and_beam(),
+        "beam-towards-camera" => common::beam_towards_camera(),
+        other => common::bundled(other),
     }
 }
 
@@ -214,4 +194,9 @@ fn p12_beam_r02() {
 #[test]
 fn p13_sharp_forward_hg_light_inside_the_spheres() {
     check(point("near-light", Some(0.99), 0.2, 0.5, 200, 8, 300_000, (0.02, 0.05), false), 113);
+}
+
+#[test]
+fn p14_beam_towards_the_camera_r02() {
+    check(point("beam-towards-camera", None, 0.2, 0.5, 20, 8, 2_000_000, (0.003, 0.006), false), 114);
 }

@@ -18,12 +18,21 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 /// The camera ray as the integrals need it: σ, the origin of the
-/// integration variable (s = center + x) and the domain with every
-/// breakpoint of the model's ⟨𝒞⟩ between two points (`None`: to ∞, with
-/// the decay e^{−σs} declared).
+/// integration variable (s = center + x), the model's shift c₀ (its ⟨𝒞⟩ is
+/// carried as ⟨𝒞⟩·e^{c₀}) and the domain with every breakpoint of the
+/// model's ⟨𝒞⟩ between two points (`None`: to ∞, with the decay e^{−σs}
+/// declared).
+///
+/// Every integral is returned times e^{c₀}, the quadratic P and Q too: their
+/// integrands are formed as σe^{−σs}⟨𝒞⟩²e^{c₀} = (√(σe^{−σs−c₀})·⟨𝒞⟩e^{c₀})²
+/// and σe^{−σp−c₀}·⟨𝒞⟩e^{c₀}·G, never as the square of ⟨𝒞⟩e^{c₀}, which
+/// overflows near the foot of a light close to the camera line and far from
+/// the camera (e^{c₀}⟨𝒞⟩ ≈ e^{σ(|y − o| − b)} there, where the weight
+/// e^{−σs} compensates).
 pub struct RayLine<'a, T> {
     pub sigma: T,
     pub center: T,
+    pub shift: T,
     pub domain: &'a (dyn Fn(&T, Option<&T>) -> Domain<T> + Sync),
 }
 
@@ -49,6 +58,15 @@ impl<T: CheckRule> RayLine<'_, T> {
     /// σe^{−σs} at x.
     pub fn weight(&self, x: &T) -> T {
         self.sigma.clone() * (-(self.sigma.clone() * self.s_of(x))).exp()
+    }
+
+    /// √(σe^{−σs − c₀}) at x, formed as √σ·e^{−(σs + c₀)/2}: the weight of
+    /// a quadratic integrand whose two factors each carry e^{c₀} is its
+    /// square, applied one factor at a time (e^{−σs − c₀} alone underflows
+    /// where ⟨𝒞⟩e^{c₀} is ~10¹⁷², at the foot of a far light near the line).
+    fn half_weight(&self, x: &T) -> T {
+        let half = (self.sigma.clone() * self.s_of(x) + self.shift.clone()) / x.lit(2.0);
+        self.sigma.sqrt() * (-half).exp()
     }
 
     /// ∫₀^∞ σ e^{−σ s} g(s) ds for a plain g.
@@ -97,29 +115,52 @@ impl<T: CheckRule> RayLine<'_, T> {
         }
     }
 
-    /// P = ∫σe^{−σs}⟨𝒞⟩² ds, the single-sphere part of (17).
+    /// P = ∫σe^{−σs}⟨𝒞⟩² ds, the single-sphere part of (17), times e^{c₀}
+    /// (the integrand as the square of √(σe^{−σs−c₀})·⟨𝒞⟩e^{c₀}).
     pub fn p_single(&self, mean: &MeanSource<'_, T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
         let what = "∫⟨𝒞⟩² of (17)";
+        let domain = (self.domain)(&self.x_camera(), None);
+        let root = |x: &T| self.half_weight(x);
         match mean {
-            MeanSource::Plain(m) => self.integral(what, opts, |x| {
-                let v = m(x);
-                v.clone() * v
-            }),
+            MeanSource::Plain(m) => integrate(
+                |x: &T| {
+                    let v = root(x) * m(x);
+                    v.clone() * v
+                },
+                &domain,
+                opts,
+            )
+            .map_err(OracleError::quad(what)),
             MeanSource::WithBar(m) => {
                 let tol = table_tol(opts);
-                self.integral_nested(what, opts, |x, o| {
-                    let m = m(x, tol.max(o.rel_tol), o)?;
-                    let value = m.value.clone() * m.value.clone();
-                    let error = x.lit(2.0) * m.value.abs() * m.error.clone() + m.error.clone() * m.error;
-                    Ok(Estimate::known(value, error, m.evaluations, o.rule))
-                })
+                integrate_nested(
+                    |x: &T, o: &Options| {
+                        let h = root(x);
+                        if h.is_zero() {
+                            return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule));
+                        }
+                        let h2 = h.clone() * h.clone();
+                        let m = m(
+                            x,
+                            tol.max(o.rel_tol),
+                            &Options { abs_tol: (o.abs_tol / h2.to_f64()).min(f64::MAX), ..o.clone() },
+                        )?;
+                        let v = h.clone() * m.value.clone();
+                        let e = h * m.error.clone();
+                        let error = x.lit(2.0) * v.abs() * e.clone() + e.clone() * e;
+                        Ok(Estimate::known(v.clone() * v, error, m.evaluations, o.rule))
+                    },
+                    &domain,
+                    opts,
+                )
+                .map_err(OracleError::quad(what))
             }
         }
     }
 
     /// Q = ∫∫_{t>0} ⟨𝒞⟩(s)⟨𝒞⟩(s+t) σ² e^{−σ(s+t)} ds dt, the pair part of
-    /// (17), computed with p = s + t as ∫₀^∞ σ e^{−σp} ⟨𝒞⟩(p) G(p) dp,
-    /// G(p) = ∫₀^p σ ⟨𝒞⟩(s) ds.
+    /// (17), times e^{c₀}, computed with p = s + t as
+    /// ∫₀^∞ σ e^{−σp−c₀} ⟨𝒞⟩e^{c₀}(p) G(p) dp, G(p) = ∫₀^p σ ⟨𝒞⟩e^{c₀}(s) ds.
     ///
     /// G is cumulative: rather than integrating from the camera again at
     /// every outer node, G(p) = G(p′) + ∫_{p′}^{p} σ⟨𝒞⟩ from the nearest
@@ -141,16 +182,16 @@ impl<T: CheckRule> RayLine<'_, T> {
         integrate_nested(
             |p: &T, inner: &Options| {
                 let zero = || Ok(Estimate::known(p.lit(0.0), p.lit(0.0), 0, inner.rule));
-                let weight = self.weight(p);
-                if !(p.clone() > x0.clone()) || weight.is_zero() {
+                let half = self.half_weight(p);
+                if !(p.clone() > x0.clone()) || half.is_zero() {
                     return zero();
                 }
                 let pass = pass_memory(inner);
                 let mut known = pass.lock().expect("no pass panics while holding its memory");
                 match mean {
-                    MeanSource::WithBar(m) => self.pair_sample_with_bar(m, &mut known, p, &weight, inner),
+                    MeanSource::WithBar(m) => self.pair_sample_with_bar(m, &mut known, p, &half, inner),
                     MeanSource::Plain(m) => {
-                        let outer = weight * m(p);
+                        let outer = half.clone() * (half * m(p));
                         if outer.is_zero() {
                             return zero();
                         }
@@ -169,22 +210,24 @@ impl<T: CheckRule> RayLine<'_, T> {
         .map_err(OracleError::quad("∫∫⟨𝒞⟩⟨𝒞⟩ of (17)"))
     }
 
-    /// σe^{−σp}⟨𝒞⟩(p)G(p) where ⟨𝒞⟩ has a bar: ⟨𝒞⟩(p) to the tolerance
-    /// left by the G known below p (G grows with p), then G(p)
-    /// cumulatively, each short piece an integral of the same pass.
+    /// σe^{−σp−c₀}⟨𝒞⟩e^{c₀}(p)G(p) where ⟨𝒞⟩ has a bar (`half` the
+    /// square root of the weight): ⟨𝒞⟩(p) to the tolerance left by the G
+    /// known below p (G grows with p), then G(p) cumulatively, each short
+    /// piece an integral of the same pass.
     fn pair_sample_with_bar(
         &self,
         mean: &(dyn Fn(&T, f64, &Options) -> Outcome<T> + Sync),
         known: &mut Vec<Known<T>>,
         p: &T,
-        weight: &T,
+        half: &T,
         inner: &Options,
     ) -> Outcome<T> {
         let below = known[known.partition_point(|k| k.at <= *p) - 1].value.abs().to_f64();
-        let m_abs = if below > 0.0 { (inner.abs_tol / (2.0 * weight.to_f64() * below)).min(f64::MAX) } else { 0.0 };
+        let h = half.to_f64();
+        let m_abs = if below > 0.0 { (inner.abs_tol / (2.0 * h * (h * below))).min(f64::MAX) } else { 0.0 };
         let tol = inner.rel_tol;
         let m = mean(p, tol, &Options { abs_tol: m_abs, ..inner.clone() })?;
-        let outer = weight.clone() * m.value.clone();
+        let outer = half.clone() * (half.clone() * m.value.clone());
         if outer.is_zero() {
             return Ok(Estimate::known(p.lit(0.0), p.lit(0.0), m.evaluations, inner.rule));
         }
@@ -201,7 +244,8 @@ impl<T: CheckRule> RayLine<'_, T> {
             )
         })?;
         let value = outer.clone() * g.value.clone();
-        let error = outer.abs() * g.error.clone() + (weight.clone() * g.value.clone()).abs() * m.error.clone();
+        let error =
+            outer.abs() * g.error.clone() + (half.clone() * (half.clone() * g.value.clone())).abs() * m.error.clone();
         Ok(Estimate::known(value, error, g.evaluations + m.evaluations, inner.rule))
     }
 }

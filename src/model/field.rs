@@ -268,23 +268,17 @@ impl<T: Real> Component<T> {
     /// the quadrature engine: a point light's closest approach a and
     /// a ± d·10^k up to the scale max(1, |a|) (the irradiance is a Lorentzian
     /// of width d there, and falls like 1/(s − a)² beyond: each graded piece
-    /// then spans a bounded dynamic range); beam edges.
-    pub fn breakpoints(&self) -> Vec<T> {
+    /// then spans a bounded dynamic range), and a ± 4^k/σ where the decay
+    /// length 1/σ is finer ([`decay_graded_about`]); beam edges.
+    pub fn breakpoints(&self, sigma_ext: &T) -> Vec<T> {
         match &self.geometry {
             Geometry::Point { a, d } => {
                 // a in x: exactly 0 for the centred light.
                 let a = &(a.clone() - self.center.clone());
-                let mut v = vec![a.clone()];
                 let scale = a.abs().max_of(a.lit(1.0));
-                let mut step = d.clone();
-                for _ in 0..24 {
-                    if !(step < scale) || step.is_zero() {
-                        break;
-                    }
-                    v.push(a.clone() - step.clone());
-                    v.push(a.clone() + step.clone());
-                    step = step * a.lit(10.0);
-                }
+                let mut v = vec![a.clone()];
+                v.extend(graded_about(a, d, &scale));
+                v.extend(decay_graded_about(a, sigma_ext, &scale));
                 v.push(a.clone() + scale.clone());
                 v
             }
@@ -295,6 +289,41 @@ impl<T: Real> Component<T> {
             }
         }
     }
+}
+
+/// a ± width·10^k for k = 0, 1, … while below `scale` (at most 24 decades):
+/// the breakpoints that resolve a Lorentzian-like feature of that width
+/// about a, each graded piece spanning a bounded dynamic range.
+pub(crate) fn graded_about<T: Real>(a: &T, width: &T, scale: &T) -> Vec<T> {
+    let mut v = Vec::new();
+    let mut step = width.clone();
+    for _ in 0..24 {
+        if !(step < *scale) || step.is_zero() {
+            break;
+        }
+        v.push(a.clone() - step.clone());
+        v.push(a.clone() + step.clone());
+        step = step * a.lit(10.0);
+    }
+    v
+}
+
+/// a ± 4^k/σ for k = 0, 1, … while below `scale`: about a light's foot
+/// the attenuation e^{−σ(s + r(s))} varies on the scale 1/σ, which for
+/// σ × (distance to the line) ≫ 1 is finer than the Lorentzian's grading,
+/// and a piece many decay lengths long would hold its content in a sliver.
+pub(crate) fn decay_graded_about<T: Real>(a: &T, sigma: &T, scale: &T) -> Vec<T> {
+    let mut v = Vec::new();
+    let mut step = a.lit(1.0) / sigma.clone();
+    for _ in 0..24 {
+        if !(step < *scale) {
+            break;
+        }
+        v.push(a.clone() - step.clone());
+        v.push(a.clone() + step.clone());
+        step = step * a.lit(4.0);
+    }
+    v
 }
 
 /// Phase function at scattering-angle cosine `cos`, at any precision

@@ -223,7 +223,7 @@ pub fn ray_domain<T: Real>(field: &Field<T>, lo: &T, hi: Option<&T>) -> Domain<T
         None => Domain::semi_infinite(lo.clone()).with_decay(field.sigma_ext.clone()),
     };
     for c in &field.components {
-        d = d.with_breakpoints(c.breakpoints());
+        d = d.with_breakpoints(c.breakpoints(&field.sigma_ext));
     }
     for sc in &field.scattered {
         d = d.with_breakpoints(sc.ray_breakpoints());
@@ -235,7 +235,12 @@ pub fn ray_domain<T: Real>(field: &Field<T>, lo: &T, hi: Option<&T>) -> Domain<T
 /// [`super::along`].
 fn with_line<T: CheckRule, R>(field: &Field<T>, f: impl FnOnce(&RayLine<'_, T>) -> R) -> R {
     let domain = |lo: &T, hi: Option<&T>| ray_domain(field, lo, hi);
-    f(&RayLine { sigma: field.sigma_ext.clone(), center: field.center.clone(), domain: &domain })
+    f(&RayLine {
+        sigma: field.sigma_ext.clone(),
+        center: field.center.clone(),
+        shift: field.shift.clone(),
+        domain: &domain,
+    })
 }
 
 /// ⟨𝒞⟩ of the small-sphere model as [`super::along`] takes it, handed to `f`.
@@ -263,13 +268,14 @@ pub fn m2<T: CheckRule>(field: &Field<T>, r: &T, opts: &Options) -> Result<Estim
     })
 }
 
-/// P = ∫ σ e^{−σs} ⟨𝒞⟩(s)² ds, the single-sphere part of (17).
+/// P = ∫ σ e^{−σs} ⟨𝒞⟩(s)² ds, the single-sphere part of (17) (times
+/// e^{c₀}, like every integral of the field: [`RayLine::p_single`]).
 pub fn p_single<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
     with_mean(field, |line, mean| line.p_single(mean, opts))
 }
 
 /// Q = ∫∫_{t>0} ⟨𝒞⟩(s)⟨𝒞⟩(s+t) σ² e^{−σ(s+t)} ds dt, the pair part of (17)
-/// ([`RayLine::q_pair`]).
+/// (times e^{c₀}: [`RayLine::q_pair`]).
 pub fn q_pair<T: CheckRule>(field: &Field<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
     with_mean(field, |line, mean| line.q_pair(mean, opts))
 }

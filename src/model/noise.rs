@@ -120,9 +120,10 @@ pub struct Counts<T> {
 }
 
 /// Var L of one iteration, (7)–(9), as Var L·e^{c₀} from the *shifted* integrals (every W carried as W·e^{c₀},
-/// `Field::shift`): μ, M₂, C₂₃, C₂₄ are then e^{c₀} times their values, P, Q
-/// e^{2c₀} times, and `k` = e^{−c₀}. The error bar is propagated linearly
-/// from every integral's bar.
+/// `Field::shift`): μ, M₂, C₂₃, C₂₄, P and Q are then e^{c₀} times their
+/// values (P and Q formed so, `along::RayLine`), μ² is e^{2c₀} times its
+/// value, and `k` = e^{−c₀}. The error bar is propagated linearly from
+/// every integral's bar.
 #[allow(clippy::too_many_arguments)]
 pub fn variance<T: Real>(
     mean: &Valued<T>,
@@ -144,11 +145,11 @@ pub fn variance<T: Real>(
     let w_c = one.clone() / nf.clone() - one.clone() / nfnb.clone();
     let w_mu2 = one.clone() / nfnb - one.clone() / nb - one / nf;
     let a = q.clone() * m2.value.clone() + two.clone() * one_minus_q.clone() * c23.value.clone();
-    let b = k.clone() * (q.clone() * p.value.clone() + two.clone() * one_minus_q.clone() * q_pair.value.clone());
+    let b = q.clone() * p.value.clone() + two.clone() * one_minus_q.clone() * q_pair.value.clone();
     let mu2 = k.clone() * mean.value.clone() * mean.value.clone();
     let value = w_a.clone() * a + w_b.clone() * b + w_c.clone() * c24.value.clone() + w_mu2.clone() * mu2;
     let err_a = q.clone() * m2.error.clone() + two.clone() * one_minus_q.clone() * c23.error.clone();
-    let err_b = k.clone() * (q * p.error.clone() + two.clone() * one_minus_q * q_pair.error.clone());
+    let err_b = q * p.error.clone() + two.clone() * one_minus_q * q_pair.error.clone();
     let error = w_a.abs() * err_a
         + w_b.abs() * err_b
         + w_c.abs() * c24.error.clone()
@@ -158,7 +159,7 @@ pub fn variance<T: Real>(
 
 /// D₁…D₅ of the asymptotic relative-noise formula at the end of §4.4 (the
 /// paper leaves them implicit; definitions in the module doc), from
-/// the shifted integrals; `inv_k` = e^{c₀} undoes the shift of D₁…D₃.
+/// the shifted integrals; `inv_k` = e^{c₀} undoes the shift.
 pub fn d_constants<T: Real>(ints: &Integrals<T>, r: &T, sigma: &T, inv_k: &T) -> Option<[T; 5]> {
     let (c23a, c24a) = (ints.c23_asym.as_ref().ok()?, ints.c24_asym.as_ref().ok()?);
     let mu2 = ints.mean.value.clone() * ints.mean.value.clone();
@@ -167,8 +168,8 @@ pub fn d_constants<T: Real>(ints: &Integrals<T>, r: &T, sigma: &T, inv_k: &T) ->
         inv_k.clone() * r.clone() * r.clone() * ints.m2.value.clone() / mu2.clone(),
         inv_k.clone() * two.clone() * r.clone() * c23a.value.clone() / (sigma.clone() * mu2.clone()),
         inv_k.clone() * r.clone() * c24a.value.clone() / (sigma.clone() * mu2.clone()),
-        ints.p.value.clone() / mu2.clone(),
-        two * ints.q.value.clone() / mu2,
+        inv_k.clone() * ints.p.value.clone() / mu2.clone(),
+        inv_k.clone() * two * ints.q.value.clone() / mu2,
     ])
 }
 

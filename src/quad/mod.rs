@@ -205,6 +205,16 @@ impl<T: Real> Estimate<T> {
         }
     }
 
+    /// This estimate times the constant `k` (value, bar and check value).
+    pub fn scaled(self, k: &T) -> Estimate<T> {
+        Estimate {
+            value: self.value * k.clone(),
+            error: self.error * k.abs(),
+            check_value: self.check_value * k.clone(),
+            ..self
+        }
+    }
+
     /// A value obtained without quadrature (a closed form, a convergent
     /// series, an exact zero, a sum of known parts), with its bar and the
     /// evaluations it cost.

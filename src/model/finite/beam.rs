@@ -24,8 +24,9 @@
 //! one point: then the hit probability is that overlap for all s, and the
 //! hit interval is [lo₀, hi₀] for every ray that hits, in closed form.
 
+use super::point::phase_power;
 use super::ray::{functional, Functional, Hit};
-use super::{phase_of, FiniteField};
+use super::FiniteField;
 use crate::model::angular::Direction;
 use crate::quad::{
     decay_lengths, integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome,
@@ -53,9 +54,16 @@ impl<T: CheckRule> BeamLight<T> {
     /// From the beam's direction cosine μ with u, sin ϑ, the camera
     /// origin's coordinates in the disk's frame, the disk radius and flux.
     pub fn new(mu: T, sin: T, xi0: T, eta0: T, depth0: T, radius: T, flux: T) -> Self {
+        // 1 ∓ μ: the one that can be small as sin²/(1 ± μ), which keeps a
+        // beam nearly along the camera line (μ → ±1) accurate.
         let one = mu.lit(1.0);
-        let dir =
-            Direction { one_minus_mu: one.clone() - mu.clone(), one_plus_mu: one + mu.clone(), mu: mu.clone(), sin };
+        let sin2 = sin.clone() * sin.clone();
+        let (one_minus_mu, one_plus_mu) = if mu >= mu.lit(0.0) {
+            (sin2 / (one.clone() + mu.clone()), one + mu.clone())
+        } else {
+            (one.clone() - mu.clone(), sin2 / (one - mu.clone()))
+        };
+        let dir = Direction { one_minus_mu, one_plus_mu, mu: mu.clone(), sin };
         let zero = mu.lit(0.0);
         let range = if mu > zero {
             Some(((-depth0.clone() / mu.clone()).max_of(zero), None))
@@ -69,8 +77,7 @@ impl<T: CheckRule> BeamLight<T> {
     }
 
     fn weight(&self, ff: &FiniteField<T>, which: Functional) -> T {
-        let f = phase_of(&ff.phase, &self.dir);
-        let fk = if which.power() == 1 { f } else { f.clone() * f };
+        let fk = phase_power(&ff.phase, &self.dir, which.power());
         ff.per_hit(which, &self.flux) * fk / (self.radius.pi() * self.radius.clone() * self.radius.clone())
     }
 
@@ -179,13 +186,7 @@ impl<T: CheckRule> BeamLight<T> {
                 ..opts.clone()
             },
         )?;
-        let front = weight * r.clone() * sin;
-        Ok(Estimate {
-            value: e.value * front.clone(),
-            error: e.error * front.clone(),
-            check_value: e.check_value * front,
-            ..e
-        })
+        Ok(e.scaled(&(weight * r.clone() * sin)))
     }
 
     /// ζ over the rays of the disk within R of the camera line's projection.
@@ -205,11 +206,16 @@ impl<T: CheckRule> BeamLight<T> {
         let mut ends = vec![lo0.clone()];
         ends.extend(hi0.iter().cloned());
         for s in ends {
-            // (X + R cos t)² + (η₀ + R sin t)² = a_b²: X cos t + η₀ sin t = K.
+            // (X + R cos t)² + (η₀ + R sin t)² = a_b²: X cos t + η₀ sin t = K,
+            // K = ((a_b − D)(a_b + D)/R − R)/2, D = |P(s)|; the discriminant
+            // D² − K² as (D − K)(D + K): the rim crossings keep their
+            // position when R ≪ a_b.
             let x = self.xi0.clone() + s * self.dir.sin.clone();
             let d2 = x.clone() * x.clone() + self.eta0.clone() * self.eta0.clone();
-            let k = ((self.radius.clone() * self.radius.clone() - d2.clone()) / r.clone() - r.clone()) / like.lit(2.0);
-            let disc = d2.clone() - k.clone() * k.clone();
+            let d = d2.sqrt();
+            let a = self.radius.clone();
+            let k = ((a.clone() - d.clone()) * (a + d.clone()) / r.clone() - r.clone()) / like.lit(2.0);
+            let disc = (d.clone() - k.clone()) * (d + k.clone());
             if disc > like.lit(0.0) && d2 > like.lit(0.0) {
                 let root = disc.sqrt();
                 for sign in [-1.0, 1.0] {
@@ -250,8 +256,7 @@ impl<T: CheckRule> BeamLight<T> {
         let depth = self.depth0.clone() + self.dir.mu.clone() * s.clone();
         let share = disc_overlap(&ff.radius, &self.radius, &self.axis_distance(&s))
             / (x.pi() * self.radius.clone() * self.radius.clone());
-        let f = phase_of(&ff.phase, &self.dir);
-        let fk = if power == 1 { f } else { f.clone() * f };
+        let fk = phase_power(&ff.phase, &self.dir, power);
         ff.per_hit_power(power, &self.flux) * fk * share * (ff.shift.clone() - ff.sigma.clone() * depth).exp()
     }
 

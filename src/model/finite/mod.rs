@@ -63,12 +63,18 @@ pub struct FiniteField<T> {
     pub radius: T,
     /// c₀ = σ × a lower bound of every path light → sphere's closest point
     /// → camera (|y − o| − R for a point, the entry of the camera ray into
-    /// the beam widened by R for a beam): every ray functional and ⟨𝒞⟩_R is
-    /// carried times e^{c₀} and stays ≤ its value at c₀ = 0 times 1.
+    /// the beam widened by R for a beam). Every ray functional and ⟨𝒞⟩_R is
+    /// carried times e^{c₀}: a ray functional is then ≤ its value at c₀ = 0,
+    /// and so is σe^{−σs}⟨𝒞⟩_R(s)e^{c₀}; ⟨𝒞⟩_R e^{c₀} alone is not bounded
+    /// (≈ e^{σ(|y − o| − b)} at the foot of a light near the line), which
+    /// is why the quadratic P and Q apply the weight one factor at a time
+    /// (`along::RayLine`).
     pub shift: T,
     /// Origin of the along-ray variable, s = center + x (as [`Field::center`]).
     pub center: T,
     tables: tables::Tables<T>,
+    /// The along-ray range of the tables ([`FiniteField::table_range`]).
+    range: (T, T),
 }
 
 /// Phase function f at the scattering-angle cosine −μ (5), from 1 ∓ μ so
@@ -137,7 +143,7 @@ impl<T: CheckRule> FiniteField<T> {
             })
             .collect();
         let sigma = scene.medium.sigma_ext;
-        Some(FiniteField {
+        let mut ff = FiniteField {
             lights,
             sigma: field.sigma_ext.clone(),
             albedo: field.albedo.clone(),
@@ -147,7 +153,10 @@ impl<T: CheckRule> FiniteField<T> {
             shift: like.lit(sigma * shortest_path(scene, o, u, r)),
             center: field.center.clone(),
             tables: tables::Tables::default(),
-        })
+            range: (like.lit(0.0), like.lit(0.0)),
+        };
+        ff.range = ff.along_range();
+        Some(ff)
     }
 
     /// (albedo 𝓕/(πR²))^k (Φ/𝓕): the per-hit contribution 𝒞 = albedo f 𝓕/(πR²)
@@ -210,32 +219,32 @@ impl<T: CheckRule> FiniteField<T> {
     /// Henyey–Greenstein medium from the tables of the pass (`opts.rule`,
     /// tolerance `table_tol`).
     fn mean_with_bar(&self, x: &T, table_tol: f64, opts: &Options) -> Outcome<T> {
-        let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, opts.rule);
-        for (i, light) in self.lights.iter().enumerate() {
-            let e = match light {
-                FiniteLight::Beam(b) => Estimate::known(b.moment(self, x, 1), x.lit(0.0), 1, opts.rule),
-                FiniteLight::Point(p) => self.tables.mean(self, i, p, x, table_tol, opts.rule)?,
-            };
-            total.value = total.value + e.value;
-            total.error = total.error + e.error;
-            total.evaluations += e.evaluations;
-        }
-        Ok(total)
+        self.sum_over_lights(x, opts, |i, light| match light {
+            FiniteLight::Beam(b) => Ok(Estimate::known(b.moment(self, x, 1), x.lit(0.0), 1, opts.rule)),
+            FiniteLight::Point(p) => self.tables.mean(self, i, p, x, table_tol, opts.rule),
+        })
     }
 
     /// ⟨𝒞²⟩_R·e^{c₀} at x with its bar, sphere-centric: closed forms for
     /// beams and isotropic media, the cap quadrature otherwise (with the
     /// rule of `opts`).
     fn second_with_bar(&self, x: &T, opts: &Options) -> Outcome<T> {
+        self.sum_over_lights(x, opts, |_, light| match light {
+            FiniteLight::Beam(b) => Ok(Estimate::known(b.moment(self, x, 2), x.lit(0.0), 1, opts.rule)),
+            FiniteLight::Point(p) => p.moment_cap(self, x, 2, opts),
+        })
+    }
+
+    /// Σ over the lights of a value with a bar at x.
+    fn sum_over_lights(
+        &self,
+        x: &T,
+        opts: &Options,
+        each: impl Fn(usize, &FiniteLight<T>) -> Outcome<T>,
+    ) -> Outcome<T> {
         let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, opts.rule);
-        for light in &self.lights {
-            let e = match light {
-                FiniteLight::Beam(b) => Estimate::known(b.moment(self, x, 2), x.lit(0.0), 1, opts.rule),
-                FiniteLight::Point(p) if self.phase == Phase::Isotropic => {
-                    Estimate::known(p.moment_isotropic(self, x, 2), x.lit(0.0), 1, opts.rule)
-                }
-                FiniteLight::Point(p) => p.moment_cap(self, x, 2, opts)?,
-            };
+        for (i, light) in self.lights.iter().enumerate() {
+            let e = each(i, light)?;
             total.value = total.value + e.value;
             total.error = total.error + e.error;
             total.evaluations += e.evaluations;
@@ -272,6 +281,11 @@ impl<T: CheckRule> FiniteField<T> {
     /// [x_camera, last breakpoint + 4^K/σ]: where along-ray tables are used
     /// (the last of the engine's cuts of a decaying tail).
     fn table_range(&self) -> (T, T) {
+        self.range.clone()
+    }
+
+    /// [`FiniteField::table_range`], computed once.
+    fn along_range(&self) -> (T, T) {
         let lo = -self.center.clone();
         let last = self.ray_domain(&lo, None).breakpoints.iter().cloned().fold(lo.clone(), |m, b| m.max_of(b));
         let longest = *decay_lengths(&lo).last().expect("non-empty");
@@ -281,7 +295,12 @@ impl<T: CheckRule> FiniteField<T> {
     /// Runs `f` with the camera ray and this model's ⟨𝒞⟩_R.
     fn with_mean<R>(&self, f: impl FnOnce(&RayLine<'_, T>, &MeanSource<'_, T>) -> R) -> R {
         let domain = |lo: &T, hi: Option<&T>| self.ray_domain(lo, hi);
-        let line = RayLine { sigma: self.sigma.clone(), center: self.center.clone(), domain: &domain };
+        let line = RayLine {
+            sigma: self.sigma.clone(),
+            center: self.center.clone(),
+            shift: self.shift.clone(),
+            domain: &domain,
+        };
         let plain = |x: &T| self.mean_closed(x);
         let with_bar = |x: &T, tol: f64, o: &Options| self.mean_with_bar(x, tol, o);
         let source = if self.is_closed_form() { MeanSource::Plain(&plain) } else { MeanSource::WithBar(&with_bar) };
@@ -294,13 +313,13 @@ impl<T: CheckRule> FiniteField<T> {
         self.with_mean(|line, mean| line.mean(mean, opts))
     }
 
-    /// P and Q of (17) from ⟨𝒞⟩_R along the camera ray (shifted by e^{2c₀}).
+    /// P and Q of (17) from ⟨𝒞⟩_R along the camera ray (times e^{c₀}).
     pub fn p_and_q(&self, opts: &Options) -> (Result<Estimate<T>, OracleError>, Result<Estimate<T>, OracleError>) {
         self.with_mean(|line, m| rayon::join(|| line.p_single(m, opts), || line.q_pair(m, opts)))
     }
 
-    /// Every integral of the model for the scene's R (each shifted by e^{c₀},
-    /// P and Q by e^{2c₀}), computed side by side.
+    /// Every integral of the model for the scene's R (each times e^{c₀}),
+    /// computed side by side.
     pub fn integrals(&self, opts: &Options) -> Result<FiniteIntegrals<T>, OracleError> {
         let o = &opts.clone().declared();
         let (((mean, m2), (c23, c24)), (p, q)) = rayon::join(
@@ -316,8 +335,8 @@ impl<T: CheckRule> FiniteField<T> {
     }
 }
 
-/// The six integrals of the finite-sphere model; μ, M₂, C₂₃, C₂₄ carry
-/// e^{c₀}, P and Q e^{2c₀} (as the small-sphere ones, `noise::variance`).
+/// The six integrals of the finite-sphere model, each times e^{c₀} (as
+/// the small-sphere ones, `noise::variance`).
 #[derive(Debug, Clone)]
 pub struct FiniteIntegrals<T> {
     pub mean: Estimate<T>,

@@ -40,7 +40,9 @@ use super::angles::{roots, sum_and_difference};
 use super::ray::{functional, Functional, Hit};
 use super::{phase_of, FiniteField};
 use crate::model::angular::{decades_below, view_direction, Direction, Features, Frame, Halves, Pole};
+use crate::model::field::{decay_graded_about, graded_about};
 use crate::quad::{integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
+use crate::real::Real;
 use crate::special::{complete_elliptic_e, exp_segment};
 use mcrt_scene::Phase;
 
@@ -105,7 +107,8 @@ impl<T: CheckRule> PointLight<T> {
         if mu.is_zero() && bb.clone() < zero {
             return None;
         }
-        let window_lo = z.clone() + (bb.clone() * mu.clone() - rho.clone()) / s.clone();
+        // Bμ − ρ = (B − ρ) − B(1 − μ): no cancellation as ϑ → 0 with B ≈ ρ.
+        let window_lo = z.clone() + (az.minus.clone() - bb.clone() * dir.one_minus_mu.clone()) / s.clone();
         let window_hi = z.clone() + (bb.clone() * mu.clone() + rho.clone()) / s.clone();
         let light = z.clone() - bb.clone() * s.clone() / mu.clone(); // s_τ (μ ≠ 0)
         let mut lower = (Bound::Window, window_lo);
@@ -126,7 +129,8 @@ impl<T: CheckRule> PointLight<T> {
             (Bound::Camera, _) => upper.1.clone(),
             (Bound::Light, Bound::Window) => (bb.clone() + rho.clone() * mu.clone()) / (s.clone() * mu.clone()),
             (Bound::Window, Bound::Light) => (rho.clone() * mu.clone() - bb.clone()) / (s.clone() * mu.clone()),
-            _ => upper.1.clone() - lower.1.clone(),
+            (Bound::Light, Bound::Light) => unreachable!("the light bounds J below for μ > 0, above for μ < 0"),
+            (_, Bound::Camera) => unreachable!("the camera is a lower bound only"),
         };
         if !(len > zero) {
             return None;
@@ -180,13 +184,12 @@ impl<T: CheckRule> PointLight<T> {
 
     /// Angular distances from the poles graded by decades from the light's
     /// own scale: where the window's position z + B cot ϑ runs off along
-    /// the camera line (ϑ ~ min(b, R)/|y − o|, or ~ σ min(b, R)).
+    /// the camera line (ϑ ~ min(b, R)/|y − o|, or ~ σ min(b, R); R alone
+    /// for a light on the line).
     fn pole_scales(&self, ff: &FiniteField<T>) -> Vec<T> {
         let like = &self.z;
-        let size = self.b.clone().min_of(ff.radius.clone());
-        if !(size > like.lit(0.0)) {
-            return Vec::new();
-        }
+        // A light on the line (b = 0, behind the camera) has R alone.
+        let size = if self.b.is_zero() { ff.radius.clone() } else { self.b.clone().min_of(ff.radius.clone()) };
         let dist = (self.z.clone() * self.z.clone() + self.b.clone() * self.b.clone()).sqrt().max_of(ff.radius.clone());
         let start = size / like.lit(10.0) * (like.lit(1.0) / dist).min_of(ff.sigma.clone());
         decades_below(&start.max_of(like.lit(1e-30)), &(like.pi() / like.lit(2.0)))
@@ -209,17 +212,16 @@ impl<T: CheckRule> PointLight<T> {
                 let dir = view_direction(theta, theta_c);
                 let value = match self.hit(&dir, &az) {
                     Some(hit) => {
-                        let f = phase_of(&ff.phase, &dir);
-                        let weight = if which.power() == 1 { f } else { f.clone() * f };
-                        weight * dir.sin.clone() * functional(which, &hit, &dir, &ff.sigma, &ff.shift)
+                        phase_power(&ff.phase, &dir, which.power())
+                            * dir.sin.clone()
+                            * functional(which, &hit, &dir, &ff.sigma, &ff.shift)
                     }
                     None => zero.clone(),
                 };
                 Ok(Estimate::known(value, zero.clone(), 1, o.rule))
             };
             let each = Options { abs_tol: (o.abs_tol / jac.to_f64()).min(f64::MAX), ..o.clone() };
-            let e = halves.integrate(&sample, &each)?;
-            Ok(Estimate { value: e.value * jac.clone(), error: e.error * jac, ..e })
+            Ok(halves.integrate(&sample, &each)?.scaled(&jac))
         };
         let e = if self.b > *r {
             // η = b sin χ/R ∈ [0, 1].
@@ -246,13 +248,7 @@ impl<T: CheckRule> PointLight<T> {
                 opts,
             )?
         };
-        let front = ff.per_hit(which, &self.flux) / (like.pi() * like.lit(2.0));
-        Ok(Estimate {
-            value: e.value * front.clone(),
-            error: e.error * front.clone(),
-            check_value: e.check_value * front,
-            ..e
-        })
+        Ok(e.scaled(&(ff.per_hit(which, &self.flux) / (like.pi() * like.lit(2.0)))))
     }
 
     /// Distance d from the light and (cos γ, sin γ) of w = (x(s) − y)/d
@@ -280,8 +276,7 @@ impl<T: CheckRule> PointLight<T> {
         let cap = (ff.shift.clone() - ff.sigma.clone() * reach).exp() * exp_segment(&(ff.sigma.clone() * d), Some(&h))
             / x.lit(2.0);
         let f = x.lit(1.0) / (x.pi() * x.lit(4.0));
-        let fk = if power == 1 { f } else { f.clone() * f };
-        ff.per_hit_power(power, &self.flux) * fk * cap
+        ff.per_hit_power(power, &self.flux) * power_of(f, power) * cap
     }
 
     /// ⟨𝒞^k⟩_R·e^{c₀} at s = center + x in a Henyey–Greenstein medium:
@@ -302,54 +297,10 @@ impl<T: CheckRule> PointLight<T> {
             Phase::HenyeyGreenstein { g } if g != 0.0 => g,
             _ => return Ok(Estimate::known(self.moment_isotropic(ff, x, power), x.lit(0.0), 1, opts.rule)),
         };
-        let (d, cos_g, sin_g) = self.seen_from(ff, x);
-        let r = &ff.radius;
-        let psi_r = if d > *r { (r.clone() / d.clone()).asin() } else { x.pi() / x.lit(2.0) };
-        let frame = Frame::new(cos_g, sin_g.clone());
-        let gamma = if g > 0.0 { frame.psi_mirror.clone() } else { frame.psi_u.clone() };
-        let (plus, minus) = ff.phase_floors();
-        let features = Features {
-            plus: Pole { floor: plus, marks: Vec::new() },
-            minus: Pole { floor: minus, marks: Vec::new() },
-            equator_jump: false,
-            source_near_0: None,
-            source_near_pi: None,
-        };
-        let cuts: Vec<T> = frame.psi_breakpoints(&features).into_iter().filter(|p| *p < psi_r).collect();
-        let (two, ga) = (x.lit(2.0), x.lit(g.abs()));
-        let floor = (x.lit(1.0) - ga.clone()) * (x.lit(1.0) - ga.clone());
-        let norm = (x.lit(1.0) - ga.clone() * ga.clone()) / (x.pi() * x.lit(4.0));
-        let azimuthal = |psi: &T| {
-            let sq = |a: T| {
-                let s = (a / two.clone()).sin();
-                s.clone() * s
-            };
-            let lo = floor.clone() + x.lit(4.0) * ga.clone() * sq(psi.clone() - gamma.clone());
-            let hi = floor.clone() + x.lit(4.0) * ga.clone() * sq(psi.clone() + gamma.clone());
-            if power == 1 {
-                let kp = (lo.clone() / hi.clone()).sqrt();
-                norm.clone() * x.lit(4.0) * complete_elliptic_e(&kp) / (lo * hi.sqrt())
-            } else {
-                let b = two.clone() * ga.clone() * psi.sin() * sin_g.clone();
-                let a = (lo.clone() + hi.clone()) / two.clone();
-                let prod = lo * hi;
-                norm.clone() * norm.clone() * x.pi() * (two.clone() * a.clone() * a + b.clone() * b)
-                    / (prod.clone() * prod.clone() * prod.sqrt())
-            }
-        };
-        let front = ff.per_hit_power(power, &self.flux) / (x.pi() * x.lit(4.0));
-        let e = integrate_within_pass(
-            |psi: &T, o: &Options| {
-                // e^{c₀ − σ d cos ψ}, with d cos ψ = d − 2d sin²(ψ/2).
-                let half = (psi.clone() / two.clone()).sin();
-                let reach = d.clone() - two.clone() * d.clone() * half.clone() * half;
-                let w = psi.sin() * (ff.shift.clone() - ff.sigma.clone() * reach).exp();
-                Ok(Estimate::known(w * azimuthal(psi), x.lit(0.0), 1, o.rule))
-            },
-            &Domain::finite(x.lit(0.0), psi_r).with_breakpoints(cuts),
-            &Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() },
-        )?;
-        Ok(Estimate { value: e.value * front.clone(), error: e.error * front, ..e })
+        self.cap_integral(ff, x, power, opts, &|frame, sin_g, psi, o| {
+            let gamma = if g > 0.0 { &frame.psi_mirror } else { &frame.psi_u };
+            Ok(Estimate::known(hg_azimuthal(g, psi, gamma, sin_g, power), psi.lit(0.0), 1, o.rule))
+        })
     }
 
     /// ⟨𝒞^k⟩_R·e^{c₀} at s = center + x by a 2-D quadrature over the cap,
@@ -357,47 +308,42 @@ impl<T: CheckRule> PointLight<T> {
     /// independent route to [`PointLight::moment_cap`] (tests). Domain: any
     /// x; R > 0.
     pub fn moment_cap_2d(&self, ff: &FiniteField<T>, x: &T, power: i32, opts: &Options) -> Outcome<T> {
-        let (d, cos_g, sin_g) = self.seen_from(ff, x);
-        let r = &ff.radius;
-        let psi_r = if d > *r { (r.clone() / d.clone()).asin() } else { x.pi() / x.lit(2.0) };
-        let frame = Frame::new(cos_g, sin_g);
-        let (plus, minus) = ff.phase_floors();
-        let features = Features {
-            plus: Pole { floor: plus, marks: Vec::new() },
-            minus: Pole { floor: minus, marks: Vec::new() },
-            equator_jump: false,
-            source_near_0: None,
-            source_near_pi: None,
-        };
+        let features = phase_features(ff);
         let g = |dir: &Direction<T>, o: &Options| {
-            let f = phase_of(&ff.phase, dir);
-            let fk = if power == 1 { f } else { f.clone() * f };
-            Ok(Estimate::known(fk, x.lit(0.0), 1, o.rule))
+            Ok(Estimate::known(phase_power(&ff.phase, dir, power), dir.mu.lit(0.0), 1, o.rule))
         };
-        let cuts: Vec<T> = frame.psi_breakpoints(&features).into_iter().filter(|p| *p < psi_r).collect();
-        let two = x.lit(2.0);
+        self.cap_integral(ff, x, power, opts, &|frame, _, psi, o| frame.around(psi, &features, &g, o))
+    }
+
+    /// (c^k Φ/𝓕)(1/4π)∫₀^{ψ_R} sin ψ e^{c₀ − σ d cos ψ} Φ_k(ψ) dψ, with the
+    /// azimuthal integral Φ_k(ψ) of f^k handed by `azimuthal(frame about w,
+    /// sin γ, ψ, options)`, the phase function's peaks declared in ψ.
+    fn cap_integral(
+        &self,
+        ff: &FiniteField<T>,
+        x: &T,
+        power: i32,
+        opts: &Options,
+        azimuthal: &Azimuthal<'_, T>,
+    ) -> Outcome<T> {
+        let (d, cos_g, sin_g) = self.seen_from(ff, x);
+        let psi_r = cap_half_angle(&d, &ff.radius);
+        let frame = Frame::new(cos_g, sin_g.clone());
+        let cuts: Vec<T> = frame.psi_breakpoints(&phase_features(ff)).into_iter().filter(|p| *p < psi_r).collect();
         let front = ff.per_hit_power(power, &self.flux) / (x.pi() * x.lit(4.0));
         let e = integrate_within_pass(
             |psi: &T, o: &Options| {
-                // e^{c₀ − σ d cos ψ}, with d cos ψ = d − 2d sin²(ψ/2).
-                let half = (psi.clone() / two.clone()).sin();
-                let reach = d.clone() - two.clone() * d.clone() * half.clone() * half;
-                let w = psi.sin() * (ff.shift.clone() - ff.sigma.clone() * reach).exp();
+                let w = cap_weight(ff, &d, psi);
                 if w.is_zero() {
                     return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule));
                 }
-                let a = frame.around(
-                    psi,
-                    &features,
-                    &g,
-                    &Options { abs_tol: (o.abs_tol / w.to_f64()).min(f64::MAX), ..o.clone() },
-                )?;
-                Ok(Estimate { value: a.value * w.clone(), error: a.error * w, ..a })
+                let each = Options { abs_tol: (o.abs_tol / w.to_f64()).min(f64::MAX), ..o.clone() };
+                Ok(azimuthal(&frame, &sin_g, psi, &each)?.scaled(&w))
             },
             &Domain::finite(x.lit(0.0), psi_r).with_breakpoints(cuts),
             &Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() },
         )?;
-        Ok(Estimate { value: e.value * front.clone(), error: e.error * front, ..e })
+        Ok(e.scaled(&front))
     }
 
     /// The points along the camera ray (in x) where d = R, when b < R: the
@@ -421,18 +367,88 @@ impl<T: CheckRule> PointLight<T> {
         let a = self.z.clone() - ff.center.clone();
         let scale = a.abs().max_of(a.lit(1.0));
         let mut v = vec![a.clone(), a.clone() + scale.clone()];
-        for width in [self.b.clone(), ff.radius.clone()] {
-            let mut step = width;
-            for _ in 0..24 {
-                if !(step < scale) || step.is_zero() {
-                    break;
-                }
-                v.push(a.clone() - step.clone());
-                v.push(a.clone() + step.clone());
-                step = step * a.lit(10.0);
-            }
-        }
+        v.extend(graded_about(&a, &self.b, &scale));
+        v.extend(graded_about(&a, &ff.radius, &scale));
+        v.extend(decay_graded_about(&a, &ff.sigma, &scale));
         v.extend(self.containment_kinks(ff).into_iter().map(|(k, _)| k));
         v
     }
+}
+
+/// The structure of f(−μ)^k on the sphere of directions: the phase
+/// function's peaks at ±u (width 1 − |g|), for `angular::Frame`.
+fn phase_features<T: CheckRule>(ff: &FiniteField<T>) -> Features<T> {
+    let (plus, minus) = ff.phase_floors();
+    Features {
+        plus: Pole { floor: plus, marks: Vec::new() },
+        minus: Pole { floor: minus, marks: Vec::new() },
+        equator_jump: false,
+        source_near_0: None,
+        source_near_pi: None,
+    }
+}
+
+/// The azimuthal integral of f^k at polar angle ψ about w: (frame about
+/// w, sin γ, ψ, options) → value with bar.
+type Azimuthal<'a, T> = dyn Fn(&Frame<T>, &T, &T, &Options) -> Outcome<T> + 'a;
+
+/// The cap's half-angle ψ_R: arcsin(R/d), formed as arctan(R/√(d² − R²))
+/// (arcsin near 1 would lose half the digits as the sphere comes to hold
+/// the light), or π/2 when d ≤ R (the sphere holds the light; every ray
+/// whose closest point lies ahead hits).
+fn cap_half_angle<T: CheckRule>(d: &T, r: &T) -> T {
+    if d > r {
+        (r.clone() / ((d.clone() - r.clone()) * (d.clone() + r.clone())).sqrt()).atan()
+    } else {
+        d.pi() / d.lit(2.0)
+    }
+}
+
+/// ∫₀^{2π} f^k dχ of a Henyey–Greenstein phase function over the circle
+/// at polar angle ψ about w, whose peak direction lies at γ from w with
+/// sin γ = `sin_g` (closed forms in [`PointLight::moment_cap`]).
+fn hg_azimuthal<T: CheckRule>(g: f64, psi: &T, gamma: &T, sin_g: &T, power: i32) -> T {
+    let (two, ga, one) = (psi.lit(2.0), psi.lit(g.abs()), psi.lit(1.0));
+    let floor = (one.clone() - ga.clone()) * (one.clone() - ga.clone());
+    let norm = (one.clone() - ga.clone() * ga.clone()) / (psi.pi() * psi.lit(4.0));
+    let sq = |a: T| {
+        let s = (a / two.clone()).sin();
+        s.clone() * s
+    };
+    let lo = floor.clone() + psi.lit(4.0) * ga.clone() * sq(psi.clone() - gamma.clone());
+    let hi = floor + psi.lit(4.0) * ga.clone() * sq(psi.clone() + gamma.clone());
+    if power == 1 {
+        let kp = (lo.clone() / hi.clone()).sqrt();
+        norm * psi.lit(4.0) * complete_elliptic_e(&kp) / (lo * hi.sqrt())
+    } else {
+        let b = two.clone() * ga * psi.sin() * sin_g.clone();
+        let a = (lo.clone() + hi.clone()) / two.clone();
+        let prod = lo * hi;
+        norm.clone() * norm * psi.pi() * (two * a.clone() * a + b.clone() * b)
+            / (prod.clone() * prod.clone() * prod.sqrt())
+    }
+}
+
+/// f(−μ)^k for k = 1 or 2.
+pub(super) fn phase_power<T: Real>(phase: &Phase, dir: &Direction<T>, power: i32) -> T {
+    power_of(phase_of(phase, dir), power)
+}
+
+/// x^k for k = 1 or 2.
+pub(super) fn power_of<T: Real>(x: T, power: i32) -> T {
+    if power == 1 {
+        x
+    } else {
+        x.clone() * x
+    }
+}
+
+/// sin ψ e^{c₀ − σ d cos ψ}: the polar measure of the cap and the chance
+/// that the segment reaches the closest point, at d cos ψ, formed as
+/// d − 2d sin²(ψ/2).
+fn cap_weight<T: CheckRule>(ff: &FiniteField<T>, d: &T, psi: &T) -> T {
+    let two = psi.lit(2.0);
+    let half = (psi.clone() / two.clone()).sin();
+    let reach = d.clone() - two * d.clone() * half.clone() * half;
+    psi.sin() * (ff.shift.clone() - ff.sigma.clone() * reach).exp()
 }

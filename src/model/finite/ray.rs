@@ -14,7 +14,7 @@
 //! P = a + τ(a), the path from the light to the first sphere's closest
 //! point and on to the camera:
 //!
-//! - G₁  = ∫_J σe^{−σs}e^{−στ(s)} ds = σ e^{−σP} F₁(σ(1+μ), L)                (13), (16)
+//! - G₁  = ∫_J σe^{−σs}e^{−στ(s)} ds = σ e^{−σP} F₁(σ(1+μ), L)                (13), (15), (16)
 //! - G₂₃ = ∫∫_{s<s′∈J} σ²e^{−σs′}e^{−σ max τ} = σ² e^{−σP} F₂(r, r′, L)        (16)
 //! - G₂₄ = ∫∫_{J²} σ²e^{−σ(s+s′)}e^{−σ max τ} = 2σ² e^{−σ(P + a)} F₂(r, r′, L) (18)
 //!
@@ -70,8 +70,12 @@ pub struct Hit<T> {
 }
 
 /// G₁, G₂₃ or G₂₄ of one ray (module doc), times e^{c₀} (`shift`), for a
-/// ray of direction `dir` (μ and 1 + μ to full relative accuracy).
-/// Domain: a non-empty hit interval, σ > 0.
+/// ray of direction `dir` (μ and 1 + μ to full relative accuracy): the
+/// ray's share of the mean (13), (15) and of M₂ (16) (G₁), of C₂₃ (16),
+/// (23) (G₂₃) and of C₂₄ (18), (24) (G₂₄), without the per-hit factor
+/// (albedo f 𝓕/(πR²))^k. Domain: a non-empty hit interval (L ∈ (0, ∞]),
+/// σ > 0. Deviation: the paper has no per-ray form; its (21)–(24) take the
+/// attenuation and f at the sphere's centre (§4.3), these are exact.
 pub fn functional<T: Real>(which: Functional, hit: &Hit<T>, dir: &Direction<T>, sigma: &T, shift: &T) -> T {
     let len = hit.len.is_finite().then_some(&hit.len);
     let one_plus = dir.one_plus_mu.clone();
@@ -101,11 +105,13 @@ mod tests {
     use crate::model::angular::view_direction;
 
     /// The functionals against their defining integrals over the hit
-    /// interval, by brute-force midpoint sums.
+    /// interval, by midpoint sums (n² cells; a diagonal cell of the ordered
+    /// pairs of G₂₃ counts half), for a ray leaving the camera, one coming
+    /// towards it and one across it (μ = 0).
     #[test]
     fn functionals_match_their_definitions() {
         let sigma = 1.3f64;
-        for theta in [0.4f64, 2.2] {
+        for theta in [0.4f64, 2.2, std::f64::consts::FRAC_PI_2] {
             let dir = view_direction(&theta, &(std::f64::consts::PI - theta));
             let mu = dir.mu;
             let (a, len, tau_a) = (0.7f64, 0.9f64, 0.5f64);
@@ -120,19 +126,33 @@ mod tests {
                 for j in 0..n {
                     let (s, t) = (mid(i), mid(j));
                     let reach = (-sigma * tau(s).max(tau(t))).exp();
-                    if s < t {
-                        g23 += sigma * sigma * (-sigma * t).exp() * reach * h * h;
-                    }
+                    let share = match i.cmp(&j) {
+                        std::cmp::Ordering::Less => 1.0,
+                        std::cmp::Ordering::Equal => 0.5,
+                        std::cmp::Ordering::Greater => 0.0,
+                    };
+                    g23 += share * sigma * sigma * (-sigma * t).exp() * reach * h * h;
                     g24 += sigma * sigma * (-sigma * (s + t)).exp() * reach * h * h;
                 }
             }
             let f = |w| functional(w, &hit, &dir, &sigma, &0.0);
-            for (w, brute, tol) in
-                [(Functional::Mean, g1, 1e-6), (Functional::Pair23, g23, 2e-3), (Functional::Pair24, g24, 1e-6)]
-            {
+            for (w, brute) in [(Functional::Mean, g1), (Functional::Pair23, g23), (Functional::Pair24, g24)] {
                 let v = f(w);
-                assert!((v - brute).abs() <= tol * brute, "ϑ = {theta} {w:?}: {v} vs {brute}");
+                assert!((v - brute).abs() <= 1e-6 * brute, "ϑ = {theta} {w:?}: {v} vs {brute}");
             }
+        }
+    }
+
+    /// An unbounded hit interval (a ray leaving along the camera line) is
+    /// the limit of long ones.
+    #[test]
+    fn an_unbounded_interval_is_the_limit_of_long_ones() {
+        let sigma = 0.8f64;
+        let dir = view_direction(&0.3f64, &(std::f64::consts::PI - 0.3));
+        for w in [Functional::Mean, Functional::Pair23, Functional::Pair24] {
+            let at = |len: f64| functional(w, &Hit { start: 0.2, len, path: 0.6 }, &dir, &sigma, &0.0);
+            let (inf, long) = (at(f64::INFINITY), at(100.0));
+            assert!((inf - long).abs() <= 1e-15 * inf, "{w:?}: {inf} vs {long}");
         }
     }
 }

@@ -123,24 +123,21 @@ impl<T: CheckRule> Tables<T> {
         }
         cuts.push(lo.clone());
         cuts.push(end.clone());
-        // Each kink's mapped neighbourhood reaches half-way to the nearest
-        // other cut on its outside (or to the table's end).
+        // Each kink's mapped neighbourhood reaches R/2 outside it (the scale
+        // of the cap's change), or half-way to the table's end: no other
+        // kink of ⟨𝒞⟩_R lies there (the cuts inside are gradings, mapped).
         let mut kinks = Vec::new();
         for (k, side) in p.containment_kinks(ff) {
             if !(k > lo && k < end) {
                 continue;
             }
-            let outside = cuts.iter().filter(|c| ((*c).clone() - k.clone()) * k.lit(f64::from(side)) > k.lit(0.0));
-            let gap = outside
-                .map(|c| (c.clone() - k.clone()).abs())
-                .fold(None, |m: Option<T>, g| Some(m.map_or(g.clone(), |m| m.min_of(g))));
-            if let Some(gap) = gap {
-                let w = gap / k.lit(2.0);
-                cuts.push(k.clone() + k.lit(f64::from(side)) * w.clone());
-                kinks.push((k, w, side));
-            }
+            let room = if side > 0 { end.clone() - k.clone() } else { k.clone() - lo.clone() };
+            let w = (ff.radius.clone() / k.lit(2.0)).min_of(room / k.lit(2.0));
+            cuts.push(k.clone() + k.lit(f64::from(side)) * w.clone());
+            kinks.push((k, w, side));
         }
         let map = KinkMap { kinks };
+        let cuts: Vec<T> = cuts.iter().map(|c| map.y_of(c)).collect();
         let opts: Options = sample_options(&lo, tol, rule);
         let table = Piecewise::build(|y: &T| p.moment_cap(ff, &map.x_of(y), 1, &opts), &cuts, tol / 4.0)?;
         let table = Arc::new((table, map));
