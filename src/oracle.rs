@@ -10,7 +10,9 @@
 
 use crate::model::field::Field;
 use crate::model::finite::{FiniteField, FiniteIntegrals};
-use crate::model::noise::{d_constants, relative_from_d, variance, Counts, Integrals, Valued};
+use crate::model::noise::{
+    d_constants, d_errors, relative_from_d, relative_from_d_error, variance, Counts, Integrals, Valued,
+};
 use crate::model::OracleError;
 use crate::quad::{CheckRule, Estimate, Options};
 use crate::real::Real;
@@ -119,6 +121,9 @@ pub struct Variance {
     pub relative_error: f64,
     /// The §4.4 formula with D₁…D₅ (corrected constant term), if (25), (26) exist.
     pub relative_asymptotic: Option<f64>,
+    /// Its bar from the integrals' bars (not its asymptotic error, the O(R)
+    /// gap of the R → 0 forms, which `corr23.ratio` and `corr24.ratio` show).
+    pub relative_asymptotic_error: Option<f64>,
 }
 
 /// The finite-sphere model's numbers (`model::finite`), exact at the scene's R.
@@ -194,6 +199,8 @@ pub struct Report {
     pub attenuation_shift: f64,
     /// D₁…D₅ of §4.4, if the asymptotic forms exist.
     pub d: Option<[f64; 5]>,
+    /// Their bars.
+    pub d_error: Option<[f64; 5]>,
     /// Evaluations of the small-sphere model's integrals.
     pub evaluations: u64,
     /// The finite-sphere model, for uncollided light (`None` with scattered light).
@@ -289,6 +296,9 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
     let log10 = |v: &T| v.abs().ln().to_f64() / std::f64::consts::LN_10;
     let shift_log10 = field.shift.to_f64() / std::f64::consts::LN_10;
     let relative_asymptotic = d.as_ref().map(|d| relative_from_d(d, &r, &field.sigma_ext, &counts).to_f64());
+    let d_error = d.as_ref().and_then(|d| d_errors(&ints, d));
+    let relative_asymptotic_error =
+        d_error.as_ref().map(|e| relative_from_d_error(e, &r, &field.sigma_ext, &counts).to_f64());
     let small_mean = ValueError {
         value: (ints.mean.value.clone() * k.clone()).to_f64(),
         error: (ints.mean.error.clone() * k.clone()).to_f64(),
@@ -333,12 +343,14 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
             relative: relative.to_f64(),
             relative_error: relative_error.to_f64(),
             relative_asymptotic,
+            relative_asymptotic_error,
         },
         m2: scaled(&ints.m2, &k),
         p: scaled(&ints.p, &k),
         q_pair: scaled(&ints.q, &k),
         attenuation_shift: field.shift.to_f64(),
         d: d.map(|d| d.map(|v| v.to_f64())),
+        d_error: d_error.map(|d| d.map(|v| v.to_f64())),
         evaluations: ints.evaluations(),
         finite: finite_report,
         prediction,

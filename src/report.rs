@@ -482,15 +482,18 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
             _ => {}
         }
     }
-    match r.variance.relative_asymptotic {
-        Some(v) => {
-            writeln!(s, "  Var/L², §4.4 formula   {v:.10e} (asymptotic: its error is the O(R) gap of the ratios)")
-                .unwrap()
-        }
-        None => writeln!(s, "  Var/L², §4.4 formula   does not exist for this scene").unwrap(),
+    match (r.variance.relative_asymptotic, r.variance.relative_asymptotic_error) {
+        (Some(v), Some(e)) => writeln!(
+            s,
+            "  Var/L², §4.4 formula   {} (quadrature bar; as an estimate of Var/L² it is off by the O(R) gap of the ratios)",
+            pm(v, e)
+        )
+        .unwrap(),
+        _ => writeln!(s, "  Var/L², §4.4 formula   does not exist for this scene").unwrap(),
     }
-    if let Some(d) = r.d {
-        writeln!(s, "  D1..D5  {:.6e} {:.6e} {:.6e} {:.6e} {:.6e}", d[0], d[1], d[2], d[3], d[4]).unwrap();
+    if let (Some(d), Some(e)) = (r.d, r.d_error) {
+        let shown: Vec<String> = d.iter().zip(e.iter()).map(|(v, e)| format!("{v:.6e} ± {e:.0e}")).collect();
+        writeln!(s, "  D1..D5  {}", shown.join("  ")).unwrap();
     }
     let finite_evals = r.finite.as_ref().map_or(String::new(), |f| format!(" + {} (finite-sphere)", f.evaluations));
     writeln!(s, "evaluations {}{finite_evals}   time {:.1} ms", r.evaluations, r.wall_time_ms).unwrap();

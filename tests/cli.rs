@@ -81,6 +81,8 @@ fn oracle_json_has_the_documented_keys() {
         "/variance/exact/error",
         "/variance/relative",
         "/variance/relative_asymptotic",
+        "/variance/relative_asymptotic_error",
+        "/d_error/0",
         "/evaluations",
         "/wall_time_ms",
         "/finite/mean/value",

@@ -173,6 +173,23 @@ pub fn d_constants<T: Real>(ints: &Integrals<T>, r: &T, sigma: &T, inv_k: &T) ->
     ])
 }
 
+/// The bars of [`d_constants`]: each D's relative bar is its integral's
+/// plus twice the mean's (D = const·integral/μ²).
+pub fn d_errors<T: Real>(ints: &Integrals<T>, d: &[T; 5]) -> Option<[T; 5]> {
+    let (c23a, c24a) = (ints.c23_asym.as_ref().ok()?, ints.c24_asym.as_ref().ok()?);
+    let mean_rel = ints.mean.error.clone() / ints.mean.value.abs();
+    let rel = |e: &Estimate<T>| e.error.clone() / e.value.abs() + mean_rel.clone() * mean_rel.lit(2.0);
+    let rels = [rel(&ints.m2), rel(c23a), rel(c24a), rel(&ints.p), rel(&ints.q)];
+    Some(std::array::from_fn(|i| d[i].abs() * rels[i].clone()))
+}
+
+/// The bar of [`relative_from_d`] from the D's bars: the formula is linear
+/// in the D's with non-negative coefficients.
+pub fn relative_from_d_error<T: Real>(d_error: &[T; 5], r: &T, sigma: &T, n: &Counts<T>) -> T {
+    let zero: [T; 5] = std::array::from_fn(|_| r.lit(0.0));
+    relative_from_d(d_error, r, sigma, n) - relative_from_d(&zero, r, sigma, n)
+}
+
 /// The asymptotic relative noise of §4.4 from D₁…D₅. Deviation: the
 /// constant term is 1/(N_F N_B) − 1/N_F − 1/N_B, not −1/(N_F N_B) (E8).
 pub fn relative_from_d<T: Real>(d: &[T; 5], r: &T, sigma: &T, n: &Counts<T>) -> T {
