@@ -139,12 +139,10 @@ impl<T: CheckRule> RayLine<'_, T> {
                         if h.is_zero() {
                             return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule));
                         }
-                        let h2 = h.clone() * h.clone();
-                        let m = m(
-                            x,
-                            tol.max(o.rel_tol),
-                            &Options { abs_tol: (o.abs_tol / h2.to_f64()).min(f64::MAX), ..o.clone() },
-                        )?;
+                        // abs_tol/h², divided one factor at a time (h² can underflow).
+                        let hf = h.to_f64();
+                        let m_abs = (o.abs_tol / hf / hf).min(f64::MAX);
+                        let m = m(x, tol.max(o.rel_tol), &Options { abs_tol: m_abs, ..o.clone() })?;
                         let v = h.clone() * m.value.clone();
                         let e = h * m.error.clone();
                         let error = x.lit(2.0) * v.abs() * e.clone() + e.clone() * e;
