@@ -11,19 +11,15 @@
 
 // `!(x >= 0)` is how NaN-rejecting range checks are written here, on purpose.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+#![warn(missing_docs)]
 
-pub mod accuracy;
-pub mod compare;
 pub mod kernel;
 pub mod model;
-pub mod model_error;
 pub mod oracle;
 pub mod prec;
 pub mod quad;
 pub mod real;
-pub mod report;
+pub mod reports;
 pub mod special;
-pub mod sweep;
-pub mod tracer_checks;
 
 pub use mcrt_scene as scene;

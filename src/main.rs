@@ -2,12 +2,12 @@
 
 use clap::{Parser, Subcommand};
 use mcrt_noise::oracle::Precision;
-use mcrt_noise::report;
+use mcrt_noise::reports;
 use mcrt_noise::scene::Scene;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-mod trace_cmd;
+mod cli;
 
 #[derive(Parser)]
 #[command(
@@ -59,7 +59,7 @@ enum Command {
     Sweep {
         scene: PathBuf,
         /// Comma-separated radii, e.g. 1e-1,1e-2,1e-3.
-        #[arg(long, value_delimiter = ',', default_values_t = mcrt_noise::sweep::DOC_RADII)]
+        #[arg(long, value_delimiter = ',', default_values_t = mcrt_noise::reports::sweep::DOC_RADII)]
         radii: Vec<f64>,
         /// One JSON object instead of the table.
         #[arg(long)]
@@ -154,28 +154,28 @@ fn main() -> ExitCode {
         Command::Validate { scene } => validate(&scene),
         Command::Oracle { scene, precision, rel_tol, json } => oracle(&scene, &precision, rel_tol, json),
         Command::Kernel { theta, radius, precision, rel_tol, bare } => {
-            report::kernel_cli(&theta, &radius, &precision, rel_tol, bare)
+            reports::tables::kernel_cli(&theta, &radius, &precision, rel_tol, bare)
         }
         Command::Sweep { scene, radii, json } => sweep(&scene, &radii, json),
         Command::Trace { run: a, out } => load_with_radius(&a.scene, a.radius)
-            .and_then(|s| trace_cmd::trace_cmd(&s, &a.trials, a.seed, a.threads, a.json, out.as_deref())),
-        Command::Merge { shards, json, out } => trace_cmd::merge_cmd(&shards, json, out.as_deref()),
+            .and_then(|s| cli::trace_cmd::trace_cmd(&s, &a.trials, a.seed, a.threads, a.json, out.as_deref())),
+        Command::Merge { shards, json, out } => cli::trace_cmd::merge_cmd(&shards, json, out.as_deref()),
         Command::Compare { run: a } => load_with_radius(&a.scene, a.radius)
-            .and_then(|s| trace_cmd::compare_cmd(&s, &a.trials, a.seed, a.threads, a.json)),
+            .and_then(|s| cli::trace_cmd::compare_cmd(&s, &a.trials, a.seed, a.threads, a.json)),
         Command::AsymptoticChecks { out, scenes } => {
             let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
-            write_or_print(mcrt_noise::sweep::asymptotic_checks_markdown(&scenes, &figures), Some(out))
+            write_or_print(mcrt_noise::reports::sweep::asymptotic_checks_markdown(&scenes, &figures), Some(out))
         }
         Command::ModelError { out, scenes } => {
             let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
-            write_or_print(mcrt_noise::model_error::markdown(&scenes, &figures), Some(out))
+            write_or_print(mcrt_noise::reports::model_error::markdown(&scenes, &figures), Some(out))
         }
         Command::TracerChecks { out, scenes } => {
             let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
-            write_or_print(mcrt_noise::tracer_checks::markdown(&scenes, &figures), Some(out))
+            write_or_print(mcrt_noise::reports::tracer_checks::markdown(&scenes, &figures), Some(out))
         }
-        Command::Accuracy { points, out } => write_or_print(report::accuracy_markdown(points), out),
-        Command::Cost { out, repeats } => write_or_print(report::cost_markdown(repeats), out),
+        Command::Accuracy { points, out } => write_or_print(reports::accuracy::accuracy_markdown(points), out),
+        Command::Cost { out, repeats } => write_or_print(reports::cost::cost_markdown(repeats), out),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -220,7 +220,7 @@ fn oracle(path: &PathBuf, precision: &str, rel_tol: Option<f64>, json: bool) -> 
     if json {
         println!("{}", serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?);
     } else {
-        print!("{}", report::oracle_table(&report));
+        print!("{}", reports::tables::oracle_table(&report));
     }
     Ok(())
 }
@@ -230,11 +230,11 @@ fn sweep(path: &PathBuf, radii: &[f64], json: bool) -> Result<(), String> {
         return Err(format!("--radii: {bad} is not a radius (finite and > 0)"));
     }
     let scene = load(path)?;
-    let rows = mcrt_noise::sweep::sweep(&scene, radii)?;
+    let rows = mcrt_noise::reports::sweep::sweep(&scene, radii)?;
     if json {
         use mcrt_noise::model::correlations::Which;
-        use mcrt_noise::sweep::fit_order;
-        use mcrt_noise::sweep::{fit_finite_order, FiniteRatio};
+        use mcrt_noise::reports::sweep::fit_order;
+        use mcrt_noise::reports::sweep::{fit_finite_order, FiniteRatio};
         let out = serde_json::json!({
             "rows": rows,
             "order23": fit_order(&rows, Which::Eq23),
@@ -244,10 +244,10 @@ fn sweep(path: &PathBuf, radii: &[f64], json: bool) -> Result<(), String> {
         });
         println!("{}", serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?);
     } else {
-        print!("{}", mcrt_noise::sweep::table(&rows));
+        print!("{}", mcrt_noise::reports::sweep::table(&rows));
         if rows.iter().any(|r| r.finite.is_some()) {
             println!("\nThe finite-sphere model (exact at each R) against the small-sphere one:\n");
-            print!("{}", mcrt_noise::sweep::finite_table(&rows));
+            print!("{}", mcrt_noise::reports::sweep::finite_table(&rows));
         }
     }
     Ok(())

@@ -43,7 +43,7 @@ impl Precision {
     pub fn default_tol(self) -> f64 {
         match self {
             Precision::F64 => 1e-10,
-            Precision::Bits(b) => crate::report::mpfr_default_tol(b),
+            Precision::Bits(b) => crate::prec::mpfr_default_tol(b),
         }
     }
 

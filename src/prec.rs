@@ -25,3 +25,9 @@ pub fn model_error_scale(radius: f64) -> f64 {
     }
     radius * (1.0 / radius).ln() / (r0 * (1.0 / r0).ln())
 }
+
+/// Default relative tolerance for `bits` of MPFR: 2^{−(bits − 22)}, leaving
+/// 22 bits for rounding noise and the inner integrals' tenth.
+pub fn mpfr_default_tol(bits: u32) -> f64 {
+    2f64.powi(-(bits as i32 - 22))
+}

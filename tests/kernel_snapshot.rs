@@ -3,7 +3,7 @@
 //! decade (the bound 10^⌈log₁₀ bar⌉), so that a reviewer sees a bar that grows
 //! by a factor 10 or more, not every retuning of the engine.
 
-use mcrt_noise::report::acceptance_rows_f64;
+use mcrt_noise::reports::tables::acceptance_rows_f64;
 
 #[test]
 fn acceptance_table_is_pinned() {

@@ -268,7 +268,7 @@ fn order_one_report_is_consistent_and_pinned() {
 #[test]
 fn sweep_tables_are_pinned() {
     use mcrt_noise::model::correlations::Which;
-    use mcrt_noise::sweep::{fit_order, sweep, DOC_RADII};
+    use mcrt_noise::reports::sweep::{fit_order, sweep, DOC_RADII};
     for name in ORDER0_SCENES {
         let rows = sweep(&scene(name), &DOC_RADII).unwrap();
         let mut out = String::from("R | ratio (23) | ratio (24)\n");
@@ -353,7 +353,7 @@ fn a_dark_pixel_is_said_to_be_dark_not_nan() {
 #[ignore]
 fn order_one_remainder_has_a_log_term() {
     use mcrt_noise::model::correlations::Which;
-    use mcrt_noise::sweep::{fit_log_term, sweep};
+    use mcrt_noise::reports::sweep::{fit_log_term, sweep};
     // Radii where 1 − ratio is resolved at the default tolerance (> 100 bars).
     let radii = [1e-1, 1e-2, 1e-3, 1e-4];
     let rows = sweep(&scene("point-isotropic-order1"), &radii).unwrap();

@@ -89,7 +89,7 @@ fn kernel_mpfr_128_bits_meets_1e30() {
     for (label, theta, pole, r, _) in ACCEPTANCE_CASES {
         let a = angle_mpfr(theta, pole, bits);
         let rr = parse_decimal(r, bits).unwrap();
-        let e = kernel_integral(&a, &rr, &Options::rel(mcrt_noise::report::mpfr_default_tol(bits)))
+        let e = kernel_integral(&a, &rr, &Options::rel(mcrt_noise::prec::mpfr_default_tol(bits)))
             .unwrap_or_else(|f| panic!("{label}: {f}"));
         let p = 1024;
         let a_ref = angle_mpfr(theta, pole, p);

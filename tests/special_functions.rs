@@ -5,8 +5,8 @@
 //! sweep point; at 256 bits ≤ 2⁻²⁴⁰ relative (16 bits of slack for rounding
 //! accumulated in the series). Snapshots round ulps to 2 significant digits.
 
-use mcrt_noise::accuracy::{sweep, SpecialFn};
 use mcrt_noise::prec::SPECIAL_MAX_ULPS;
+use mcrt_noise::reports::accuracy::{sweep, SpecialFn};
 use rug::Float;
 
 fn two_sig(v: f64) -> String {
@@ -145,7 +145,7 @@ fn laplace_series_of_a_matches_quadrature() {
 /// within their stated bounds.
 #[test]
 fn finite_sphere_functions_within_their_bounds() {
-    for s in mcrt_noise::accuracy::multi_arg_sweep(20_000) {
+    for s in mcrt_noise::reports::accuracy::multi_arg_sweep(20_000) {
         println!("{} | {} | max {:.2} ulp | median {:.2} ulp", s.function, s.domain, s.max_ulps, s.median_ulps);
         assert!(s.max_ulps <= s.bound, "{}: {} ulps above the bound {}", s.function, s.max_ulps, s.bound);
     }

@@ -22,8 +22,8 @@
 //! |z| ≤ 4: a family-wise false-alarm rate of 1.8·10⁻³ if the model is
 //! right (fixed seeds: the outcome is deterministic).
 
-use mcrt_noise::compare::{sides, small_sphere_sides, Side};
 use mcrt_noise::oracle::{run, Precision};
+use mcrt_noise::reports::compare::{sides, small_sphere_sides, Side};
 use mcrt_reference::{trace, HitMethod, Tracer};
 use mcrt_scene::{Phase, Scene};
 

@@ -20,9 +20,9 @@
 //! that it cannot pass by being noisy: a point whose se exceeds its stated
 //! resolution fails.
 
-use mcrt_noise::compare::{sides, Side};
 use mcrt_noise::oracle::{run, Precision};
 use mcrt_noise::prec::{model_error_scale, MODEL_ERROR_RADIUS};
+use mcrt_noise::reports::compare::{sides, Side};
 use mcrt_reference::{trace, HitMethod, Tracer};
 use mcrt_scene::{Phase, ScatteringOrders, Scene};
 use std::path::Path;
@@ -224,7 +224,7 @@ fn model_error_at_the_reference_radius() {
 /// The paper's (21) as printed is half the curve at t = 0: rejected there.
 #[test]
 fn correlation_of_two_spheres_matches_the_corrected_model() {
-    use mcrt_noise::tracer_checks::{correlation_rows, CORR_RADIUS, CORR_S};
+    use mcrt_noise::reports::tracer_checks::{correlation_rows, CORR_RADIUS, CORR_S};
     use statrs::distribution::{ChiSquared, ContinuousCDF};
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
     let mut scene = Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();

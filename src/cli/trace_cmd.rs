@@ -1,8 +1,8 @@
 //! The tracer's commands: `trace`, `merge`, `compare`.
 
 use indicatif::{ProgressBar, ProgressStyle};
-use mcrt_noise::compare::{Comparison, TraceReport};
 use mcrt_noise::oracle::Precision;
+use mcrt_noise::reports::compare::{Comparison, TraceReport};
 use mcrt_noise::scene::Scene;
 use mcrt_reference::{merge, trace, HitMethod, Run, Shard, Tracer};
 use std::io::IsTerminal;

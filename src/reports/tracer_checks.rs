@@ -3,11 +3,11 @@
 //! the finite-sphere model's agreement), the pair correlation measured
 //! directly, and the tracer's speed.
 
-use crate::compare::{sides, small_sphere_sides, Side};
 use crate::model::correlations::pointwise;
 use crate::model::field::Field;
 use crate::oracle::{run, Precision};
 use crate::quad::{integrate, Domain, Options};
+use crate::reports::compare::{sides, small_sphere_sides, Side};
 use mcrt_reference::correlation::pair_correlation;
 use mcrt_reference::moments::WithError;
 use mcrt_reference::{trace, HitMethod, Tracer};

@@ -1,0 +1,11 @@
+//! Report generators and command support: the code behind the CLI's
+//! tables and the generated documents in `docs/`. It uses the library
+//! (oracle, model, quadrature, tracer) and nothing in the library uses it.
+
+pub mod accuracy;
+pub mod compare;
+pub mod cost;
+pub mod model_error;
+pub mod sweep;
+pub mod tables;
+pub mod tracer_checks;

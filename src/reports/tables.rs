@@ -1,0 +1,176 @@
+//! Readable output of the CLI: the oracle's report table, the `kernel`
+//! command and the kernel's acceptance rows.
+
+use super::cost::angle_f64;
+use crate::kernel::{kernel_integral, kernel_integral_bare, parse_decimal, Angle, ACCEPTANCE_CASES};
+use crate::prec::mpfr_default_tol;
+use crate::quad::{Options, Outcome};
+use std::fmt::Write;
+use std::time::{Duration, Instant};
+
+fn print_outcome<T: crate::real::Real>(
+    label: &str,
+    out: &Outcome<T>,
+    show: impl Fn(&T) -> String,
+    dt: Duration,
+) -> Result<(), String> {
+    match out {
+        Ok(e) => {
+            println!("{label} = {}", show(&e.value));
+            println!("  error bar   {:.3e} (cross-check {})", e.error.to_f64(), show(&e.check_value));
+            println!(
+                "  evaluations {}  pieces {}  breakpoints found {}  time {:.3} ms",
+                e.evaluations,
+                e.pieces,
+                e.found_breakpoints,
+                dt.as_secs_f64() * 1e3
+            );
+            Ok(())
+        }
+        Err(f) => Err(format!("{label}: {f}")),
+    }
+}
+
+/// The `kernel` command.
+pub fn kernel_cli(theta: &str, radius: &str, precision: &str, rel_tol: Option<f64>, bare: bool) -> Result<(), String> {
+    use crate::oracle::Precision;
+    let label = format!("I({theta}, {radius})");
+    match Precision::parse(precision)? {
+        Precision::F64 => {
+            let angle = Angle::from_theta(&parse_decimal(theta, 53)?.to_f64());
+            let r = parse_decimal(radius, 53)?.to_f64();
+            let out = run_kernel(&angle, &r, rel_tol.unwrap_or(1e-13), bare)?;
+            print_outcome(&label, &out.0, |v| format!("{v:.17e}"), out.1)
+        }
+        Precision::Bits(bits) => {
+            let angle = Angle::from_theta(&parse_decimal(theta, bits)?);
+            let r = parse_decimal(radius, bits)?;
+            let out = run_kernel(&angle, &r, rel_tol.unwrap_or_else(|| mpfr_default_tol(bits)), bare)?;
+            let digits = (bits as f64 * std::f64::consts::LOG10_2) as usize;
+            print_outcome(&label, &out.0, |v| v.to_string_radix(10, Some(digits)), out.1)
+        }
+    }
+}
+
+/// I(ϑ, R), structure given or bare, with its wall time.
+fn run_kernel<T: crate::quad::CheckRule>(
+    angle: &Angle<T>,
+    r: &T,
+    tol: f64,
+    bare: bool,
+) -> Result<(Outcome<T>, Duration), String> {
+    check_kernel_args(angle.sin.to_f64(), r.to_f64())?;
+    let t0 = Instant::now();
+    let out = if bare {
+        kernel_integral_bare(angle, r, &Options::rel(tol))
+    } else {
+        kernel_integral(angle, r, &Options::rel(tol))
+    };
+    Ok((out, t0.elapsed()))
+}
+
+fn check_kernel_args(sin_theta: f64, r: f64) -> Result<(), String> {
+    if !(sin_theta > 0.0) {
+        return Err(format!("--theta: sin ϑ = {sin_theta:e}; must be in (0, π) (at the poles the kernel has no edge)"));
+    }
+    if !(r > 0.0 && r.is_finite()) {
+        return Err(format!("--radius = {r:e}: must be finite and > 0"));
+    }
+    Ok(())
+}
+
+/// Rows of the acceptance table: (label, f64 value, f64 bar, rel. error vs reference).
+pub fn acceptance_rows_f64() -> Vec<(String, Outcome<f64>, f64)> {
+    ACCEPTANCE_CASES
+        .iter()
+        .map(|(label, theta, pole, r, reference)| {
+            let angle = angle_f64(theta, *pole).expect("valid case");
+            let r = parse_decimal(r, 53).expect("valid case").to_f64();
+            let out = kernel_integral(&angle, &r, &Options::rel(1e-13));
+            let reference = parse_decimal(reference, 53).expect("valid reference").to_f64();
+            (label.to_string(), out, reference)
+        })
+        .collect()
+}
+
+fn pm(v: f64, e: f64) -> String {
+    format!("{v:.10e} ± {e:.1e}")
+}
+
+/// The readable table of `mcrt-noise oracle`: both models side by side
+/// where the finite-sphere one exists, then what only the small-sphere
+/// model has (its R → 0 forms, the §4.4 formula, D₁…D₅).
+pub fn oracle_table(r: &crate::oracle::Report) -> String {
+    use crate::oracle::ValueError;
+    let mut s = String::new();
+    let col = |v: &ValueError| format!("{:<30}", pm(v.value, v.error));
+    let int = |i: &crate::oracle::Integral| ValueError { value: i.value, error: i.error };
+    writeln!(
+        s,
+        "precision {}   rel. tolerance {:.1e}   R = {}   q = {}   N_F = {}   N_B = {}",
+        r.precision, r.rel_tol, r.radius, r.q, r.forward_rays, r.camera_rays
+    )
+    .unwrap();
+    writeln!(s, "prediction: {} model, {}", r.prediction.model, r.prediction.note).unwrap();
+    let small_rel = ValueError { value: r.variance.relative, error: r.variance.relative_error };
+    match &r.finite {
+        Some(f) => {
+            writeln!(
+                s,
+                "{:<24} {:<30} {:<30} finite/small",
+                "", "finite-sphere (exact at R)", "small-sphere (§4.3, R → 0)"
+            )
+            .unwrap();
+            let row = |s: &mut String, name: &str, a: &ValueError, b: &ValueError, ratio: Option<&ValueError>| {
+                let ratio = ratio.map_or(String::new(), |q| pm(q.value, q.error));
+                writeln!(s, "{name:<24} {}{}{ratio}", col(a), col(b)).unwrap();
+            };
+            row(&mut s, "mean luminance", &f.mean, &r.mean_luminance, Some(&f.mean_ratio));
+            row(&mut s, "Var L (one iteration)", &f.variance, &r.variance.exact, Some(&f.variance_ratio));
+            row(&mut s, "relative noise Var/L²", &f.relative_noise, &small_rel, None);
+            row(&mut s, "(23) exact", &int(&f.corr23), &int(&r.corr23.exact), None);
+            row(&mut s, "(24) exact", &int(&f.corr24), &int(&r.corr24.exact), None);
+            writeln!(s, "{:<24} {}", "bias μ(R) − μ(0)", pm(f.bias.value, f.bias.error)).unwrap();
+        }
+        None => {
+            writeln!(s, "mean luminance           {}", pm(r.mean_luminance.value, r.mean_luminance.error)).unwrap();
+            writeln!(s, "Var L (one iteration)    {}", pm(r.variance.exact.value, r.variance.exact.error)).unwrap();
+            writeln!(s, "relative noise Var/L²    {}", pm(small_rel.value, small_rel.error)).unwrap();
+            for (name, c) in [("(23) exact", &r.corr23), ("(24) exact", &r.corr24)] {
+                writeln!(s, "{name:<24} {}", pm(c.exact.value, c.exact.error)).unwrap();
+            }
+        }
+    }
+    writeln!(s, "small-sphere model, R → 0:").unwrap();
+    for (name, c) in [("(23)", &r.corr23), ("(24)", &r.corr24)] {
+        match (&c.asymptotic.value, &c.asymptotic.missing) {
+            (Some(v), _) => {
+                writeln!(s, "  {name} R→0 form        {}", pm(*v, c.asymptotic.error.unwrap_or(f64::NAN))).unwrap();
+                writeln!(
+                    s,
+                    "  {name} exact/R→0       {}",
+                    pm(c.ratio.unwrap_or(f64::NAN), c.ratio_error.unwrap_or(f64::NAN))
+                )
+                .unwrap();
+            }
+            (None, Some(why)) => writeln!(s, "  {name} R→0 form        does not exist: {why}").unwrap(),
+            _ => {}
+        }
+    }
+    match (r.variance.relative_asymptotic, r.variance.relative_asymptotic_error) {
+        (Some(v), Some(e)) => writeln!(
+            s,
+            "  Var/L², §4.4 formula   {} (quadrature bar; as an estimate of Var/L² it is off by the O(R) gap of the ratios)",
+            pm(v, e)
+        )
+        .unwrap(),
+        _ => writeln!(s, "  Var/L², §4.4 formula   does not exist for this scene").unwrap(),
+    }
+    if let (Some(d), Some(e)) = (r.d, r.d_error) {
+        let shown: Vec<String> = d.iter().zip(e.iter()).map(|(v, e)| format!("{v:.6e} ± {e:.0e}")).collect();
+        writeln!(s, "  D1..D5  {}", shown.join("  ")).unwrap();
+    }
+    let finite_evals = r.finite.as_ref().map_or(String::new(), |f| format!(" + {} (finite-sphere)", f.evaluations));
+    writeln!(s, "evaluations {}{finite_evals}   time {:.1} ms", r.evaluations, r.wall_time_ms).unwrap();
+    s
+}
