@@ -19,7 +19,9 @@ use crate::special::overlap_a;
 /// error ~2·10⁻¹⁶ in the input itself, i.e. 10⁻¹⁰ relative in sin θ.
 #[derive(Debug, Clone)]
 pub struct Angle<T> {
+    /// sin ϑ ≥ 0.
     pub sin: T,
+    /// |cos ϑ| ∈ [0, 1].
     pub abs_cos: T,
 }
 

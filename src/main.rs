@@ -87,6 +87,29 @@ enum Command {
         #[command(flatten)]
         run: TraceArgs,
     },
+    /// Check a renderer's per-iteration pixel values against the prediction: z-scores, pass/fail at a stated false-alarm rate, and the smallest error the values could detect. Exit 0 pass, 1 fail, 2 bad input.
+    Check {
+        scene: PathBuf,
+        /// The renderer's values: one L per line (`#` comments allowed), a JSON array, or power sums as JSON
+        /// `{"count": M, "sums": [ΣL, ΣL², ΣL³, ΣL⁴], "sums_relative_error": ε}` (ε defaults to M·2⁻⁵³); `-` reads stdin.
+        #[arg(long)]
+        values: PathBuf,
+        /// Family-wise probability that a correct renderer fails (both quantities together).
+        #[arg(long, default_value_t = 1e-3, allow_negative_numbers = true)]
+        false_alarm_rate: f64,
+        /// Probability with which an error of the reported detectable size fails.
+        #[arg(long, default_value_t = 0.9, allow_negative_numbers = true)]
+        power: f64,
+        /// Fail unless the values can detect this relative error in the mean.
+        #[arg(long, allow_negative_numbers = true)]
+        target_mean: Option<f64>,
+        /// Fail unless the values can detect this relative error in Var L.
+        #[arg(long, allow_negative_numbers = true)]
+        target_variance: Option<f64>,
+        /// One JSON object instead of the text.
+        #[arg(long)]
+        json: bool,
+    },
     /// Regenerate docs/asymptotic-checks.md (and its SVG figures) from the bundled scenes.
     AsymptoticChecks {
         #[arg(long, default_value = "docs/asymptotic-checks.md")]
@@ -148,40 +171,57 @@ struct TraceArgs {
     json: bool,
 }
 
+/// Exit codes: 0 done (or pass), 1 a verdict failed (`compare`, `check`), 2
+/// bad input or nothing could be computed (clap's usage errors are 2 too).
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Ok(true): done or pass; Ok(false): a verdict failed.
+    let done = |r: Result<(), String>| r.map(|()| true);
     let result = match cli.command {
-        Command::Validate { scene } => validate(&scene),
-        Command::Oracle { scene, precision, rel_tol, json } => oracle(&scene, &precision, rel_tol, json),
+        Command::Validate { scene } => done(validate(&scene)),
+        Command::Oracle { scene, precision, rel_tol, json } => done(oracle(&scene, &precision, rel_tol, json)),
         Command::Kernel { theta, radius, precision, rel_tol, bare } => {
-            reports::tables::kernel_cli(&theta, &radius, &precision, rel_tol, bare)
+            done(reports::tables::kernel_cli(&theta, &radius, &precision, rel_tol, bare))
         }
-        Command::Sweep { scene, radii, json } => sweep(&scene, &radii, json),
-        Command::Trace { run: a, out } => load_with_radius(&a.scene, a.radius)
-            .and_then(|s| cli::trace_cmd::trace_cmd(&s, &a.trials, a.seed, a.threads, a.json, out.as_deref())),
-        Command::Merge { shards, json, out } => cli::trace_cmd::merge_cmd(&shards, json, out.as_deref()),
+        Command::Sweep { scene, radii, json } => done(sweep(&scene, &radii, json)),
+        Command::Trace { run: a, out } => done(
+            load_with_radius(&a.scene, a.radius)
+                .and_then(|s| cli::trace_cmd::trace_cmd(&s, &a.trials, a.seed, a.threads, a.json, out.as_deref())),
+        ),
+        Command::Merge { shards, json, out } => done(cli::trace_cmd::merge_cmd(&shards, json, out.as_deref())),
         Command::Compare { run: a } => load_with_radius(&a.scene, a.radius)
             .and_then(|s| cli::trace_cmd::compare_cmd(&s, &a.trials, a.seed, a.threads, a.json)),
+        Command::Check { scene, values, false_alarm_rate, power, target_mean, target_variance, json } => {
+            let args = cli::check_cmd::CheckArgs {
+                values: &values,
+                false_alarm_rate,
+                power,
+                targets: (target_mean, target_variance),
+                json,
+            };
+            load(&scene).and_then(|s| cli::check_cmd::check_cmd(&s, &args))
+        }
         Command::AsymptoticChecks { out, scenes } => {
             let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
-            write_or_print(mcrt_noise::reports::sweep::asymptotic_checks_markdown(&scenes, &figures), Some(out))
+            done(write_or_print(mcrt_noise::reports::sweep::asymptotic_checks_markdown(&scenes, &figures), Some(out)))
         }
         Command::ModelError { out, scenes } => {
             let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
-            write_or_print(mcrt_noise::reports::model_error::markdown(&scenes, &figures), Some(out))
+            done(write_or_print(mcrt_noise::reports::model_error::markdown(&scenes, &figures), Some(out)))
         }
         Command::TracerChecks { out, scenes } => {
             let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
-            write_or_print(mcrt_noise::reports::tracer_checks::markdown(&scenes, &figures), Some(out))
+            done(write_or_print(mcrt_noise::reports::tracer_checks::markdown(&scenes, &figures), Some(out)))
         }
-        Command::Accuracy { points, out } => write_or_print(reports::accuracy::accuracy_markdown(points), out),
-        Command::Cost { out, repeats } => write_or_print(reports::cost::cost_markdown(repeats), out),
+        Command::Accuracy { points, out } => done(write_or_print(reports::accuracy::accuracy_markdown(points), out)),
+        Command::Cost { out, repeats } => done(write_or_print(reports::cost::cost_markdown(repeats), out)),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(1),
         Err(msg) => {
             eprintln!("error: {msg}");
-            ExitCode::FAILURE
+            ExitCode::from(2)
         }
     }
 }

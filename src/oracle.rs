@@ -23,7 +23,9 @@ use std::time::Instant;
 /// Working precision of an oracle run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Precision {
+    /// IEEE double precision.
     F64,
+    /// MPFR with this many bits of mantissa (32 to 4096).
     Bits(u32),
 }
 
@@ -61,39 +63,47 @@ impl Precision {
     }
 }
 
-/// A value and its error bar, in f64 for reports.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct ValueError {
+/// A computed value and its error bar (a bound on |value − exact|), in f64
+/// for reports. In JSON: `{"value": …, "error": …}`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ValueWithBar {
+    /// The value.
     pub value: f64,
+    /// Its error bar: a bound on the distance to the exact value.
     pub error: f64,
 }
 
-impl ValueError {
+impl ValueWithBar {
     /// This value over `other`, the bar propagated (relative bars add).
-    pub fn ratio(self, other: ValueError) -> ValueError {
+    pub fn ratio(self, other: ValueWithBar) -> ValueWithBar {
         let value = self.value / other.value;
-        ValueError { value, error: value.abs() * (self.error / self.value.abs() + other.error / other.value.abs()) }
+        ValueWithBar { value, error: value.abs() * (self.error / self.value.abs() + other.error / other.value.abs()) }
     }
 }
 
 /// A quadrature result for reports.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct Integral {
+    /// The integral's value.
     pub value: f64,
+    /// Its error bar (the engine's cross-checked bound).
     pub error: f64,
+    /// Integrand evaluations spent on it.
     pub evaluations: u64,
 }
 
-impl From<Integral> for ValueError {
+impl From<Integral> for ValueWithBar {
     fn from(i: Integral) -> Self {
-        ValueError { value: i.value, error: i.error }
+        ValueWithBar { value: i.value, error: i.error }
     }
 }
 
 /// An asymptotic form: its value, or why it does not exist.
 #[derive(Debug, Clone, Serialize)]
 pub struct Asymptotic {
+    /// The R → 0 form's value.
     pub value: Option<f64>,
+    /// Its quadrature bar.
     pub error: Option<f64>,
     /// Set when the form does not exist for the scene.
     pub missing: Option<String>,
@@ -102,10 +112,13 @@ pub struct Asymptotic {
 /// Exact and asymptotic forms of a correlation integral and their ratio.
 #[derive(Debug, Clone, Serialize)]
 pub struct Correlation {
+    /// The integral at the scene's R.
     pub exact: Integral,
+    /// Its R → 0 form, (25) or (26).
     pub asymptotic: Asymptotic,
     /// exact / asymptotic (→ 1 as R → 0).
     pub ratio: Option<f64>,
+    /// The ratio's bar (the relative bars added).
     pub ratio_error: Option<f64>,
 }
 
@@ -113,11 +126,12 @@ pub struct Correlation {
 #[derive(Debug, Clone, Serialize)]
 pub struct Variance {
     /// Var L for one iteration with the scene's N_F, N_B, q, R.
-    pub exact: ValueError,
+    pub exact: ValueWithBar,
     /// log₁₀ Var L (meaningful where `exact.value` underflows f64).
     pub log10: f64,
     /// Var L / ⟨⟨L⟩⟩².
     pub relative: f64,
+    /// Its bar.
     pub relative_error: f64,
     /// The §4.4 formula with D₁…D₅ (corrected constant term), if (25), (26) exist.
     pub relative_asymptotic: Option<f64>,
@@ -130,37 +144,46 @@ pub struct Variance {
 #[derive(Debug, Clone, Serialize)]
 pub struct FiniteReport {
     /// ⟨⟨L⟩⟩ at the scene's R.
-    pub mean: ValueError,
+    pub mean: ValueWithBar,
     /// Var L of one iteration with the scene's N_F, N_B, q, R.
-    pub variance: ValueError,
+    pub variance: ValueWithBar,
     /// b(R) = ⟨⟨L⟩⟩(R) − ⟨⟨L⟩⟩(0), the estimator's bias (⟨⟨L⟩⟩(0): the
     /// small-sphere mean, the luminance of the simulated orders).
-    pub bias: ValueError,
+    pub bias: ValueWithBar,
     /// Var L/⟨⟨L⟩⟩².
-    pub relative_noise: ValueError,
-    /// finite/small-sphere ratios of the mean and of Var L.
-    pub mean_ratio: ValueError,
-    pub variance_ratio: ValueError,
-    /// The integrals: M₂, P, Q of (16), (17) and C₂₃, C₂₄ of (23), (24).
-    pub m2: Integral,
-    pub p: Integral,
-    pub q_pair: Integral,
+    pub relative_noise: ValueWithBar,
+    /// finite/small-sphere ratio of the mean.
+    pub mean_ratio: ValueWithBar,
+    /// finite/small-sphere ratio of Var L.
+    pub variance_ratio: ValueWithBar,
+    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩_R ds of (16).
+    pub integral_m2: Integral,
+    /// P = ∫σe^{−σs}⟨𝒞⟩_R² ds of (17).
+    pub integral_p: Integral,
+    /// Q = ∫∫ σ²e^{−σ(s+s′)}⟨𝒞⟩_R(s)⟨𝒞⟩_R(s′) ds ds′ of (17).
+    pub integral_q: Integral,
+    /// C₂₃, the finite-sphere form of integral (23).
     pub corr23: Integral,
+    /// C₂₄, the finite-sphere form of integral (24).
     pub corr24: Integral,
     /// This model's c₀ (`FiniteField::shift`).
     pub attenuation_shift: f64,
+    /// Integrand evaluations of this model's integrals.
     pub evaluations: u64,
 }
 
 /// What the oracle predicts for the scene, and from which model.
 #[derive(Debug, Clone, Serialize)]
-pub struct Prediction {
+pub struct ReportPrediction {
     /// `"finite-sphere"` (exact at the scene's R; uncollided light) or
     /// `"small-sphere"` (§4.3, exact as R → 0; scenes with scattered light).
     pub model: &'static str,
-    pub mean: ValueError,
-    pub variance: ValueError,
-    pub relative_noise: ValueError,
+    /// ⟨⟨L⟩⟩ with its quadrature bar.
+    pub mean: ValueWithBar,
+    /// Var L of one iteration with its quadrature bar.
+    pub variance: ValueWithBar,
+    /// Var L/⟨⟨L⟩⟩² with its bar.
+    pub relative_noise: ValueWithBar,
     /// What the bars cover.
     pub note: String,
 }
@@ -178,22 +201,35 @@ pub const FINITE_NOTE: &str = "exact at this R for uncollided light; the bars ar
 /// Everything the oracle says about one scene.
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {
+    /// `"f64"` or `"N bits"`.
     pub precision: String,
+    /// Relative tolerance asked of every integral.
     pub rel_tol: f64,
+    /// The scene's sphere radius R.
     pub radius: f64,
+    /// The scene's extinction probability per sub-step q (a parameter; the
+    /// integral Q of (17) is [`Report::integral_q`]).
     pub q: f64,
+    /// N_F.
     pub forward_rays: u64,
+    /// N_B.
     pub camera_rays: u64,
-    pub mean_luminance: ValueError,
+    /// ⟨⟨L⟩⟩ of the small-sphere model, μ(0).
+    pub mean_luminance: ValueWithBar,
     /// log₁₀ of the mean luminance (meaningful where `value` underflows f64).
     pub mean_luminance_log10: f64,
+    /// Integral (23), exact at R and its R → 0 form (small-sphere model).
     pub corr23: Correlation,
+    /// Integral (24), likewise.
     pub corr24: Correlation,
+    /// Var L of the small-sphere model, and the §4.4 formula.
     pub variance: Variance,
-    /// ∫σe^{−σs}⟨𝒞²⟩, ∫σe^{−σs}⟨𝒞⟩², ∫∫⟨𝒞⟩⟨𝒞⟩: the other parts of (16), (17).
-    pub m2: Integral,
-    pub p: Integral,
-    pub q_pair: Integral,
+    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩ ds, the rest of (16) beside (23).
+    pub integral_m2: Integral,
+    /// P = ∫σe^{−σs}⟨𝒞⟩² ds of (17).
+    pub integral_p: Integral,
+    /// Q = ∫∫σ²e^{−σ(s+s′)}⟨𝒞⟩(s)⟨𝒞⟩(s′) ds ds′ of (17).
+    pub integral_q: Integral,
     /// c₀ = σ_ext × shortest light path to the camera ray: integrals are
     /// computed with W·e^{c₀} and scaled back for this report.
     pub attenuation_shift: f64,
@@ -207,7 +243,8 @@ pub struct Report {
     pub finite: Option<FiniteReport>,
     /// The prediction to test a renderer against: the finite-sphere model
     /// where it exists, else the small-sphere one.
-    pub prediction: Prediction,
+    pub prediction: ReportPrediction,
+    /// Wall time of the run.
     pub wall_time_ms: f64,
 }
 
@@ -299,26 +336,28 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
     let d_error = d.as_ref().and_then(|d| d_errors(&ints, d));
     let relative_asymptotic_error =
         d_error.as_ref().map(|e| relative_from_d_error(e, &r, &field.sigma_ext, &counts).to_f64());
-    let small_mean = ValueError {
+    let small_mean = ValueWithBar {
         value: (ints.mean.value.clone() * k.clone()).to_f64(),
         error: (ints.mean.error.clone() * k.clone()).to_f64(),
     };
-    let small_variance =
-        ValueError { value: (var.value.clone() * k.clone()).to_f64(), error: (var.error.clone() * k.clone()).to_f64() };
-    let small_relative = ValueError { value: relative.to_f64(), error: relative_error.to_f64() };
+    let small_variance = ValueWithBar {
+        value: (var.value.clone() * k.clone()).to_f64(),
+        error: (var.error.clone() * k.clone()).to_f64(),
+    };
+    let small_relative = ValueWithBar { value: relative.to_f64(), error: relative_error.to_f64() };
     let finite_report = match (&finite, &finite_field) {
         (Some(f), Some(ff)) => Some(finite_report(f, ff, &counts, (&mean, &var, &field.shift))),
         _ => None,
     };
     let prediction = match &finite_report {
-        Some(f) => Prediction {
+        Some(f) => ReportPrediction {
             model: "finite-sphere",
             mean: f.mean,
             variance: f.variance,
             relative_noise: f.relative_noise,
             note: FINITE_NOTE.into(),
         },
-        None => Prediction {
+        None => ReportPrediction {
             model: "small-sphere",
             mean: small_mean,
             variance: small_variance,
@@ -345,9 +384,9 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
             relative_asymptotic,
             relative_asymptotic_error,
         },
-        m2: scaled(&ints.m2, &k),
-        p: scaled(&ints.p, &k),
-        q_pair: scaled(&ints.q, &k),
+        integral_m2: scaled(&ints.m2, &k),
+        integral_p: scaled(&ints.p, &k),
+        integral_q: scaled(&ints.q, &k),
         attenuation_shift: field.shift.to_f64(),
         d: d.map(|d| d.map(|v| v.to_f64())),
         d_error: d_error.map(|d| d.map(|v| v.to_f64())),
@@ -381,15 +420,17 @@ fn finite_report<T: CheckRule>(
         counts,
         &k,
     );
-    let to =
-        |v: &T, e: &T| ValueError { value: (v.clone() * k.clone()).to_f64(), error: (e.clone() * k.clone()).to_f64() };
+    let to = |v: &T, e: &T| ValueWithBar {
+        value: (v.clone() * k.clone()).to_f64(),
+        error: (e.clone() * k.clone()).to_f64(),
+    };
     // finite/small of two shifted values: (a e^{−c₀}) / (b e^{−c₀′}).
     let (small_mean, small_var, small_shift) = small;
     let rescale = (small_shift.clone() - ff.shift.clone()).exp();
     let ratio = |a: &Valued<T>, b: &Valued<T>| {
         let value = a.value.clone() / b.value.clone() * rescale.clone();
         let rel = a.error.clone() / a.value.abs() + b.error.clone() / b.value.abs();
-        ValueError { value: value.to_f64(), error: (value.abs() * rel).to_f64() }
+        ValueWithBar { value: value.to_f64(), error: (value.abs() * rel).to_f64() }
     };
     let small_k = (-small_shift.clone()).exp();
     let bias = mean_t.value.clone() * k.clone() - small_mean.value.clone() * small_k.clone();
@@ -403,13 +444,13 @@ fn finite_report<T: CheckRule>(
     FiniteReport {
         mean: to(&f.mean.value, &f.mean.error),
         variance: to(&var.value, &var.error),
-        bias: ValueError { value: bias.to_f64(), error: bias_error.to_f64() },
-        relative_noise: ValueError { value: rel.to_f64(), error: rel_err.to_f64() },
+        bias: ValueWithBar { value: bias.to_f64(), error: bias_error.to_f64() },
+        relative_noise: ValueWithBar { value: rel.to_f64(), error: rel_err.to_f64() },
         mean_ratio: ratio(&mean_t, small_mean),
         variance_ratio: ratio(&var, small_var),
-        m2: scaled(&f.m2, &k),
-        p: scaled(&f.p, &k),
-        q_pair: scaled(&f.q, &k),
+        integral_m2: scaled(&f.m2, &k),
+        integral_p: scaled(&f.p, &k),
+        integral_q: scaled(&f.q, &k),
         corr23: scaled(&f.c23, &k),
         corr24: scaled(&f.c24, &k),
         attenuation_shift: ff.shift.to_f64(),

@@ -31,3 +31,13 @@ pub fn model_error_scale(radius: f64) -> f64 {
 pub fn mpfr_default_tol(bits: u32) -> f64 {
     2f64.powi(-(bits as i32 - 22))
 }
+
+/// The small-sphere model's own relative error for single-scattered light
+/// at R = [`MODEL_ERROR_RADIUS`] (mean, Var L): the larger of the two
+/// measurements of `tests/tracer_vs_oracle.rs` (point-isotropic-order1 with
+/// q = 0.5, N_F = 200, N_B = 8 and with q = 0.2, N_F = N_B = 1; each
+/// |tracer/oracle − 1| plus two standard errors; re-measured by its ignored
+/// test `model_error_at_the_reference_radius`). `check::predict`
+/// uses it, scaled by [`model_error_scale`], as the model bar of scenes
+/// with scattered light.
+pub const SMALL_SPHERE_SCATTERED_ALLOWANCE: (f64, f64) = (1.1e-2, 8.1e-2);

@@ -29,20 +29,27 @@ pub trait Real:
     const CAN_RAISE_PRECISION: bool;
     /// The value `v` at this value's precision.
     fn lit(&self, v: f64) -> Self;
-    /// Unit roundoff 2^(1−prec).
+    /// Machine epsilon 2^(1−prec) (2⁻⁵² for f64; twice the unit roundoff).
     fn eps(&self) -> Self {
         self.lit(2f64).powi_like(1 - self.prec() as i32)
     }
     /// 2^k at this precision.
     fn powi_like(&self, k: i32) -> Self;
+    /// π at this precision.
     fn pi(&self) -> Self;
     /// Euler–Mascheroni constant γ.
     fn euler_gamma(&self) -> Self;
+    /// Nearest f64 (MPFR: rounded to nearest).
     fn to_f64(&self) -> f64;
+    /// Neither infinite nor NaN.
     fn is_finite(&self) -> bool;
+    /// |x|.
     fn abs(&self) -> Self;
+    /// √x (NaN for x < 0).
     fn sqrt(&self) -> Self;
+    /// eˣ.
     fn exp(&self) -> Self;
+    /// Natural logarithm ln x (x > 0).
     fn ln(&self) -> Self;
     /// ln(1 + x), accurate for small x.
     fn ln_1p(&self) -> Self;
@@ -50,13 +57,21 @@ pub trait Real:
     fn exp_m1(&self) -> Self;
     /// arctan x ∈ (−π/2, π/2).
     fn atan(&self) -> Self;
+    /// sin x (x in radians).
     fn sin(&self) -> Self;
+    /// cos x (x in radians).
     fn cos(&self) -> Self;
+    /// arcsin x ∈ [−π/2, π/2], for x ∈ [−1, 1].
     fn asin(&self) -> Self;
+    /// arccos x ∈ [0, π], for x ∈ [−1, 1].
     fn acos(&self) -> Self;
+    /// sinh x.
     fn sinh(&self) -> Self;
+    /// cosh x.
     fn cosh(&self) -> Self;
+    /// tanh x.
     fn tanh(&self) -> Self;
+    /// Whether the value is exactly zero (±0).
     fn is_zero(&self) -> bool {
         self.to_f64() == 0.0 && self.is_finite()
     }
@@ -74,6 +89,7 @@ pub trait Real:
     fn underflow_floor(&self) -> Self {
         self.lit(0.0)
     }
+    /// The larger of the two; `self` when they are equal or `other` is NaN.
     fn max_of(self, other: Self) -> Self {
         if other > self {
             other
@@ -81,6 +97,7 @@ pub trait Real:
             self
         }
     }
+    /// The smaller of the two; `self` when they are equal or `other` is NaN.
     fn min_of(self, other: Self) -> Self {
         if other < self {
             other

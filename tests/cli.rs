@@ -198,3 +198,101 @@ fn compare_prints_both_sides_and_a_verdict() {
     assert_eq!(json["model"], "finite-sphere", "{json}");
     assert!(json["verdict"].as_str().unwrap().starts_with("AGREE"));
 }
+
+/// A temporary directory of this test process.
+fn temp_dir(tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("mcrt-noise-cli-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The reference tracer's per-iteration values on a bundled scene, scaled.
+fn traced_values(scene: &mcrt_noise::Scene, n: u64, scale: f64) -> Vec<f64> {
+    let tracer = mcrt_noise::reference::Tracer::new(scene).unwrap();
+    (0..n).map(|i| scale * tracer.trial(11, i, mcrt_noise::reference::HitMethod::Sorted).0).collect()
+}
+
+#[test]
+fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
+    let dir = temp_dir("check");
+    let scene_path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
+    let mut scene = mcrt_noise::Scene::from_toml_str(&std::fs::read_to_string(&scene_path).unwrap()).unwrap();
+    scene.estimator.forward_rays = 20;
+    scene.estimator.radius = 0.2;
+    let scene_file = dir.join("scene.toml");
+    std::fs::write(&scene_file, scene.to_toml_string()).unwrap();
+    let good = traced_values(&scene, 100_000, 1.0);
+    let run = |values: &std::path::Path, extra: &[&str]| {
+        bin().arg("check").arg(&scene_file).arg("--values").arg(values).args(extra).output().unwrap()
+    };
+    // One value per line: pass, exit 0, the detectable error stated.
+    let lines = dir.join("values.txt");
+    std::fs::write(&lines, good.iter().map(|v| format!("{v:e}\n")).collect::<String>()).unwrap();
+    let out = run(&lines, &[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        text.starts_with("PASS") && text.contains("what this check shows: a renderer whose mean is off by"),
+        "{text}"
+    );
+    // The same values as a JSON array and as power sums: the same verdict.
+    let array = dir.join("values.json");
+    std::fs::write(&array, serde_json::to_string(&good).unwrap()).unwrap();
+    let from_array: serde_json::Value = serde_json::from_slice(&run(&array, &["--json"]).stdout).unwrap();
+    let sums: Vec<f64> = (1..=4).map(|k| good.iter().map(|v| v.powi(k)).sum()).collect();
+    let sums_file = dir.join("sums.json");
+    std::fs::write(&sums_file, serde_json::json!({"count": good.len(), "sums": sums}).to_string()).unwrap();
+    let from_sums: serde_json::Value = serde_json::from_slice(&run(&sums_file, &["--json"]).stdout).unwrap();
+    assert_eq!(from_array["pass"], true);
+    assert_eq!(from_sums["pass"], true);
+    let z = |j: &serde_json::Value, k: usize| j["checks"][k]["z"].as_f64().unwrap();
+    assert!((z(&from_array, 0) - z(&from_sums, 0)).abs() < 1e-6 && (z(&from_array, 1) - z(&from_sums, 1)).abs() < 1e-3);
+    assert!(from_sums["checks"][1]["rounding_bar"].as_f64().unwrap() > 0.0);
+    // A renderer 10 % too bright: fail, exit 1, the verdict once, on stdout only.
+    let bright = dir.join("bright.txt");
+    let wrong = traced_values(&scene, 100_000, 1.1);
+    std::fs::write(&bright, wrong.iter().map(|v| format!("{v:e}\n")).collect::<String>()).unwrap();
+    let out = run(&bright, &[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(text.starts_with("FAIL") && text.contains("fails: mean L"), "{text}");
+    assert_eq!(text.matches("FAIL").count(), 1);
+    assert!(out.stderr.is_empty(), "{}", String::from_utf8_lossy(&out.stderr));
+    // A target the samples cannot resolve: fail with the samples that would.
+    let out = run(&lines, &["--target-variance", "0.001"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(text.contains("too few samples to resolve the target 0.100 %") && text.contains("samples would"), "{text}");
+    // Bad input: exit 2, a message naming the line or flag, nothing on stdout.
+    let not_number = dir.join("bad.txt");
+    std::fs::write(&not_number, "1e-3\n2e-3\nnan\n").unwrap();
+    let nonsense_sums = dir.join("nonsense.json");
+    std::fs::write(&nonsense_sums, r#"{"count": 10, "sums": [10.0, 1.0, 1.0, 1.0]}"#).unwrap();
+    for (values, extra, needle) in [
+        (&not_number, &[][..], "line 3: sample 2 = NaN: must be finite"),
+        (&nonsense_sums, &[][..], "not the power sums of real numbers"),
+        (&dir.join("missing.txt"), &[][..], "missing.txt"),
+        (&lines, &["--false-alarm-rate", "0"][..], "--false-alarm-rate = 0: must be in (0, 0.5]"),
+        (&lines, &["--target-mean", "-1"][..], "--target-mean = -1: must be finite and > 0"),
+    ] {
+        let out = run(values, extra);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}");
+        assert!(out.stdout.is_empty(), "{extra:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(needle), "{needle:?} not in {err}");
+    }
+}
+
+#[test]
+fn compare_prints_its_verdict_once_on_stdout_and_exits_2_on_bad_input() {
+    // (A disagreement, exit 1, cannot be arranged through the CLI: the oracle
+    // and the tracer read the same scene. `check`'s test covers exit 1.)
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
+    let out = bin().args(["compare", scene.to_str().unwrap(), "--trials", "20000"]).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    assert_eq!(text.matches("AGREE").count(), 1, "{text}");
+    assert!(out.stderr.is_empty());
+    let out = bin().args(["compare", scene.to_str().unwrap(), "--trials", "0..0"]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+}

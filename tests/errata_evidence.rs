@@ -41,8 +41,8 @@ fn variance(r: &Report, corr: f64, mu2_weight: Option<f64>, inflate: f64) -> f64
     let w_b = 1.0 / nb - w_a;
     let w_c = 1.0 / nf - w_a;
     let w_mu2 = mu2_weight.unwrap_or(w_a - 1.0 / nb - 1.0 / nf);
-    let a = q * r.m2.value + 2.0 * (1.0 - q) * corr * r.corr23.exact.value;
-    let b = q * r.p.value + 2.0 * (1.0 - q) * r.q_pair.value;
+    let a = q * r.integral_m2.value + 2.0 * (1.0 - q) * corr * r.corr23.exact.value;
+    let b = q * r.integral_p.value + 2.0 * (1.0 - q) * r.integral_q.value;
     let c = corr * r.corr24.exact.value;
     let mu = r.mean_luminance.value;
     inflate * (w_a * a + w_b * b + w_c * c + w_mu2 * mu * mu)

@@ -241,9 +241,9 @@ fn finite_text(r: &Report, digits: usize) -> String {
         ("relative_noise", f.relative_noise),
         ("mean_ratio", f.mean_ratio),
         ("variance_ratio", f.variance_ratio),
-        ("m2", f.m2.into()),
-        ("p", f.p.into()),
-        ("q_pair", f.q_pair.into()),
+        ("m2", f.integral_m2.into()),
+        ("p", f.integral_p.into()),
+        ("q_pair", f.integral_q.into()),
         ("corr23", f.corr23.into()),
         ("corr24", f.corr24.into()),
     ] {

@@ -96,10 +96,10 @@ fn f64_and_128_bits_agree_within_their_bars() {
             ("finite Var", fa.variance, fb.variance),
             ("finite (23)", fa.corr23.into(), fb.corr23.into()),
             ("finite (24)", fa.corr24.into(), fb.corr24.into()),
-            ("finite P", fa.p.into(), fb.p.into()),
-            ("finite Q", fa.q_pair.into(), fb.q_pair.into()),
+            ("finite P", fa.integral_p.into(), fb.integral_p.into()),
+            ("finite Q", fa.integral_q.into(), fb.integral_q.into()),
         ] {
-            let (x, y): (mcrt_noise::oracle::ValueError, mcrt_noise::oracle::ValueError) = (x, y);
+            let (x, y): (mcrt_noise::oracle::ValueWithBar, mcrt_noise::oracle::ValueWithBar) = (x, y);
             close(x.value, x.error, y.value, y.error, what);
         }
     }

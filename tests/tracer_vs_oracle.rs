@@ -244,3 +244,14 @@ fn correlation_of_two_spheres_matches_the_corrected_model() {
     let paper = 0.5 * first.oracle;
     assert!((first.tracer.value - paper) / first.tracer.se > 20.0, "the paper's (21) at t = 0 is not rejected");
 }
+
+/// The library's model bar for scattered light (`check::predict`) is the
+/// largest allowance measured here.
+#[test]
+fn the_library_model_bar_is_the_largest_measured_allowance() {
+    let measured = points()
+        .iter()
+        .filter_map(|p| p.model_at_r0.map(|(e, _)| e))
+        .fold((0.0f64, 0.0f64), |a, e| (a.0.max(e.0), a.1.max(e.1)));
+    assert_eq!(measured, mcrt_noise::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE);
+}

@@ -111,6 +111,19 @@ impl PowerSums {
         })
     }
 
+    /// Sums given as doubles (for instance accumulated by a renderer in
+    /// another language), taken as exact. `None` if a sum is not finite.
+    pub fn from_f64_sums(count: u64, sums: [f64; 4]) -> Option<PowerSums> {
+        if sums.iter().any(|s| !s.is_finite()) {
+            return None;
+        }
+        let mut out = PowerSums { count, ..PowerSums::default() };
+        for (a, b) in out.sums.iter_mut().zip(sums) {
+            a.assign(b);
+        }
+        Some(out)
+    }
+
     /// The exact sums as hexadecimal strings (for shard files).
     pub fn to_hex(&self) -> [String; 4] {
         std::array::from_fn(|k| self.sums[k].to_string_radix(16, None))

@@ -47,3 +47,5 @@ impl fmt::Display for SceneError {
 }
 
 impl std::error::Error for SceneError {}
+
+impl std::error::Error for FieldError {}

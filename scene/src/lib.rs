@@ -1,7 +1,8 @@
 //! Scene model shared by the `mcrt-noise` oracle and the `mcrt-reference` tracer.
 //!
 //! A scene is a TOML file (format: `docs/scene-format.md`, conventions:
-//! `docs/conventions.md`). [`Scene::from_toml_str`] parses *and* validates it:
+//! `docs/conventions.md`). [`Scene::from_toml_str`] parses *and* validates it (and
+//! [`Scene::builder`] builds one in code with the same validation):
 //! every invalid value is reported as a [`FieldError`] naming the field, the
 //! value and the allowed range, and no partially valid scene is ever returned.
 //!
@@ -9,12 +10,16 @@
 //! (the phase functions). The oracle's formulas live in `mcrt-noise`; the tracer
 //! must not depend on them, so that it stays an independent witness.
 
+#![warn(missing_docs)]
+
+mod builder;
 mod error;
 mod file;
 mod model;
 mod phase;
 mod validate;
 
+pub use builder::SceneBuilder;
 pub use error::{FieldError, SceneError};
 pub use glam::DVec3;
 pub use model::{Camera, Effects, Estimator, Light, Medium, ScatteringOrders, Scene};

@@ -8,10 +8,15 @@ use glam::DVec3;
 /// the estimator's parameters, and the effects to simulate.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
+    /// The medium filling space.
     pub medium: Medium,
+    /// The lights (at least one).
     pub lights: Vec<Light>,
+    /// The pixel's camera ray.
     pub camera: Camera,
+    /// The estimator's parameters R, q, N_F, N_B.
     pub estimator: Estimator,
+    /// Which effects are simulated.
     pub effects: Effects,
 }
 
@@ -22,6 +27,7 @@ pub struct Medium {
     pub sigma_ext: f64,
     /// Single-scattering albedo σ_sc/σ_ext ∈ [0, 1].
     pub albedo: f64,
+    /// Phase function.
     pub phase: Phase,
 }
 
@@ -36,10 +42,24 @@ impl Medium {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {
     /// Isotropic point light.
-    Point { position: DVec3, flux: f64 },
+    Point {
+        /// Position.
+        position: DVec3,
+        /// Total flux 𝓕 (> 0).
+        flux: f64,
+    },
     /// Collimated beam of uniform irradiance leaving a disk of `radius` at
     /// `center`, perpendicular to the unit vector `direction`, along it.
-    Beam { center: DVec3, direction: DVec3, radius: f64, flux: f64 },
+    Beam {
+        /// Centre of the emitting disk.
+        center: DVec3,
+        /// Unit direction of travel (normal of the disk).
+        direction: DVec3,
+        /// Disk radius (> 0).
+        radius: f64,
+        /// Total flux 𝓕 (> 0).
+        flux: f64,
+    },
 }
 
 impl Light {
@@ -54,6 +74,7 @@ impl Light {
 /// The camera ray of the pixel (zero footprint): origin and unit direction u.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
+    /// Origin of the camera ray.
     pub origin: DVec3,
     /// Unit view direction u (the camera looks along +u).
     pub direction: DVec3,
@@ -75,6 +96,7 @@ pub struct Estimator {
 /// Which light-transport effects are simulated.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Effects {
+    /// How many scatterings a light path may have.
     pub scattering_orders: ScatteringOrders,
 }
 

@@ -89,7 +89,7 @@ impl Scene {
         toml::to_string(&self.to_file()).expect("a validated scene always serialises")
     }
 
-    fn from_file(file: SceneFile) -> Result<Scene, SceneError> {
+    pub(crate) fn from_file(file: SceneFile) -> Result<Scene, SceneError> {
         let mut c = Checker::default();
         let medium = medium(&mut c, &file.medium);
         let camera = Camera {
@@ -121,7 +121,7 @@ impl Scene {
         }
     }
 
-    fn to_file(&self) -> SceneFile {
+    pub(crate) fn to_file(&self) -> SceneFile {
         let phase = match self.medium.phase {
             Phase::Isotropic => PhaseFile { kind: "isotropic".into(), g: None },
             Phase::HenyeyGreenstein { g } => PhaseFile { kind: "henyey-greenstein".into(), g: Some(g) },

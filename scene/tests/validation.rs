@@ -191,3 +191,55 @@ fn beam_requires_its_fields() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn a_built_scene_equals_the_same_scene_read_from_toml() {
+    let built = Scene::builder()
+        .medium(1.0, 0.8)
+        .phase(Phase::HenyeyGreenstein { g: 0.0 })
+        .point_light([1.0, 0.0, 1.0], 1.0)
+        .camera([0.0; 3], [0.0, 0.0, 2.0])
+        .estimator(0.01, 0.5, 200, 8)
+        .scattering_orders(ScatteringOrders::Limited(0))
+        .build()
+        .unwrap();
+    assert_eq!(built, Scene::from_toml_str(BASE).unwrap());
+    let beam = Scene::builder()
+        .medium(2.0, 1.0)
+        .beam([0.0, -1.0, 1.0], [0.0, 1.0, 0.0], 0.3, 2.0)
+        .point_light([1.0, 0.0, 1.0], 1.0)
+        .camera([0.0; 3], [0.0, 0.0, 1.0])
+        .estimator(0.1, 1.0, 1, 1)
+        .build()
+        .unwrap();
+    assert_eq!(Scene::from_toml_str(&beam.to_toml_string()).unwrap(), beam);
+}
+
+#[test]
+fn the_builder_names_every_missing_and_invalid_value() {
+    let err = Scene::builder().point_light([1.0, 0.0, f64::NAN], -1.0).build().unwrap_err();
+    let SceneError::Invalid(errors) = err else { panic!("expected field errors") };
+    let fields: Vec<&str> = errors.iter().map(|e| e.field.as_str()).collect();
+    for expected in ["medium", "camera", "estimator", "lights[0].position[2]", "lights[0].flux"] {
+        assert!(fields.contains(&expected), "{expected} not named in {fields:?}");
+    }
+    let err = Scene::builder()
+        .medium(1.0, 0.5)
+        .point_light([1.0, 0.0, 1.0], 1.0)
+        .camera([0.0; 3], [0.0; 3])
+        .estimator(-1.0, 0.5, u64::MAX, 0)
+        .build()
+        .unwrap_err()
+        .to_string();
+    for expected in [
+        "camera.direction = [0.0, 0.0, 0.0]: must be a non-zero vector",
+        "estimator.radius = -1: must be finite and > 0",
+        "estimator.forward_rays = 18446744073709551615: must be an integer in [1, 9223372036854775807]",
+        "estimator.camera_rays = 0: must be an integer >= 1",
+    ] {
+        assert!(err.contains(expected), "{expected:?} not in {err}");
+    }
+    let mut scene = Scene::from_toml_str(BASE).unwrap();
+    scene.medium.albedo = 2.0;
+    assert!(scene.validated().unwrap_err().to_string().contains("medium.albedo = 2"));
+}

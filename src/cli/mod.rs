@@ -1,1 +1,2 @@
+pub mod check_cmd;
 pub mod trace_cmd;

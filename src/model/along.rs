@@ -30,9 +30,14 @@ use std::sync::{Arc, Mutex};
 /// the camera (e^{c₀}⟨𝒞⟩ ≈ e^{σ(|y − o| − b)} there, where the weight
 /// e^{−σs} compensates).
 pub struct RayLine<'a, T> {
+    /// σ = σ_ext (1/length).
     pub sigma: T,
+    /// Origin of the integration variable: s = center + x.
     pub center: T,
+    /// The model's shift c₀: ⟨𝒞⟩ is passed as ⟨𝒞⟩·e^{c₀}.
     pub shift: T,
+    /// The domain in x from `lo` to `hi` (`None`: ∞, decay σ declared) with
+    /// every breakpoint of ⟨𝒞⟩ in between.
     pub domain: &'a (dyn Fn(&T, Option<&T>) -> Domain<T> + Sync),
 }
 
@@ -46,6 +51,7 @@ pub enum MeanSource<'a, T> {
 }
 
 impl<T: CheckRule> RayLine<'_, T> {
+    /// s = center + x.
     pub fn s_of(&self, x: &T) -> T {
         self.center.clone() + x.clone()
     }

@@ -40,9 +40,13 @@ use crate::real::Real;
 /// accuracy, and sin ϑ = √((1 − μ)(1 + μ)).
 #[derive(Debug, Clone)]
 pub struct Direction<T> {
+    /// μ = u·v = cos ϑ.
     pub mu: T,
+    /// 1 − μ, from half angles (accurate as v → +u).
     pub one_minus_mu: T,
+    /// 1 + μ, from half angles (accurate as v → −u).
     pub one_plus_mu: T,
+    /// sin ϑ ≥ 0.
     pub sin: T,
 }
 
@@ -69,15 +73,20 @@ pub struct Features<T> {
     pub equator_jump: bool,
     /// Angular scales of the other factor, sin ψ·L₁(ψ), near ψ = 0 and
     /// ψ = π (a Henyey–Greenstein peak of the scattered light).
+    /// Scale near ψ = 0 (`None`: no narrow feature).
     pub source_near_0: Option<T>,
+    /// Scale near ψ = π (`None`: no narrow feature).
     pub source_near_pi: Option<T>,
 }
 
 /// Where u lies in the frame about w₀: cos ψ_u, sin ψ_u ≥ 0, ψ_u.
 #[derive(Debug, Clone)]
 pub struct Frame<T> {
+    /// cos ψ_u = u·w₀.
     pub cos_u: T,
+    /// sin ψ_u ≥ 0.
     pub sin_u: T,
+    /// ψ_u ∈ [0, π], the angle between w₀ and u.
     pub psi_u: T,
     /// π − ψ_u, rounded once: where −u lies. The integrand's pole at −u is
     /// placed exactly here (not at a recomputed π − ψ − ψ_u), so that it

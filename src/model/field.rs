@@ -34,16 +34,33 @@ use std::sync::{Arc, Mutex};
 pub enum Geometry<T> {
     /// Point light: the camera ray passes it at abscissa `a` (projection of
     /// the light onto the ray's line) and perpendicular distance `d` ≥ 0.
-    Point { a: T, d: T },
+    Point {
+        /// Abscissa s of the light's foot on the camera line, (y − o)·u (length; may be < 0).
+        a: T,
+        /// Distance of the light from the camera line, |(y − o) × u| ≥ 0 (length).
+        d: T,
+    },
     /// Beam: constant direction cosine μ = u·v_b, |μ| ≤ 1; `depth0` is the
     /// depth of the camera origin past the disk, d(s) = depth0 + μ s; the
     /// camera ray is inside the beam for s in [s_in, s_out] (s_out may be ∞).
-    Beam { mu: T, sin: T, depth0: T, s_in: T, s_out: Option<T> },
+    Beam {
+        /// μ = cos ϑ = u·v_b.
+        mu: T,
+        /// sin ϑ = |u × v_b| ≥ 0.
+        sin: T,
+        /// (o − c_b)·v_b, depth of the camera origin past the emitting disk (length).
+        depth0: T,
+        /// Where the camera ray enters the beam, s_in ≥ 0.
+        s_in: T,
+        /// Where it leaves (`None`: never); `Some(s_in)` when the ray misses the beam.
+        s_out: Option<T>,
+    },
 }
 
 /// One light's uncollided contribution along the camera ray.
 #[derive(Debug, Clone)]
 pub struct Component<T> {
+    /// The light's geometry relative to the camera ray.
     pub geometry: Geometry<T>,
     /// Flux Φ of the light.
     pub flux: T,
@@ -60,13 +77,17 @@ pub struct Component<T> {
 /// medium constants the model needs.
 #[derive(Debug, Clone)]
 pub struct Field<T> {
+    /// Uncollided (order-0) delta components, one per light, in scene order.
     pub components: Vec<Component<T>>,
     /// Single-scattered light of each point light (scattering order 1).
     pub scattered: Vec<Scattered<T>>,
+    /// σ_ext, extinction coefficient (1/length).
     pub sigma_ext: T,
     /// σ_sc = albedo·σ_ext.
     pub sigma_sc: T,
+    /// Single-scattering albedo σ_sc/σ_ext.
     pub albedo: T,
+    /// Phase function of the medium (1/sr), evaluated at the scattering-angle cosine.
     pub phase: Phase,
     /// Total flux 𝓕 of all lights (paper eq. (5)).
     pub total_flux: T,
@@ -96,8 +117,9 @@ pub type MeanTables<T> = Arc<Mutex<HashMap<(Rule, u64), Arc<Piecewise<T>>>>>;
 pub struct Local<T> {
     /// μ = cos ϑ.
     pub mu: T,
+    /// sin ϑ ≥ 0.
     pub sin: T,
-    /// Irradiance across the forward direction.
+    /// Irradiance W across the forward direction, carried as W·e^{c₀} (flux/length²).
     pub w: T,
 }
 
@@ -269,7 +291,7 @@ impl<T: Real> Component<T> {
     /// a ± d·10^k up to the scale max(1, |a|) (the irradiance is a Lorentzian
     /// of width d there, and falls like 1/(s − a)² beyond: each graded piece
     /// then spans a bounded dynamic range), and a ± 4^k/σ where the decay
-    /// length 1/σ is finer ([`decay_graded_about`]); beam edges.
+    /// length 1/σ is finer (`decay_graded_about`); beam edges.
     pub fn breakpoints(&self, sigma_ext: &T) -> Vec<T> {
         match &self.geometry {
             Geometry::Point { a, d } => {

@@ -26,7 +26,12 @@ pub enum OracleError {
     /// The scene asks for an effect the oracle does not model (the tracer may).
     Unsupported(String),
     /// An integral did not converge; its reason is carried.
-    Quadrature { what: &'static str, reason: String },
+    Quadrature {
+        /// Which quantity's integral failed.
+        what: &'static str,
+        /// The engine's [`Failure`] message (`NOT CONVERGED: …`).
+        reason: String,
+    },
 }
 
 impl fmt::Display for OracleError {

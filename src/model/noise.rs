@@ -26,7 +26,9 @@ use crate::real::Real;
 /// A value with its error bar.
 #[derive(Debug, Clone)]
 pub struct Valued<T> {
+    /// The value.
     pub value: T,
+    /// Bound on |value − exact|.
     pub error: T,
 }
 
@@ -36,18 +38,25 @@ impl<T: Real> From<&Estimate<T>> for Valued<T> {
     }
 }
 
-/// Every integral of the model for one scene.
+/// Every integral of the model for one scene, each times e^{c₀} (every W
+/// carried as W·e^{c₀}, `Field::shift`).
 #[derive(Debug, Clone)]
 pub struct Integrals<T> {
     /// ⟨⟨L⟩⟩ (15).
     pub mean: Estimate<T>,
+    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩ ds, the single-sphere part of (16).
     pub m2: Estimate<T>,
+    /// P = ∫σe^{−σs}⟨𝒞⟩² ds, the single-sphere part of (17).
     pub p: Estimate<T>,
+    /// Q = ∫∫_{t>0}⟨𝒞⟩(s)⟨𝒞⟩(s+t)σ²e^{−σ(s+t)} ds dt, the pair part of (17).
     pub q: Estimate<T>,
+    /// C₂₃, the integral (23) at radius R, exactly.
     pub c23: Estimate<T>,
+    /// C₂₄, the integral (24) at radius R, exactly.
     pub c24: Estimate<T>,
-    /// (25), (26), or why they do not exist.
+    /// (25), the R → 0 form of (23), or why it does not exist.
     pub c23_asym: Result<Estimate<T>, String>,
+    /// (26), the R → 0 form of (24), or why it does not exist.
     pub c24_asym: Result<Estimate<T>, String>,
 }
 
@@ -114,8 +123,11 @@ impl<T: CheckRule> Integrals<T> {
 /// Estimator parameters as numbers of the working precision.
 #[derive(Debug, Clone)]
 pub struct Counts<T> {
+    /// q, the probability that a camera ray ends after a sub-step (1), (2).
     pub q: T,
+    /// N_F, forward rays per iteration.
     pub n_f: T,
+    /// N_B, camera rays through the pixel per iteration.
     pub n_b: T,
 }
 

@@ -31,13 +31,16 @@ use std::sync::{Arc, Mutex};
 /// One point light's single-scattered field along the camera ray.
 #[derive(Debug, Clone)]
 pub struct Scattered<T> {
-    /// The light's abscissa on the camera ray and distance from it (as for
-    /// its uncollided component, `field::Geometry::Point`).
+    /// The abscissa a of the light's foot on the camera line (as for its
+    /// uncollided component, `field::Geometry::Point`).
     pub a: T,
+    /// Distance d ≥ 0 of the light from the camera line (length).
     pub d: T,
+    /// Flux Φ of the light.
     pub flux: T,
-    /// The field's attenuation shift c₀ and integration-variable origin.
+    /// The field's attenuation shift c₀ (`Field::shift`): values carry e^{c₀}.
     pub shift: T,
+    /// The field's integration-variable origin: s = center + x (`Field::center`).
     pub center: T,
     /// Values shared by the quantities computed at the same camera-ray
     /// points (`AtPoint::view_shared`).
@@ -73,6 +76,7 @@ type LambdaEntry<T> = (T, T, Estimate<T>);
 pub struct AtPoint<T> {
     /// The camera-ray point (integration variable x, s = center + x).
     pub x: T,
+    /// Where u lies in the polar frame about w₀ = (x − y)/r.
     pub frame: Frame<T>,
     /// r = |x − y|.
     pub r: T,
@@ -209,6 +213,7 @@ pub struct SourceTable<T> {
     /// Relative error bound of L₁ from the table (interpolation and the
     /// samples' quadrature bars).
     pub rel_error: T,
+    /// Integrand evaluations spent building the table.
     pub evaluations: u64,
 }
 

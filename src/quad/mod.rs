@@ -68,6 +68,7 @@ pub struct Options {
     pub abs_tol: f64,
     /// Budget of integrand evaluations at this level (inner levels have their own).
     pub max_evals: u64,
+    /// Whether the breakpoints are hints ([`Structure::Unknown`], a scan runs) or complete.
     pub structure: Structure,
     /// Run the cross-check (on by default; turning it off is for benchmarks
     /// that separate the two rules' costs, never for reported values).
@@ -96,6 +97,7 @@ pub enum Rule {
 }
 
 impl Rule {
+    /// The rule that cross-checks this one.
     pub fn other(self) -> Rule {
         match self {
             Rule::TanhSinh => Rule::Check,
@@ -124,16 +126,19 @@ impl Options {
         }
     }
 
+    /// These options with [`Structure::Declared`]: the caller's breakpoints are complete, no scan.
     pub fn declared(mut self) -> Options {
         self.structure = Structure::Declared;
         self
     }
 
+    /// These options with the absolute tolerance `abs_tol`.
     pub fn with_abs_tol(mut self, abs_tol: f64) -> Options {
         self.abs_tol = abs_tol;
         self
     }
 
+    /// These options with an evaluation budget of `max_evals` at this level.
     pub fn with_max_evals(mut self, max_evals: u64) -> Options {
         self.max_evals = max_evals;
         self
@@ -143,7 +148,9 @@ impl Options {
 /// Integration interval: `[lo, hi]`, or `[lo, ∞)` when `hi` is `None`.
 #[derive(Debug, Clone)]
 pub struct Domain<T> {
+    /// Lower limit (finite).
     pub lo: T,
+    /// Upper limit, finite and above `lo`; `None` for ∞.
     pub hi: Option<T>,
     /// Interior points where the integrand is not smooth (kinks, jumps, edges
     /// of support). Points outside (lo, hi) are ignored.
@@ -157,9 +164,11 @@ pub struct Domain<T> {
 }
 
 impl<T: Real> Domain<T> {
+    /// `[lo, hi]`, no breakpoints, no decay rate (needs lo < hi, both finite).
     pub fn finite(lo: T, hi: T) -> Self {
         Domain { lo, hi: Some(hi), breakpoints: Vec::new(), decay: None }
     }
+    /// `[lo, ∞)`, no breakpoints, no decay rate (algebraic tail map).
     pub fn semi_infinite(lo: T) -> Self {
         Domain { lo, hi: None, breakpoints: Vec::new(), decay: None }
     }
@@ -168,6 +177,7 @@ impl<T: Real> Domain<T> {
         self.decay = Some(rate);
         self
     }
+    /// Adds `points` to the breakpoints (kinks, jumps, edges of support).
     pub fn with_breakpoints(mut self, points: impl IntoIterator<Item = T>) -> Self {
         self.breakpoints.extend(points);
         self
@@ -177,6 +187,7 @@ impl<T: Real> Domain<T> {
 /// A converged, cross-checked integral.
 #[derive(Debug, Clone)]
 pub struct Estimate<T> {
+    /// The integral's value, from the primary rule.
     pub value: T,
     /// Bound on |value − exact|: the larger of the primary rule's estimate and
     /// its distance to the cross-check, plus propagated inner errors.
@@ -185,8 +196,9 @@ pub struct Estimate<T> {
     pub evaluations: u64,
     /// The cross-check's value (equal to `value` when the check was off).
     pub check_value: T,
-    /// Pieces the primary rule ended with, breakpoints found by the scan.
+    /// Pieces the primary rule ended with.
     pub pieces: usize,
+    /// Breakpoints found by the structure scan (beyond those passed in).
     pub found_breakpoints: usize,
     /// The rule that computed `value`.
     pub rule: Rule,
@@ -226,11 +238,13 @@ impl<T: Real> Estimate<T> {
 /// An integral for which no error bar can be vouched for.
 #[derive(Debug, Clone)]
 pub struct Failure<T> {
+    /// Why no bar could be given (printed after `NOT CONVERGED: `).
     pub reason: String,
     /// The best value available, *not* to be reported as a result.
     pub best_guess: Option<T>,
     /// Error estimate at the time of failure, if any.
     pub error_estimate: Option<T>,
+    /// Integrand evaluations spent before failing.
     pub evaluations: u64,
 }
 
@@ -258,8 +272,11 @@ pub type Outcome<T> = Result<Estimate<T>, Failure<T>>;
 /// evaluations it cost.
 #[derive(Debug, Clone)]
 pub struct Sample<T> {
+    /// The integrand's value at the node.
     pub value: T,
+    /// Bar of `value` (0 for a plain function).
     pub error: T,
+    /// Integrand evaluations this sample cost (1 for a plain function).
     pub evaluations: u64,
 }
 
@@ -298,7 +315,7 @@ pub(crate) fn decay_lengths<T: Real>(like: &T) -> Vec<f64> {
 /// that long, which gets only the latter), with e^{−4^K} below the
 /// working precision squared. The content of the tail then lies in finite
 /// pieces on which both rules converge geometrically, and the mapped
-/// remainder [b + 2^K/λ, ∞) holds nothing the goal can see. Without them,
+/// remainder [b + 4^K/λ, ∞) holds nothing the goal can see. Without them,
 /// an algebraic factor of the integrand (1/s², or ln s through the map)
 /// becomes a logarithmic endpoint singularity of the mapped tail, on which
 /// Gauss–Legendre converges only algebraically.

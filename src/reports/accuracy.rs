@@ -14,14 +14,20 @@ use std::fmt::Write;
 /// One function under test.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SpecialFn {
+    /// A(x) = arccos x − x√(1 − x²), 0 for x ≥ 1 ([`special::overlap_a`]).
     OverlapA,
+    /// ∫₀ˣ A(y) dy ([`special::overlap_a_integral`]).
     OverlapAIntegral,
+    /// ∫₀ˣ A(y) y dy ([`special::overlap_a_moment`]).
     OverlapAMoment,
+    /// E₁(x) = ∫₁^∞ e^{−xt}/t dt ([`special::exp_int_e1`]).
     ExpIntE1,
+    /// x⁻¹(e⁻ˣ − x E₁(x)) = ∫ₓ^∞ u⁻² e^{−u} du ([`special::exp_int_tail2`]).
     ExpIntTail2,
 }
 
 impl SpecialFn {
+    /// Every function, in the order of the report.
     pub const ALL: [SpecialFn; 5] = [
         SpecialFn::OverlapA,
         SpecialFn::OverlapAIntegral,
@@ -30,6 +36,7 @@ impl SpecialFn {
         SpecialFn::ExpIntTail2,
     ];
 
+    /// The function as printed in the report.
     pub fn name(self) -> &'static str {
         match self {
             SpecialFn::OverlapA => "A(x)",
@@ -194,11 +201,17 @@ pub fn ulps_at(func: SpecialFn, x: f64) -> f64 {
 /// Summary of one sweep segment.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct SegmentSummary {
+    /// The function's [`SpecialFn::name`].
     pub function: &'static str,
+    /// The segment's label: its range of x and spacing.
     pub segment: &'static str,
+    /// Points on the segment.
     pub points: usize,
+    /// Largest error, in ulps of the exact value.
     pub max_ulps: f64,
+    /// The x of the largest error (NaN when every error was 0).
     pub max_at: f64,
+    /// Median error, in ulps.
     pub median_ulps: f64,
 }
 
@@ -233,10 +246,15 @@ pub fn sweep(func: SpecialFn, points: usize) -> Vec<SegmentSummary> {
 /// finite-sphere model's), over a seeded sample of its domain.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct MultiSummary {
+    /// The function, as printed.
     pub function: &'static str,
+    /// The sampled domain of its arguments, as printed.
     pub domain: &'static str,
+    /// Points sampled.
     pub points: usize,
+    /// Largest error, in ulps of the exact value.
     pub max_ulps: f64,
+    /// Median error, in ulps.
     pub median_ulps: f64,
     /// The bound the tests hold it to.
     pub bound: f64,

@@ -17,17 +17,25 @@ use serde::Serialize;
 /// The JSON of `mcrt-noise trace`.
 #[derive(Debug, Clone, Serialize)]
 pub struct TraceReport {
+    /// The run's seed.
     pub seed: u64,
     /// Trial ranges [start, end) covered.
     pub trials: Vec<[u64; 2]>,
+    /// Trials run (each one iteration: one sample of L).
     pub trial_count: u64,
     /// `None` (JSON null) below 4 trials, where the variance's error is not
     /// defined: a small shard is still written and merges normally.
+    /// Sample mean of L with its standard error.
     pub mean: Option<WithError>,
+    /// Unbiased sample variance of L with its standard error (from the 4th moment); `None` likewise.
     pub variance: Option<WithError>,
+    /// What the run did, summed over its trials.
     pub counters: Counters,
+    /// Wall time of the run (ms; 0 for merged shards).
     pub wall_time_ms: f64,
+    /// Trials per second of wall time (0 when the time is 0).
     pub trials_per_second: f64,
+    /// Forward segments traced per second of wall time (0 when the time is 0).
     pub forward_segments_per_second: f64,
 }
 
@@ -94,9 +102,13 @@ impl TraceReport {
 /// One quantity, oracle beside tracer.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct Side {
+    /// The oracle's value.
     pub oracle: f64,
+    /// The oracle's error bar.
     pub oracle_error: f64,
+    /// The tracer's estimate.
     pub tracer: f64,
+    /// The tracer's standard error.
     pub tracer_se: f64,
     /// tracer/oracle.
     pub ratio: f64,
@@ -105,6 +117,7 @@ pub struct Side {
 }
 
 impl Side {
+    /// The oracle's value and bar beside the tracer's estimate, with ratio and z.
     pub fn new(oracle: f64, oracle_error: f64, tracer: WithError) -> Side {
         let z = (tracer.value - oracle) / (tracer.se * tracer.se + oracle_error * oracle_error).sqrt();
         Side { oracle, oracle_error, tracer: tracer.value, tracer_se: tracer.se, ratio: tracer.value / oracle, z }
@@ -129,15 +142,21 @@ pub fn small_sphere_sides(oracle: &Report, tracer: &Summary) -> (Side, Side) {
 /// The JSON of `mcrt-noise compare`.
 #[derive(Debug, Clone, Serialize)]
 pub struct Comparison {
+    /// Trials the tracer ran.
     pub trials: u64,
+    /// The tracer's seed.
     pub seed: u64,
+    /// Mean luminance L, oracle beside tracer.
     pub mean: Side,
+    /// Var L of one iteration, oracle beside tracer.
     pub variance: Side,
     /// |z| ≤ this for both quantities passes.
     pub z_limit: f64,
-    /// The oracle model compared against (`Prediction::model`).
+    /// The oracle model compared against (`ReportPrediction::model`).
     pub model: &'static str,
+    /// Both |z| ≤ `z_limit`.
     pub pass: bool,
+    /// One line: AGREE or DISAGREE, both z, the limit and the model compared against.
     pub verdict: String,
 }
 
@@ -145,6 +164,7 @@ pub struct Comparison {
 pub const Z_LIMIT: f64 = 4.0;
 
 impl Comparison {
+    /// The verdict of the tracer's `trials` (seed `seed`) against the oracle's prediction.
     pub fn new(oracle: &Report, tracer: &Summary, trials: u64, seed: u64) -> Comparison {
         let (mean, variance) = sides(oracle, tracer);
         let pass = mean.z.abs() <= Z_LIMIT && variance.z.abs() <= Z_LIMIT;
@@ -163,6 +183,7 @@ impl Comparison {
         Comparison { trials, seed, mean, variance, z_limit: Z_LIMIT, model, pass, verdict }
     }
 
+    /// A readable table.
     pub fn table(&self) -> String {
         let row = |name: &str, s: &Side| {
             format!(

@@ -3,7 +3,7 @@
 //! R from 1 down to 10⁻⁴: how wrong the small-sphere model is at the radii
 //! renderers use, and the order at which it becomes exact.
 
-use crate::oracle::{run, Precision, ValueError};
+use crate::oracle::{run, Precision, ValueWithBar};
 use crate::reports::sweep::{finite_table, fit_finite_order, sweep, FiniteRatio, Row};
 use mcrt_scene::{Phase, Scene};
 use std::fmt::Write;
@@ -23,7 +23,7 @@ pub const MODEL_SCENES: [(&str, &str); 4] = [
 /// SVG: log₁₀|finite/small − 1| of the mean and of Var L against log₁₀ R.
 pub fn figure(title: &str, rows: &[Row]) -> Result<String, String> {
     use poloto::build;
-    let pts = |pick: fn(&crate::reports::sweep::FiniteColumns) -> ValueError| -> Vec<[f64; 2]> {
+    let pts = |pick: fn(&crate::reports::sweep::FiniteColumns) -> ValueWithBar| -> Vec<[f64; 2]> {
         rows.iter()
             .filter_map(|r| {
                 let v = pick(r.finite.as_ref()?);

@@ -3,33 +3,43 @@
 //! SVG figures.
 
 use crate::model::correlations::Which;
-use crate::oracle::{run, Precision, ValueError};
+use crate::oracle::{run, Precision, ValueWithBar};
 use mcrt_scene::Scene;
 use std::fmt::Write;
 
 /// The finite-sphere model against the small-sphere one at one radius.
 #[derive(Debug, Clone, Copy, serde::Serialize)]
 pub struct FiniteColumns {
-    /// finite/small-sphere ratios of the mean and of Var L.
-    pub mean_ratio: ValueError,
-    pub variance_ratio: ValueError,
+    /// μ(R)/μ(0), the finite/small-sphere ratio of the mean luminance.
+    pub mean_ratio: ValueWithBar,
+    /// The finite/small-sphere ratio of Var L (one iteration).
+    pub variance_ratio: ValueWithBar,
     /// b(R) = μ(R) − μ(0) (relative to μ(0) it is `mean_ratio` − 1).
-    pub bias: ValueError,
+    pub bias: ValueWithBar,
 }
 
 /// One radius of a sweep.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct Row {
+    /// Sphere radius R (length).
     pub radius: f64,
     /// The finite-sphere model beside the small-sphere one (order 0 only).
     pub finite: Option<FiniteColumns>,
+    /// The correlation integral (23), exact at R.
     pub corr23_exact: f64,
+    /// Its R → 0 form (25).
     pub corr23_asymptotic: f64,
+    /// (23) exact/(25) (NaN when the oracle gives none).
     pub ratio23: f64,
+    /// The bar of `ratio23` (NaN when the oracle gives none).
     pub ratio23_error: f64,
+    /// The correlation integral (24), exact at R.
     pub corr24_exact: f64,
+    /// Its R → 0 form (26).
     pub corr24_asymptotic: f64,
+    /// (24) exact/(26) (NaN when the oracle gives none).
     pub ratio24: f64,
+    /// The bar of `ratio24` (NaN when the oracle gives none).
     pub ratio24_error: f64,
 }
 
@@ -50,9 +60,11 @@ pub const FIT_POINTS: usize = 4;
 /// A fitted convergence order: |1 − ratio| ≈ C R^order.
 #[derive(Debug, Clone, Copy, serde::Serialize)]
 pub struct Order {
+    /// The fitted exponent: slope of log|1 − ratio| against log R.
     pub order: f64,
     /// Standard error of the slope from the residuals of the log-log fit.
     pub std_error: f64,
+    /// Radii the fit used (3 to [`FIT_POINTS`]).
     pub points: usize,
 }
 
@@ -98,7 +110,9 @@ pub fn fit_order(rows: &[Row], which: Which) -> Option<Order> {
 /// Which finite/small-sphere ratio a fit is of.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FiniteRatio {
+    /// μ(R)/μ(0), [`FiniteColumns::mean_ratio`].
     Mean,
+    /// Var L finite/small, [`FiniteColumns::variance_ratio`].
     Variance,
 }
 

@@ -101,10 +101,10 @@ fn pm(v: f64, e: f64) -> String {
 /// where the finite-sphere one exists, then what only the small-sphere
 /// model has (its R → 0 forms, the §4.4 formula, D₁…D₅).
 pub fn oracle_table(r: &crate::oracle::Report) -> String {
-    use crate::oracle::ValueError;
+    use crate::oracle::ValueWithBar;
     let mut s = String::new();
-    let col = |v: &ValueError| format!("{:<30}", pm(v.value, v.error));
-    let int = |i: &crate::oracle::Integral| ValueError { value: i.value, error: i.error };
+    let col = |v: &ValueWithBar| format!("{:<30}", pm(v.value, v.error));
+    let int = |i: &crate::oracle::Integral| ValueWithBar { value: i.value, error: i.error };
     writeln!(
         s,
         "precision {}   rel. tolerance {:.1e}   R = {}   q = {}   N_F = {}   N_B = {}",
@@ -112,7 +112,7 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
     )
     .unwrap();
     writeln!(s, "prediction: {} model, {}", r.prediction.model, r.prediction.note).unwrap();
-    let small_rel = ValueError { value: r.variance.relative, error: r.variance.relative_error };
+    let small_rel = ValueWithBar { value: r.variance.relative, error: r.variance.relative_error };
     match &r.finite {
         Some(f) => {
             writeln!(
@@ -121,7 +121,7 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
                 "", "finite-sphere (exact at R)", "small-sphere (§4.3, R → 0)"
             )
             .unwrap();
-            let row = |s: &mut String, name: &str, a: &ValueError, b: &ValueError, ratio: Option<&ValueError>| {
+            let row = |s: &mut String, name: &str, a: &ValueWithBar, b: &ValueWithBar, ratio: Option<&ValueWithBar>| {
                 let ratio = ratio.map_or(String::new(), |q| pm(q.value, q.error));
                 writeln!(s, "{name:<24} {}{}{ratio}", col(a), col(b)).unwrap();
             };

@@ -18,13 +18,15 @@ use std::time::Instant;
 
 /// Radii of the documented sweep.
 pub const SWEEP_RADII: [f64; 5] = [0.2, 0.1, 0.05, 0.02, 0.01];
-/// Trials per radius, and the seed.
+/// Trials per radius.
 pub const SWEEP_TRIALS: u64 = 4_000_000;
+/// The tracer's seed, for every measurement of the document.
 pub const SWEEP_SEED: u64 = 11;
 /// The sweep's scene.
 pub const SWEEP_SCENE: &str = "point-isotropic";
-/// The forward-peaked sweep: radii and trials.
+/// Radii of the forward-peaked sweep (scene `point-hg-forward`, g = 0.9).
 pub const HG_RADII: [f64; 3] = [0.2, 0.1, 0.05];
+/// Trials per radius of the forward-peaked sweep.
 pub const HG_TRIALS: u64 = 8_000_000;
 
 /// The table of a sweep: tracer against both models.
@@ -60,10 +62,15 @@ fn sweep_table(w: &mut String, rows: &[SweepRow]) {
 /// (`mean`, `variance`) and beside the finite-sphere one.
 #[derive(Debug, Clone)]
 pub struct SweepRow {
+    /// Sphere radius R (length).
     pub radius: f64,
+    /// Mean luminance: small-sphere model beside the tracer.
     pub mean: Side,
+    /// Var L of one iteration: small-sphere model beside the tracer.
     pub variance: Side,
+    /// Mean luminance: the oracle's prediction (finite-sphere model where it exists) beside the tracer.
     pub finite_mean: Side,
+    /// Var L: the oracle's prediction (finite-sphere model where it exists) beside the tracer.
     pub finite_variance: Side,
 }
 
@@ -100,20 +107,28 @@ pub fn speed(scene: &Scene, trials: u64, repeats: usize) -> Result<(f64, f64), S
     Ok((trials as f64 / best, segments as f64 / best))
 }
 
-/// The correlation check: position s of the first sphere, R, t-bins.
+/// The correlation check: position s of the first sphere.
 pub const CORR_S: f64 = 0.8;
+/// The correlation check's sphere radius R.
 pub const CORR_RADIUS: f64 = 0.05;
+/// Number of t-bins over t ∈ [0, 2.4 R].
 pub const CORR_BINS: usize = 24;
+/// Forward rays the tracer measures the correlation with.
 pub const CORR_RAYS: u64 = 40_000_000;
 
 /// One t-bin: the oracle's bin average of (21)–(22) (corrected) beside the
 /// tracer's measurement.
 #[derive(Debug, Clone)]
 pub struct CorrRow {
+    /// Lower end of the bin in t (length).
     pub t0: f64,
+    /// Upper end of the bin in t (length).
     pub t1: f64,
+    /// The oracle's bin average of ⟨𝒞(s)𝒞(s+t)⟩ (unshifted).
     pub oracle: f64,
+    /// Its quadrature bar.
     pub oracle_error: f64,
+    /// The tracer's bin average with its standard error.
     pub tracer: WithError,
 }
 

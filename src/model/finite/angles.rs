@@ -1,7 +1,7 @@
 //! Where a ray-centric integrand has its kinks: the angles ϑ ∈ (0, π) at
 //! which A sin ϑ + B cos ϑ = C, returned as (ϑ, π − ϑ), each accurate where
 //! it is small, so that a kink near either pole lands on the right side of
-//! [`crate::model::angular::Halves`].
+//! `crate::model::angular::Halves`.
 
 use crate::real::Real;
 

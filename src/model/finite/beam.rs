@@ -36,14 +36,18 @@ use crate::special::disc_overlap;
 /// A beam as the finite-sphere model sees it.
 #[derive(Debug, Clone)]
 pub struct BeamLight<T> {
+    /// Flux Φ of the beam.
     pub flux: T,
     /// Disk radius a_b.
     pub radius: T,
     /// The direction against u: μ = u·v_b, 1 ± μ and sin ϑ = |u × v_b|.
     pub dir: Direction<T>,
     /// The camera origin in the disk's frame: (ξ₀, η₀) across, depth₀ along.
+    /// ξ₀ = (o − c_b)·e_m.
     pub xi0: T,
+    /// η₀ = (o − c_b)·e_n.
     pub eta0: T,
+    /// depth₀ = (o − c_b)·v_b.
     pub depth0: T,
     /// Where on the camera line the depth is ≥ 0 (and s ≥ 0): [lo₀, hi₀]
     /// (hi₀ = `None`: ∞); `None` when nowhere.

@@ -18,7 +18,7 @@
 //! - P = ∫σe^{−σs}⟨𝒞⟩_R², Q (17): sphere-centric, from ⟨𝒞⟩_R(s), the mean
 //!   contribution of one ray to a sphere at s, in closed form for isotropic
 //!   media and beams and by quadrature over the sphere's cap (tabled along
-//!   the ray per pass) for Henyey–Greenstein media ([`tables`]).
+//!   the ray per pass) for Henyey–Greenstein media (`tables`).
 //!
 //! Then (7)–(9) hold as they stand (`super::noise::variance`), and the bias
 //! is b(R) = μ(R) − μ(0), μ(0) the small-sphere mean, the luminance of the
@@ -46,16 +46,22 @@ use std::sync::{Arc, Mutex};
 /// One light of the finite-sphere model.
 #[derive(Debug, Clone)]
 pub enum FiniteLight<T> {
+    /// A point light (`docs/model.md` §9.2).
     Point(PointLight<T>),
+    /// A collimated disk beam (`docs/model.md` §9.3).
     Beam(BeamLight<T>),
 }
 
 /// The scene as the finite-sphere model needs it.
 #[derive(Debug, Clone)]
 pub struct FiniteField<T> {
+    /// The scene's lights, in scene order.
     pub lights: Vec<FiniteLight<T>>,
+    /// σ = σ_ext, extinction coefficient (1/length).
     pub sigma: T,
+    /// Single-scattering albedo σ_sc/σ_ext.
     pub albedo: T,
+    /// Phase function of the medium (1/sr), evaluated at the scattering-angle cosine −μ.
     pub phase: Phase,
     /// Total flux 𝓕 (5).
     pub total_flux: T,
@@ -168,6 +174,7 @@ impl<T: CheckRule> FiniteField<T> {
         ck * flux.clone() / self.total_flux.clone()
     }
 
+    /// [`FiniteField::per_hit_power`] at the power of `which` (1 for the mean, else 2).
     pub fn per_hit(&self, which: Functional, flux: &T) -> T {
         self.per_hit_power(which.power(), flux)
     }
@@ -339,22 +346,29 @@ impl<T: CheckRule> FiniteField<T> {
 /// the small-sphere ones, `noise::variance`).
 #[derive(Debug, Clone)]
 pub struct FiniteIntegrals<T> {
+    /// μ(R) = ⟨⟨Ĉ⟩⟩ = ∫σe^{−σs}⟨𝒞⟩_R ds, the mean luminance, ray-centric.
     pub mean: Estimate<T>,
+    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩_R ds, ray-centric.
     pub m2: Estimate<T>,
+    /// P = ∫σe^{−σs}⟨𝒞⟩_R² ds, sphere-centric.
     pub p: Estimate<T>,
+    /// Q = ∫∫_{s<s′}⟨𝒞⟩_R(s)⟨𝒞⟩_R(s′)σ²e^{−σs′}, sphere-centric.
     pub q: Estimate<T>,
+    /// C₂₃ = ∫∫_{s<s′}⟨𝒞(s)𝒞(s′)⟩_R σ²e^{−σs′}, ray-centric.
     pub c23: Estimate<T>,
+    /// C₂₄ = ∫∫⟨𝒞(s)𝒞(s′)⟩_R σ²e^{−σ(s+s′)}, ray-centric.
     pub c24: Estimate<T>,
 }
 
 impl<T: Real> FiniteIntegrals<T> {
+    /// Total integrand evaluations over the six integrals.
     pub fn evaluations(&self) -> u64 {
         [&self.mean, &self.m2, &self.p, &self.q, &self.c23, &self.c24].iter().map(|e| e.evaluations).sum()
     }
 }
 
-/// σ·c₀/σ: a lower bound of every light → sphere → camera path (module doc
-/// of [`FiniteField::shift`]), 0 when no light can reach.
+/// c₀/σ: a lower bound of every light → sphere → camera path (see
+/// [`FiniteField::shift`]), 0 when no light can reach.
 fn shortest_path(scene: &Scene, o: DVec3, u: DVec3, r: f64) -> f64 {
     let paths = scene.lights.iter().filter_map(|light| match *light {
         Light::Point { position, .. } => Some(((position - o).length() - r).max(0.0)),

@@ -53,6 +53,7 @@ pub struct PointLight<T> {
     pub z: T,
     /// Distance of the light from the camera line (≥ 0).
     pub b: T,
+    /// Flux Φ of the light.
     pub flux: T,
     /// |y − o|² − R² = z² + b² − R².
     disc_camera: T,
@@ -84,6 +85,8 @@ enum Bound {
 }
 
 impl<T: CheckRule> PointLight<T> {
+    /// From the foot's abscissa `z`, the distance `b` ≥ 0 from the camera
+    /// line, the flux and the sphere radius `r` > 0.
     pub fn new(z: T, b: T, flux: T, r: &T) -> Self {
         let disc_camera = z.clone() * z.clone() + (b.clone() - r.clone()) * (b.clone() + r.clone());
         let b2_minus_r2 = (b.clone() - r.clone()) * (b.clone() + r.clone());

@@ -64,8 +64,11 @@ impl Functional {
 /// (absolute s; `len` may be +∞), with `path` = start + τ(start).
 #[derive(Debug, Clone)]
 pub struct Hit<T> {
+    /// a, the lower end of J (absolute s ≥ 0).
     pub start: T,
+    /// L > 0, the length of J (+∞ when unbounded).
     pub len: T,
+    /// P = a + τ(a): the path from the ray's start to its closest point to x(a), then to the camera.
     pub path: T,
 }
 

@@ -1,0 +1,205 @@
+//! What the oracle predicts for a scene, with both of its bars.
+
+use crate::model::OracleError;
+use crate::oracle::{self, Precision, Report, ValueWithBar};
+use crate::prec::{model_error_scale, MODEL_ERROR_RADIUS, SMALL_SPHERE_SCATTERED_ALLOWANCE};
+use mcrt_scene::{ScatteringOrders, Scene, SceneError};
+use serde::Serialize;
+use std::fmt;
+
+/// Which model produced a [`Prediction`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Model {
+    /// The finite-sphere model (`docs/model.md` §9): the estimator's exact
+    /// moments at the scene's R, for uncollided light. Its model bar is 0.
+    FiniteSphere,
+    /// The paper's small-sphere model (§4.3), exact only as R → 0; used for
+    /// scenes with single-scattered light, with a measured model bar.
+    SmallSphere,
+}
+
+impl fmt::Display for Model {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Model::FiniteSphere => "finite-sphere",
+            Model::SmallSphere => "small-sphere",
+        })
+    }
+}
+
+/// A predicted quantity with its two bars, each a bound on a distance from
+/// the value, not a standard deviation: the true value of the estimator
+/// lies within `value ± (quadrature_bar + model_bar)`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Predicted {
+    /// The model's value.
+    pub value: f64,
+    /// Bound on the quadrature's error (the engine's cross-checked bar).
+    pub quadrature_bar: f64,
+    /// Bound on the model's own error at this R: 0 for the finite-sphere
+    /// model; for the small-sphere model the measured allowance
+    /// ([`Prediction::model_bar_basis`] says where it comes from).
+    pub model_bar: f64,
+}
+
+impl Predicted {
+    /// Both bars together.
+    pub fn total_bar(&self) -> f64 {
+        self.quadrature_bar + self.model_bar
+    }
+}
+
+/// The oracle's prediction for one iteration of one pixel: what a renderer
+/// running the estimator on this scene must produce on average.
+///
+/// ```
+/// use mcrt_noise::{predict, Model, Scene};
+///
+/// let scene = Scene::builder()
+///     .medium(1.0, 0.8)
+///     .point_light([1.0, 0.0, 1.0], 1.0)
+///     .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+///     .estimator(0.2, 0.5, 20, 4)
+///     .build()?;
+/// let prediction = predict(&scene)?;
+/// assert_eq!(prediction.model, Model::FiniteSphere);
+/// assert_eq!(prediction.mean.model_bar, 0.0);
+/// assert!(prediction.variance.quadrature_bar < 1e-9 * prediction.variance.value);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, Serialize)]
+pub struct Prediction {
+    /// The model that produced the numbers.
+    pub model: Model,
+    /// ⟨⟨L⟩⟩, the mean of one iteration's L.
+    pub mean: Predicted,
+    /// Var L of one iteration with the scene's N_F, N_B, q, R.
+    pub variance: Predicted,
+    /// The estimator's bias b(R) = μ(R) − μ(0) with its quadrature bar
+    /// (finite-sphere model only).
+    pub bias: Option<ValueWithBar>,
+    /// Where the model bar comes from, in words.
+    pub model_bar_basis: String,
+    /// The oracle's whole report (both models, the integrals, their bars).
+    pub report: Report,
+}
+
+/// Why there is no prediction.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PredictError {
+    /// The scene is invalid (every invalid value named).
+    Scene(SceneError),
+    /// The oracle cannot compute this scene or did not converge.
+    Oracle(String),
+    /// The scene is valid but outside what the oracle can vouch for.
+    Unsupported(String),
+}
+
+impl fmt::Display for PredictError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PredictError::Scene(e) => write!(f, "{e}"),
+            PredictError::Oracle(e) => write!(f, "oracle: {e}"),
+            PredictError::Unsupported(e) => write!(f, "unsupported: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for PredictError {}
+
+impl From<SceneError> for PredictError {
+    fn from(e: SceneError) -> Self {
+        PredictError::Scene(e)
+    }
+}
+
+impl From<OracleError> for PredictError {
+    fn from(e: OracleError) -> Self {
+        PredictError::Oracle(e.to_string())
+    }
+}
+
+/// The prediction for `scene` in f64 at the default tolerance (1e-10
+/// relative for uncollided light, 1e-6 with scattered light).
+///
+/// The scene is validated first (a hand-assembled [`Scene`] gets the scene
+/// file's checks). Uncollided light (scattering order 0) is predicted by the
+/// finite-sphere model, exact at the scene's R: the model bar is 0.
+/// Single-scattered light (order 1) is predicted by the small-sphere model
+/// with its measured allowance as the model bar, for R ≤ 0.1
+/// ([`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE`]); larger R with
+/// scattered light, and orders ≥ 2, are refused.
+///
+/// Cost: milliseconds for uncollided light in a release build; ~10 s for
+/// single scattering (`docs/library.md` gives the profile settings a
+/// dependent crate needs for its debug tests).
+pub fn predict(scene: &Scene) -> Result<Prediction, PredictError> {
+    predict_with(scene, Precision::F64, None)
+}
+
+/// [`predict`] at a chosen precision and relative tolerance (default:
+/// [`Precision::default_tol_for`]).
+///
+/// ```
+/// use mcrt_noise::{check::predict_with, oracle::Precision, Scene};
+///
+/// let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml"))?;
+/// let scene = Scene::from_toml_str(&text)?;
+/// let p = predict_with(&scene, Precision::F64, Some(1e-6))?;
+/// assert!(p.mean.quadrature_bar <= 1e-6 * p.mean.value);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -> Result<Prediction, PredictError> {
+    let scene = scene.validated()?;
+    if let Some(tol) = rel_tol {
+        if !(tol > 0.0 && tol < 1.0) {
+            return Err(PredictError::Unsupported(format!("rel_tol = {tol:e}: must be in (0, 1)")));
+        }
+    }
+    let scattered = scene.effects.scattering_orders != ScatteringOrders::Limited(0);
+    let radius = scene.estimator.radius;
+    if scattered && radius > MODEL_ERROR_RADIUS {
+        return Err(PredictError::Unsupported(format!(
+            "estimator.radius = {radius}: with scattered light (effects.scattering_orders ≥ 1) the prediction is the \
+             small-sphere model, whose own error is measured only for R ≤ {MODEL_ERROR_RADIUS}; use R ≤ \
+             {MODEL_ERROR_RADIUS} or scattering_orders = 0"
+        )));
+    }
+    let report = oracle::run(&scene, precision, rel_tol)?;
+    let p = &report.prediction;
+    let (model, (mean_rel, var_rel), basis) = match report.finite {
+        Some(_) => (Model::FiniteSphere, (0.0, 0.0), FINITE_BASIS.to_string()),
+        None => {
+            let scale = model_error_scale(radius);
+            let (m, v) = SMALL_SPHERE_SCATTERED_ALLOWANCE;
+            (Model::SmallSphere, (m * scale, v * scale), small_sphere_basis(radius, (m * scale, v * scale)))
+        }
+    };
+    let predicted = |v: ValueWithBar, rel: f64| Predicted {
+        value: v.value,
+        quadrature_bar: v.error,
+        model_bar: rel * v.value.abs(),
+    };
+    Ok(Prediction {
+        model,
+        mean: predicted(p.mean, mean_rel),
+        variance: predicted(p.variance, var_rel),
+        bias: report.finite.as_ref().map(|f| f.bias),
+        model_bar_basis: basis,
+        report,
+    })
+}
+
+const FINITE_BASIS: &str = "none needed: the finite-sphere model is exact at this R for uncollided light";
+
+fn small_sphere_basis(radius: f64, (mean, variance): (f64, f64)) -> String {
+    format!(
+        "the small-sphere model's own error, measured with the reference tracer on point-isotropic-order1 at R = \
+         {MODEL_ERROR_RADIUS} (the larger of two (q, N_F, N_B) settings, plus two standard errors) and carried to R = \
+         {radius} by R ln(1/R): {:.2} % of the mean, {:.2} % of Var L. A measurement, not a bound: other media and \
+         lights may differ (tests/tracer_vs_oracle.rs re-measures it)",
+        mean * 100.0,
+        variance * 100.0
+    )
+}

@@ -1,0 +1,381 @@
+//! The check of a renderer's samples against a prediction, and what a pass
+//! proves.
+
+use super::predict::{Model, Predicted, Prediction};
+use super::samples::{Measured, Samples};
+use mcrt_scene::FieldError;
+use serde::Serialize;
+use statrs::distribution::{ContinuousCDF, Normal};
+use std::fmt;
+
+/// The checks made on one set of samples: the mean and Var L.
+pub const CHECKS: u32 = 2;
+
+/// How strict a check is, and what it must be able to resolve.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct CheckOptions {
+    false_alarm_rate: f64,
+    power: f64,
+    targets: (Option<f64>, Option<f64>),
+}
+
+impl Default for CheckOptions {
+    /// Family-wise false-alarm rate 10⁻³, power 0.9, no resolution target.
+    fn default() -> Self {
+        CheckOptions { false_alarm_rate: 1e-3, power: 0.9, targets: (None, None) }
+    }
+}
+
+fn invalid(field: &str, value: f64, allowed: &str) -> FieldError {
+    FieldError { field: field.into(), value: value.to_string(), allowed: allowed.into() }
+}
+
+impl CheckOptions {
+    /// Options with the family-wise false-alarm rate `false_alarm_rate`
+    /// (in (0, 0.5]): the probability that a correct renderer fails the
+    /// check, over both quantities together (Šidák-corrected per quantity).
+    ///
+    /// ```
+    /// use mcrt_noise::CheckOptions;
+    /// let strict = CheckOptions::new(1e-4)?.with_power(0.99)?.with_targets(0.01, 0.05)?;
+    /// assert_eq!(strict.false_alarm_rate(), 1e-4);
+    /// assert!(CheckOptions::new(0.0).unwrap_err().to_string().contains("false_alarm_rate = 0"));
+    /// # Ok::<(), mcrt_noise::scene::FieldError>(())
+    /// ```
+    pub fn new(false_alarm_rate: f64) -> Result<CheckOptions, FieldError> {
+        if !(false_alarm_rate > 0.0 && false_alarm_rate <= 0.5) {
+            return Err(invalid("false_alarm_rate", false_alarm_rate, "in (0, 0.5]"));
+        }
+        Ok(CheckOptions { false_alarm_rate, ..CheckOptions::default() })
+    }
+
+    /// The power at which the detectable error is stated (in [0.5, 1)):
+    /// an error of the detectable size fails the check with at least this
+    /// probability. Default 0.9.
+    pub fn with_power(self, power: f64) -> Result<CheckOptions, FieldError> {
+        if !(0.5..1.0).contains(&power) {
+            return Err(invalid("power", power, "in [0.5, 1)"));
+        }
+        Ok(CheckOptions { power, ..self })
+    }
+
+    /// Relative errors of the mean and of Var L the samples must be able to
+    /// detect (each finite and > 0). A check whose detectable error exceeds
+    /// a target fails, saying how many samples would do.
+    pub fn with_targets(self, mean: f64, variance: f64) -> Result<CheckOptions, FieldError> {
+        self.with_mean_target(mean)?.with_variance_target(variance)
+    }
+
+    /// A resolution target for the mean alone (see [`CheckOptions::with_targets`]).
+    pub fn with_mean_target(self, mean: f64) -> Result<CheckOptions, FieldError> {
+        Ok(CheckOptions { targets: (Some(target("target_mean", mean)?), self.targets.1), ..self })
+    }
+
+    /// A resolution target for Var L alone (see [`CheckOptions::with_targets`]).
+    pub fn with_variance_target(self, variance: f64) -> Result<CheckOptions, FieldError> {
+        Ok(CheckOptions { targets: (self.targets.0, Some(target("target_variance", variance)?)), ..self })
+    }
+
+    /// The family-wise false-alarm rate.
+    pub fn false_alarm_rate(&self) -> f64 {
+        self.false_alarm_rate
+    }
+
+    /// The power of the detectable-error statement.
+    pub fn power(&self) -> f64 {
+        self.power
+    }
+
+    /// The resolution targets (mean, Var L), relative.
+    pub fn targets(&self) -> (Option<f64>, Option<f64>) {
+        self.targets
+    }
+
+    /// The per-quantity false-alarm rate, 1 − (1 − α)^{1/2} (Šidák).
+    pub fn per_check_rate(&self) -> f64 {
+        -(-self.false_alarm_rate).ln_1p().mul_add(1.0 / CHECKS as f64, 0.0).exp_m1()
+    }
+
+    /// The |z| beyond which a quantity fails: the two-sided normal quantile
+    /// of the per-check rate.
+    pub fn z_limit(&self) -> f64 {
+        standard_normal().inverse_cdf(1.0 - self.per_check_rate() / 2.0)
+    }
+}
+
+fn target(field: &str, v: f64) -> Result<f64, FieldError> {
+    if v > 0.0 && v.is_finite() {
+        Ok(v)
+    } else {
+        Err(invalid(field, v, "finite and > 0 (a relative error)"))
+    }
+}
+
+fn standard_normal() -> Normal {
+    Normal::standard()
+}
+
+/// One quantity checked: prediction, measurement, z, and what it could detect.
+#[derive(Debug, Clone, Serialize)]
+pub struct QuantityCheck {
+    /// `"mean L"` or `"Var L"`.
+    pub name: &'static str,
+    /// The oracle's value with its bars.
+    pub predicted: Predicted,
+    /// The renderer's value with its standard error.
+    pub measured: Measured,
+    /// Bound on the measurement's error from inexact power sums (0 when
+    /// the samples were accumulated exactly).
+    pub rounding_bar: f64,
+    /// z = sign(d)·max(0, |d| − bars)/se, d = measured − predicted, bars =
+    /// quadrature + model + rounding bars; `None` when se = 0.
+    pub z: Option<f64>,
+    /// measured/predicted.
+    pub ratio: f64,
+    /// The smallest relative error δ of the renderer in this quantity that
+    /// fails the check with probability ≥ the stated power: the solution of
+    /// δ|P| = (z_limit + z_power)·se·(1 + δ) + bars, the standard error
+    /// growing with the error as it does when a bug scales L. `None` when
+    /// no error is certain to be caught (the standard error is too large
+    /// for any δ: (z_limit + z_power)·se ≥ |P|).
+    pub detectable_relative_error: Option<f64>,
+    /// The target resolution, if one was stated.
+    pub target_relative_error: Option<f64>,
+    /// |z| within the limit (and the target met, if any).
+    pub pass: bool,
+}
+
+/// The outcome of [`check`]: pass or fail, each quantity's numbers, and
+/// what the samples could have detected.
+#[derive(Debug, Clone, Serialize)]
+pub struct Verdict {
+    /// Every quantity within its limit, every target met.
+    pub pass: bool,
+    /// The model the prediction came from.
+    pub model: Model,
+    /// How many samples.
+    pub samples: u64,
+    /// The family-wise false-alarm rate.
+    pub false_alarm_rate: f64,
+    /// The per-quantity rate (Šidák over [`CHECKS`]).
+    pub per_check_rate: f64,
+    /// |z| limit of each quantity.
+    pub z_limit: f64,
+    /// Power of the detectable-error figures.
+    pub power: f64,
+    /// Mean and Var L (empty below 4 samples).
+    pub checks: Vec<QuantityCheck>,
+    /// Why it failed, one sentence each (empty on a pass).
+    pub reasons: Vec<String>,
+    /// What a pass shows, in words.
+    pub statement: String,
+}
+
+/// Fewest samples for which the mean, the variance and their standard
+/// errors exist.
+pub const MIN_SAMPLES: u64 = 4;
+
+/// Checks a renderer's per-iteration values of one pixel against the
+/// prediction: z-scores of the mean and of Var L (Var's standard error from
+/// the fourth moment), the prediction's bars subtracted first, at the
+/// family-wise false-alarm rate of `options`; and the smallest relative
+/// error in each that these samples could detect. Fewer than
+/// [`MIN_SAMPLES`] samples, a zero measured variance, or a detectable
+/// error above a stated target fail, with the reason.
+///
+/// ```
+/// use mcrt_noise::{check, predict, CheckOptions, Samples, Scene};
+///
+/// let scene = Scene::builder()
+///     .medium(1.0, 0.8)
+///     .point_light([1.0, 0.0, 1.0], 1.0)
+///     .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+///     .estimator(0.2, 0.5, 20, 4)
+///     .build()?;
+/// let prediction = predict(&scene)?;
+/// // A "renderer" that returns the mean every time: right mean, no variance.
+/// let mut samples = Samples::new();
+/// samples.extend(std::iter::repeat(prediction.mean.value).take(1000))?;
+/// let verdict = check(&prediction, &samples, &CheckOptions::default());
+/// assert!(!verdict.pass);
+/// assert!(verdict.reasons[0].contains("Var L"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions) -> Verdict {
+    let z_limit = options.z_limit();
+    let z_power = standard_normal().inverse_cdf(options.power);
+    let mut verdict = Verdict {
+        pass: false,
+        model: prediction.model,
+        samples: samples.count(),
+        false_alarm_rate: options.false_alarm_rate,
+        per_check_rate: options.per_check_rate(),
+        z_limit,
+        power: options.power,
+        checks: Vec::new(),
+        reasons: Vec::new(),
+        statement: String::new(),
+    };
+    let (Some(mean), Some(variance)) = (samples.mean(), samples.variance()) else {
+        verdict.reasons.push(format!(
+            "{} samples: at least {MIN_SAMPLES} are needed for the variance and its standard error",
+            samples.count()
+        ));
+        verdict.statement = "nothing: too few samples".into();
+        return verdict;
+    };
+    let (round_mean, round_var) = samples.rounding_bounds();
+    let targets = options.targets;
+    let quantities = [
+        ("mean L", prediction.mean, mean, round_mean, targets.0),
+        ("Var L", prediction.variance, variance, round_var, targets.1),
+    ];
+    for (name, predicted, measured, rounding_bar, target) in quantities {
+        let q = quantity(name, predicted, measured, rounding_bar, target, (z_limit, z_power));
+        verdict.reasons.extend(reasons(&q, z_limit, z_power, samples.count()));
+        verdict.checks.push(q);
+    }
+    verdict.pass = verdict.reasons.is_empty();
+    verdict.statement = statement(&verdict);
+    verdict
+}
+
+fn quantity(
+    name: &'static str,
+    predicted: Predicted,
+    measured: Measured,
+    rounding_bar: f64,
+    target: Option<f64>,
+    (z_limit, z_power): (f64, f64),
+) -> QuantityCheck {
+    let bars = predicted.total_bar() + rounding_bar;
+    let diff = measured.value - predicted.value;
+    let excess = (diff.abs() - bars).max(0.0);
+    let se = measured.standard_error;
+    let z = (se > 0.0).then(|| excess.copysign(diff) / se);
+    let scale = predicted.value.abs();
+    let noise = (z_limit + z_power) * se;
+    let detectable_relative_error = (noise < scale).then(|| (noise + bars) / (scale - noise));
+    let within = z.is_some_and(|z| z.abs() <= z_limit);
+    let resolved = target.is_none_or(|t| detectable_relative_error.is_some_and(|d| d <= t));
+    QuantityCheck {
+        name,
+        predicted,
+        measured,
+        rounding_bar,
+        z,
+        ratio: measured.value / predicted.value,
+        detectable_relative_error,
+        target_relative_error: target,
+        pass: within && resolved,
+    }
+}
+
+/// Why `q` fails, if it does.
+fn reasons(q: &QuantityCheck, z_limit: f64, z_power: f64, n: u64) -> Vec<String> {
+    let mut out = Vec::new();
+    match q.z {
+        None => out.push(format!(
+            "{}: the measured standard error is 0 (every sample equal?), so no z-score exists; measured {:.6e}, \
+             predicted {:.6e}",
+            q.name, q.measured.value, q.predicted.value
+        )),
+        Some(z) if z.abs() > z_limit => out.push(format!(
+            "{}: measured {:.6e} ± {:.2e} against predicted {:.6e} (ratio {:.5}): z = {z:+.2}, beyond the limit \
+             ±{z_limit:.2}",
+            q.name, q.measured.value, q.measured.standard_error, q.predicted.value, q.ratio
+        )),
+        Some(_) => {}
+    }
+    if let Some(t) = q.target_relative_error {
+        if q.detectable_relative_error.is_none_or(|d| d > t) {
+            out.push(too_few(q, t, z_limit + z_power, n));
+        }
+    }
+    out
+}
+
+/// The reason of an unmet target, with the samples that would meet it.
+fn too_few(q: &QuantityCheck, target: f64, z_sum: f64, n: u64) -> String {
+    let scale = q.predicted.value.abs();
+    let bars_rel = (q.predicted.total_bar() + q.rounding_bar) / scale;
+    let se_rel = q.measured.standard_error / scale;
+    // δ = (k se + b)/(1 − k se) in relative terms; solved for se at δ = target.
+    let need = if bars_rel >= target {
+        format!("the bars alone are {bars_rel:.2e} relative, so no number of samples can")
+    } else {
+        let se_needed = (target - bars_rel) / (z_sum * (1.0 + target));
+        let ratio = se_rel / se_needed;
+        format!("about {:.2e} samples would (standard errors fall like 1/√M)", (n as f64 * ratio * ratio).ceil())
+    };
+    format!(
+        "{}: too few samples to resolve the target {:.3} %: these {n} samples detect only {}; {need}",
+        q.name,
+        target * 100.0,
+        percent(q.detectable_relative_error)
+    )
+}
+
+/// A detectable error in words.
+fn percent(d: Option<f64>) -> String {
+    d.map_or("no error of any size with certainty (the standard error is too large)".to_string(), |d| {
+        format!("{:.3} %", d * 100.0)
+    })
+}
+
+fn statement(v: &Verdict) -> String {
+    let [m, var] = [&v.checks[0], &v.checks[1]];
+    format!(
+        "a renderer whose mean is off by {} or more, or whose Var L is off by {} or more, fails this check \
+         with probability ≥ {:.0} %; a correct one fails with probability {} (family-wise)",
+        percent(m.detectable_relative_error),
+        percent(var.detectable_relative_error),
+        v.power * 100.0,
+        v.false_alarm_rate
+    )
+}
+
+impl Verdict {
+    /// Panics with the whole verdict unless it passed: the one line a
+    /// renderer's test needs.
+    #[track_caller]
+    pub fn assert_pass(&self) {
+        assert!(self.pass, "{self}");
+    }
+}
+
+impl fmt::Display for Verdict {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{}: {} samples against the {} model (|z| limit {:.2}: false-alarm rate {} family-wise, Šidák over {} \
+             checks)",
+            if self.pass { "PASS" } else { "FAIL" },
+            self.samples,
+            self.model,
+            self.z_limit,
+            self.false_alarm_rate,
+            CHECKS
+        )?;
+        for q in &self.checks {
+            let z = q.z.map_or("none".to_string(), |z| format!("{z:+.2}"));
+            writeln!(
+                f,
+                "  {:<6} predicted {:.8e} ± {:.1e} (quadrature) ± {:.1e} (model)   measured {:.8e} ± {:.1e} (s.e.)   \
+                 ratio {:.5}   z {z}   detects {}",
+                q.name,
+                q.predicted.value,
+                q.predicted.quadrature_bar,
+                q.predicted.model_bar,
+                q.measured.value,
+                q.measured.standard_error,
+                q.ratio,
+                percent(q.detectable_relative_error)
+            )?;
+        }
+        for r in &self.reasons {
+            writeln!(f, "  fails: {r}")?;
+        }
+        write!(f, "  what this check shows: {}", self.statement)
+    }
+}
