@@ -8,7 +8,7 @@
 //!
 //! ## Testing a renderer
 //! [`predict`] what one iteration of the pixel must give, push the
-//! renderer's values into [`Samples`], and [`check`] them: the [`Verdict`]
+//! renderer's values into [`Samples`], and [`check()`] them: the [`Verdict`]
 //! passes or fails at a stated false-alarm rate and says what a pass proves
 //! (the smallest error the samples could have caught).
 //!
@@ -46,7 +46,7 @@
 //!   functions, in f64 and MPFR, never silently wrong;
 //! - [`reports`]: the CLI's tables and the generated documents (uses the
 //!   library; the library never uses it);
-//! - [`scene`] (crate `mcrt-scene`) and [`reference`] (crate
+//! - [`scene`] (crate `mcrt-scene`) and [`reference`](mod@crate::reference) (crate
 //!   `mcrt-reference`, the independent reference tracer), re-exported.
 //!
 //! Units and conventions: `docs/conventions.md`.
@@ -78,3 +78,8 @@ pub use mcrt_scene as scene;
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 pub struct ReadmeDoctests;
+
+/// The code blocks of `docs/library.md`, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/library.md")]
+pub struct LibraryDocDoctests;

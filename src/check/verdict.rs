@@ -232,8 +232,13 @@ pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions)
     ];
     for (name, predicted, measured, rounding_bar, target) in quantities {
         let q = quantity(name, predicted, measured, rounding_bar, target, (z_limit, z_power));
-        verdict.reasons.extend(reasons(&q, z_limit, z_power, samples.count()));
+        verdict.reasons.extend(disagreement(&q, z_limit));
         verdict.checks.push(q);
+    }
+    // Unmet targets matter when nothing disagrees: they stop a weak pass.
+    if verdict.reasons.is_empty() {
+        let n = samples.count();
+        verdict.reasons.extend(verdict.checks.iter().filter_map(|q| unmet_target(q, z_limit + z_power, n)));
     }
     verdict.pass = verdict.reasons.is_empty();
     verdict.statement = statement(&verdict);
@@ -271,28 +276,27 @@ fn quantity(
     }
 }
 
-/// Why `q` fails, if it does.
-fn reasons(q: &QuantityCheck, z_limit: f64, z_power: f64, n: u64) -> Vec<String> {
-    let mut out = Vec::new();
+/// Why `q` disagrees with the prediction, if it does.
+fn disagreement(q: &QuantityCheck, z_limit: f64) -> Option<String> {
     match q.z {
-        None => out.push(format!(
+        None => Some(format!(
             "{}: the measured standard error is 0 (every sample equal?), so no z-score exists; measured {:.6e}, \
              predicted {:.6e}",
             q.name, q.measured.value, q.predicted.value
         )),
-        Some(z) if z.abs() > z_limit => out.push(format!(
+        Some(z) if z.abs() > z_limit => Some(format!(
             "{}: measured {:.6e} ± {:.2e} against predicted {:.6e} (ratio {:.5}): z = {z:+.2}, beyond the limit \
              ±{z_limit:.2}",
             q.name, q.measured.value, q.measured.standard_error, q.predicted.value, q.ratio
         )),
-        Some(_) => {}
+        Some(_) => None,
     }
-    if let Some(t) = q.target_relative_error {
-        if q.detectable_relative_error.is_none_or(|d| d > t) {
-            out.push(too_few(q, t, z_limit + z_power, n));
-        }
-    }
-    out
+}
+
+/// The reason of `q`'s unmet target, if it has one.
+fn unmet_target(q: &QuantityCheck, z_sum: f64, n: u64) -> Option<String> {
+    let target = q.target_relative_error?;
+    q.detectable_relative_error.is_none_or(|d| d > target).then(|| too_few(q, target, z_sum, n))
 }
 
 /// The reason of an unmet target, with the samples that would meet it.
@@ -325,6 +329,20 @@ fn percent(d: Option<f64>) -> String {
 
 fn statement(v: &Verdict) -> String {
     let [m, var] = [&v.checks[0], &v.checks[1]];
+    let disagreeing: Vec<&str> =
+        v.checks.iter().filter(|q| !q.z.is_some_and(|z| z.abs() <= v.z_limit)).map(|q| q.name).collect();
+    if !disagreeing.is_empty() {
+        return format!(
+            "the renderer's {} {} from the prediction by more than the bars and chance explain (a correct \
+             renderer fails this check with probability {}, family-wise)",
+            disagreeing.join(" and "),
+            if disagreeing.len() == 1 { "differs" } else { "differ" },
+            v.false_alarm_rate
+        );
+    }
+    if !v.pass {
+        return "nothing at the stated targets: too few samples (see the reasons)".into();
+    }
     format!(
         "a renderer whose mean is off by {} or more, or whose Var L is off by {} or more, fails this check \
          with probability ≥ {:.0} %; a correct one fails with probability {} (family-wise)",
