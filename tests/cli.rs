@@ -235,6 +235,19 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
         text.starts_with("PASS") && text.contains("what this check shows: a renderer whose mean is off by"),
         "{text}"
     );
+    // From standard input too.
+    let mut child = bin()
+        .arg("check")
+        .arg(&scene_file)
+        .args(["--values", "-"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::io::Write::write_all(&mut child.stdin.take().unwrap(), &std::fs::read(&lines).unwrap()).unwrap();
+    let piped = child.wait_with_output().unwrap();
+    assert_eq!(piped.status.code(), Some(0));
+    assert_eq!(piped.stdout, out.stdout);
     // The same values as a JSON array and as power sums: the same verdict.
     let array = dir.join("values.json");
     std::fs::write(&array, serde_json::to_string(&good).unwrap()).unwrap();
@@ -266,11 +279,17 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     // Bad input: exit 2, a message naming the line or flag, nothing on stdout.
     let not_number = dir.join("bad.txt");
     std::fs::write(&not_number, "1e-3\n2e-3\nnan\n").unwrap();
+    let string_in_array = dir.join("strings.json");
+    std::fs::write(&string_in_array, r#"[1e-3, "x"]"#).unwrap();
+    let long_line = dir.join("long.txt");
+    std::fs::write(&long_line, "1".repeat(5000)).unwrap();
     let nonsense_sums = dir.join("nonsense.json");
     std::fs::write(&nonsense_sums, r#"{"count": 10, "sums": [10.0, 1.0, 1.0, 1.0]}"#).unwrap();
     for (values, extra, needle) in [
         (&not_number, &[][..], "line 3: sample 2 = NaN: must be finite"),
         (&nonsense_sums, &[][..], "not the power sums of real numbers"),
+        (&string_in_array, &[][..], "JSON array: invalid type: string"),
+        (&long_line, &[][..], "line 1 is longer than 4096 bytes"),
         (&dir.join("missing.txt"), &[][..], "missing.txt"),
         (&lines, &["--false-alarm-rate", "0"][..], "--false-alarm-rate = 0: must be in (0, 0.5]"),
         (&lines, &["--target-mean", "-1"][..], "--target-mean = -1: must be finite and > 0"),

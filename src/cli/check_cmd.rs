@@ -2,7 +2,10 @@
 //! (from any language) checked against the prediction.
 
 use mcrt_noise::{check, predict, CheckOptions, Samples, Scene};
+use serde::de::{DeserializeSeed, Deserializer, SeqAccess, Visitor};
 use serde::Deserialize;
+use std::fs::File;
+use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
 /// What `check` reads besides the scene.
@@ -56,33 +59,94 @@ fn options(args: &CheckArgs) -> Result<CheckOptions, String> {
     Ok(o)
 }
 
+/// Longest line of a values file, and largest power-sums JSON, in bytes.
+const MAX_LINE: u64 = 4096;
+
 /// The values: one number per line, a JSON array, or power sums as JSON.
+/// Read as a stream: memory stays bounded whatever the file's size.
 fn read_samples(path: &Path) -> Result<Samples, String> {
-    let text = if path == Path::new("-") {
-        std::io::read_to_string(std::io::stdin()).map_err(|e| format!("--values -: {e}"))?
+    let at = path.display().to_string();
+    let mut reader: Box<dyn BufRead> = if path == Path::new("-") {
+        Box::new(BufReader::new(std::io::stdin()))
     } else {
-        std::fs::read_to_string(path).map_err(|e| format!("--values {}: {e}", path.display()))?
+        Box::new(BufReader::new(File::open(path).map_err(|e| format!("--values {at}: {e}"))?))
     };
-    let at = path.display();
-    let trimmed = text.trim_start();
-    if trimmed.starts_with('{') {
-        let f: SumsFile = serde_json::from_str(&text).map_err(|e| format!("--values {at}: power sums JSON: {e}"))?;
-        let eps = f.sums_relative_error.unwrap_or(f.count as f64 * f64::EPSILON / 2.0);
-        return Samples::from_power_sums(f.count, f.sums, eps).map_err(|e| format!("--values {at}: {e}"));
+    let io = |e: std::io::Error| format!("--values {at}: {e}");
+    // The first non-blank byte says which format.
+    let first = loop {
+        let buf = reader.fill_buf().map_err(io)?;
+        match buf.iter().position(|b| !b.is_ascii_whitespace()) {
+            Some(i) => break Some(buf[i]),
+            None if buf.is_empty() => break None,
+            None => {
+                let n = buf.len();
+                reader.consume(n);
+            }
+        }
+    };
+    match first {
+        Some(b'{') => {
+            let mut text = String::new();
+            reader.take(MAX_LINE).read_to_string(&mut text).map_err(io)?;
+            let f: SumsFile =
+                serde_json::from_str(&text).map_err(|e| format!("--values {at}: power sums JSON: {e}"))?;
+            let eps = f.sums_relative_error.unwrap_or(f.count as f64 * f64::EPSILON / 2.0);
+            Samples::from_power_sums(f.count, f.sums, eps).map_err(|e| format!("--values {at}: {e}"))
+        }
+        Some(b'[') => {
+            let mut samples = Samples::new();
+            let mut de = serde_json::Deserializer::from_reader(reader);
+            PushEach(&mut samples).deserialize(&mut de).map_err(|e| format!("--values {at}: JSON array: {e}"))?;
+            de.end().map_err(|e| format!("--values {at}: JSON array: {e}"))?;
+            Ok(samples)
+        }
+        _ => read_lines(reader, &at),
     }
+}
+
+/// One number per line (`#` comments and blank lines skipped).
+fn read_lines(mut reader: Box<dyn BufRead>, at: &str) -> Result<Samples, String> {
     let mut samples = Samples::new();
-    if trimmed.starts_with('[') {
-        let values: Vec<f64> = serde_json::from_str(&text).map_err(|e| format!("--values {at}: JSON array: {e}"))?;
-        samples.extend(values).map_err(|e| format!("--values {at}: {e}"))?;
-        return Ok(samples);
-    }
-    for (i, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
+    let mut line = Vec::new();
+    for number in 1u64.. {
+        line.clear();
+        let n =
+            (&mut reader).take(MAX_LINE + 1).read_until(b'\n', &mut line).map_err(|e| format!("--values {at}: {e}"))?;
+        if n == 0 {
+            break;
+        }
+        if n as u64 > MAX_LINE {
+            return Err(format!("--values {at}: line {number} is longer than {MAX_LINE} bytes"));
+        }
+        let text = std::str::from_utf8(&line).map_err(|_| format!("--values {at}: line {number} is not UTF-8"))?.trim();
+        if text.is_empty() || text.starts_with('#') {
             continue;
         }
-        let l: f64 = line.parse().map_err(|_| format!("--values {at}: line {}: {line:?} is not a number", i + 1))?;
-        samples.push(l).map_err(|e| format!("--values {at}: line {}: {e}", i + 1))?;
+        let l: f64 = text.parse().map_err(|_| format!("--values {at}: line {number}: {text:?} is not a number"))?;
+        samples.push(l).map_err(|e| format!("--values {at}: line {number}: {e}"))?;
     }
     Ok(samples)
+}
+
+/// Deserialises a JSON array of numbers straight into samples (no vector).
+struct PushEach<'a>(&'a mut Samples);
+
+impl<'de> DeserializeSeed<'de> for PushEach<'_> {
+    type Value = ();
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_seq(self)
+    }
+}
+
+impl<'de> Visitor<'de> for PushEach<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("an array of numbers")
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        while let Some(l) = seq.next_element::<f64>()? {
+            self.0.push(l).map_err(serde::de::Error::custom)?;
+        }
+        Ok(())
+    }
 }
