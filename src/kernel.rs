@@ -60,19 +60,37 @@ pub fn kernel_integral<T: CheckRule>(angle: &Angle<T>, r: &T, opts: &Options) ->
     let opts = opts.clone().declared();
     // A vanishes for t ≥ T: the inner integral runs over [0, T] only. At
     // the pole itself (sin ϑ = 0) there is no edge: [0, ∞), decaying at
-    // rate 1 + |cos ϑ|. The outer s-integrand decays like e^{−s}.
+    // rate c = 1 + |cos ϑ|. The outer s-integrand decays like e^{−s}.
+    //
+    // Near the poles or for large R the edge lies many decay lengths out
+    // (T = 2·10⁹⁷ at ϑ = 10⁻¹⁰⁰, R = 10⁻³) and the content of [0, T] sits in
+    // its first few 1/c; I tends to A(0)/c = π/(2c) as T → ∞. The inner
+    // integral then stops at L = 2·4^K/c (e^{−4^K} < eps², `quad::decay_lengths`:
+    // 512/c in f64, a domain as long as the acceptance case I(10⁻⁶, 10⁻³)
+    // has always had) and the rest is bounded, not sampled: since A ≤ π/2,
+    // e^{−s} ∫_L^T A(t/T) e^{−ct} dt ≤ e^{−s} (π/2) e^{−cL}/c ≤ e^{−s} eps⁴,
+    // added to the inner bar. (Sampling [0, T] itself printed I = 0 for
+    // T = 10⁹⁷, and in MPFR e^{−ct} at t ~ T costs seconds.)
+    let zero = r.lit(0.0);
     let edge = r.lit(2.0) * r.clone() / angle.sin.clone();
-    let inner_domain = if edge.is_finite() {
-        Domain::finite(r.lit(0.0), edge)
+    let decay = angle.abs_cos.clone() + r.lit(1.0);
+    let last_length = *crate::quad::decay_lengths(r).last().expect("non-empty");
+    let cut = r.lit(4.0 * last_length) / decay.clone();
+    let (inner_domain, tail_bound) = if !edge.is_finite() {
+        (Domain::semi_infinite(zero.clone()).with_decay(decay), zero.clone())
+    } else if edge > cut {
+        let bound = r.pi() / r.lit(2.0) * (-(decay.clone() * cut.clone())).exp() / decay.clone();
+        (Domain::finite(zero.clone(), cut), bound)
     } else {
-        Domain::semi_infinite(r.lit(0.0)).with_decay(angle.abs_cos.clone() + r.lit(1.0))
+        (Domain::finite(zero.clone(), edge), zero.clone())
     };
     let g = Integrand::new(angle, r);
-    integrate_nested(
-        |s: &T, inner: &Options| integrate(|t: &T| g.at(s, t), &inner_domain, inner),
-        &Domain::semi_infinite(r.lit(0.0)).with_decay(r.lit(1.0)),
-        &opts,
-    )
+    let inner = |s: &T, inner: &Options| {
+        let mut out = integrate(|t: &T| g.at(s, t), &inner_domain, inner)?;
+        out.error = out.error + tail_bound.clone() * (-s.clone()).exp();
+        Ok(out)
+    };
+    integrate_nested(inner, &Domain::semi_infinite(zero).with_decay(r.lit(1.0)), &opts)
 }
 
 /// I(ϑ, R) as a bare 2-D integrand with no hints (structure unknown).

@@ -174,3 +174,53 @@ fn exponential_tail_map_never_lands_on_the_lower_limit() {
     let e = integrate(f, &Domain::semi_infinite(0.0).with_decay(1.0), &Options::rel(1e-13)).unwrap();
     assert!((e.value - 1.0).abs() <= 1e-13, "{}", e.value);
 }
+
+/// I(ϑ, R) as the support edge T = 2R/sin ϑ runs to infinity: with t = T x,
+/// I = T ∫₀¹ A(x) e^{−cTx} dx = A(0)/c + A'(0)/(c²T) + O(T⁻²), A(0) = π/2,
+/// A'(0) = −2, c = 1 + |cos ϑ|. Returns (the limit π/(2c) − 2/(c²T), a bound
+/// on the O(T⁻²) rest, generous: 10/(c³T²)).
+fn kernel_large_edge_limit(sin: f64, abs_cos: f64, r: f64) -> (f64, f64) {
+    let c = 1.0 + abs_cos;
+    let t = 2.0 * r / sin;
+    (std::f64::consts::PI / (2.0 * c) - 2.0 / (c * c * t), 10.0 / (c * c * c * t * t))
+}
+
+/// The probe of issue 11 printed I(10⁻¹⁰⁰, 10⁻³) = 0 ± 3e−290 and
+/// I(1, 10¹⁰⁰) = 0 (the edge 10⁹⁷ decay lengths out, the content unseen).
+#[test]
+fn kernel_with_its_edge_far_out_tends_to_pi_over_2c() {
+    let cases: [(&str, bool, f64); 6] = [
+        ("1e-100", true, 1e-3),
+        ("1e-300", true, 1e-3),
+        ("1e-12", true, 1e-3),
+        ("1", false, 1e100),
+        ("1", false, 1e300),
+        ("2", false, 1e6),
+    ];
+    for (theta, pole, r) in cases {
+        let a = angle_f64(theta, pole);
+        let e = kernel_integral(&a, &r, &Options::rel(1e-13)).unwrap_or_else(|f| panic!("ϑ {theta}, R {r:e}: {f}"));
+        let (limit, rest) = kernel_large_edge_limit(a.sin, a.abs_cos, r);
+        let diff = (e.value - limit).abs();
+        assert!(
+            diff <= e.error + rest + 4.0 * f64::EPSILON * limit,
+            "ϑ {theta}, R {r:e}: {} ± {:e} vs {limit}",
+            e.value,
+            e.error
+        );
+        assert!(e.error <= 1e-13 * limit, "ϑ {theta}, R {r:e}: bar {:e}", e.error);
+    }
+}
+
+#[test]
+fn kernel_128_bits_with_its_edge_far_out() {
+    let bits = 128;
+    let a = angle_mpfr("1e-100", true, bits);
+    let r = parse_decimal("1e-3", bits).unwrap();
+    let e = kernel_integral(&a, &r, &Options::rel(mcrt_noise::prec::mpfr_default_tol(bits))).expect("converges");
+    // The limit π/4 at the pole; the 1/T term is 10⁻⁹⁷, far below the bar.
+    let limit = Float::with_val(bits, rug::float::Constant::Pi) / 4u32;
+    let diff = Float::with_val(bits, &e.value - &limit).abs();
+    assert!(diff <= e.error, "{} ± {} vs π/4", e.value, e.error);
+    assert!(e.error.to_f64() <= 1e-30, "bar {}", e.error);
+}
