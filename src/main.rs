@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 use mcrt_noise::oracle::Precision;
+use mcrt_noise::quad::{Budget, DEFAULT_EVALUATIONS};
 use mcrt_noise::reports;
 use mcrt_noise::scene::Scene;
 use std::path::PathBuf;
@@ -33,6 +34,12 @@ enum Command {
         /// Relative tolerance of every integral (default 1e-10 in f64, 2^-(bits-22) in MPFR).
         #[arg(long)]
         rel_tol: Option<f64>,
+        /// Integrand evaluations the whole run may spend, over every integral and level (default 2e9, ~40 s in f64).
+        #[arg(long)]
+        max_evals: Option<f64>,
+        /// Wall-time limit of the run in seconds (none by default; the result then depends on the machine's speed).
+        #[arg(long)]
+        time_limit: Option<f64>,
         /// One JSON object instead of the table.
         #[arg(long)]
         json: bool,
@@ -179,7 +186,9 @@ fn main() -> ExitCode {
     let done = |r: Result<(), String>| r.map(|()| true);
     let result = match cli.command {
         Command::Validate { scene } => done(validate(&scene)),
-        Command::Oracle { scene, precision, rel_tol, json } => done(oracle(&scene, &precision, rel_tol, json)),
+        Command::Oracle { scene, precision, rel_tol, max_evals, time_limit, json } => {
+            done(budget_from_flags(max_evals, time_limit).and_then(|b| oracle(&scene, &precision, rel_tol, &b, json)))
+        }
         Command::Kernel { theta, radius, precision, rel_tol, bare } => {
             done(reports::tables::kernel_cli(&theta, &radius, &precision, rel_tol, bare))
         }
@@ -253,10 +262,27 @@ fn load_with_radius(path: &PathBuf, radius: Option<f64>) -> Result<Scene, String
     Ok(scene)
 }
 
-fn oracle(path: &PathBuf, precision: &str, rel_tol: Option<f64>, json: bool) -> Result<(), String> {
+/// The run's evaluation budget from `--max-evals` and `--time-limit`.
+fn budget_from_flags(max_evals: Option<f64>, time_limit: Option<f64>) -> Result<Budget, String> {
+    let limit = match max_evals {
+        None => DEFAULT_EVALUATIONS,
+        Some(n) if n.is_finite() && (1.0..=1e15).contains(&n) && n.fract() == 0.0 => n as u64,
+        Some(n) => return Err(format!("--max-evals: {n} is not a whole number in [1, 1e15]")),
+    };
+    match time_limit {
+        None => Ok(Budget::new(limit)),
+        Some(t) if t.is_finite() && t > 0.0 && t <= 1e6 => {
+            Ok(Budget::with_deadline(limit, std::time::Duration::from_secs_f64(t)))
+        }
+        Some(t) => Err(format!("--time-limit: {t} s is outside (0, 1e6] seconds")),
+    }
+}
+
+fn oracle(path: &PathBuf, precision: &str, rel_tol: Option<f64>, budget: &Budget, json: bool) -> Result<(), String> {
     let scene = load(path)?;
     let precision = Precision::parse(precision)?;
-    let report = mcrt_noise::oracle::run(&scene, precision, rel_tol).map_err(|e| format!("{}: {e}", path.display()))?;
+    let report = mcrt_noise::oracle::run_within(&scene, precision, rel_tol, budget)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
     if json {
         println!("{}", serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?);
     } else {

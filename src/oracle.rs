@@ -14,7 +14,7 @@ use crate::model::noise::{
     d_constants, d_errors, relative_from_d, relative_from_d_error, variance, Counts, Integrals, Valued,
 };
 use crate::model::OracleError;
-use crate::quad::{CheckRule, Estimate, Options};
+use crate::quad::{Budget, CheckRule, Estimate, Options};
 use crate::real::Real;
 use mcrt_scene::Scene;
 use serde::Serialize;
@@ -284,8 +284,15 @@ fn correlation<T: Real>(exact: &Estimate<T>, asym: &Result<Estimate<T>, String>,
     }
 }
 
-/// Runs the oracle on `scene` at the precision of `like` with `rel_tol`.
-pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: String) -> Result<Report, OracleError> {
+/// Runs the oracle on `scene` at the precision of `like` with `rel_tol`,
+/// every integral of both models charged to the one `budget`.
+pub fn run_with<T: CheckRule>(
+    scene: &Scene,
+    like: &T,
+    rel_tol: f64,
+    label: String,
+    budget: &Budget,
+) -> Result<Report, OracleError> {
     let t0 = Instant::now();
     let field = Field::from_scene(scene, like)?;
     let r = like.lit(scene.estimator.radius);
@@ -296,8 +303,8 @@ pub fn run_with<T: CheckRule>(scene: &Scene, like: &T, rel_tol: f64, label: Stri
     }
     let finite_field = FiniteField::from_scene(scene, &field);
     let (ints, finite) = rayon::join(
-        || Integrals::compute(&field, &r, &Options::rel(rel_tol)),
-        || finite_field.as_ref().map(|ff| ff.integrals(&Options::rel(rel_tol))).transpose(),
+        || Integrals::compute(&field, &r, &Options::rel(rel_tol).with_budget(budget.clone())),
+        || finite_field.as_ref().map(|ff| ff.integrals(&Options::rel(rel_tol).with_budget(budget.clone()))).transpose(),
     );
     let (ints, finite) = (ints?, finite?);
     if ints.mean.value.is_zero() {
@@ -458,11 +465,24 @@ fn finite_report<T: CheckRule>(
     }
 }
 
-/// Runs the oracle at `precision` with its default tolerance (or `rel_tol`).
+/// Runs the oracle at `precision` with its default tolerance (or `rel_tol`)
+/// and the default evaluation budget ([`crate::quad::DEFAULT_EVALUATIONS`]).
 pub fn run(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -> Result<Report, OracleError> {
+    run_within(scene, precision, rel_tol, &Budget::default())
+}
+
+/// [`run`] with the evaluation budget (and deadline) `budget`, shared by
+/// every integral of the run; a run that needs more fails with
+/// `NOT CONVERGED` naming the budget.
+pub fn run_within(
+    scene: &Scene,
+    precision: Precision,
+    rel_tol: Option<f64>,
+    budget: &Budget,
+) -> Result<Report, OracleError> {
     let tol = rel_tol.unwrap_or(precision.default_tol_for(scene));
     match precision {
-        Precision::F64 => run_with(scene, &0.0f64, tol, "f64".into()),
-        Precision::Bits(b) => run_with(scene, &rug::Float::with_val(b, 0), tol, format!("{b} bits")),
+        Precision::F64 => run_with(scene, &0.0f64, tol, "f64".into(), budget),
+        Precision::Bits(b) => run_with(scene, &rug::Float::with_val(b, 0), tol, format!("{b} bits"), budget),
     }
 }

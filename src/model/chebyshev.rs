@@ -20,7 +20,7 @@
 //! (times 1.01 for e^δ − 1), so that any integral of the interpolant
 //! against a non-negative weight carries the relative error ρ.
 
-use crate::quad::{Failure, Options, Outcome, Rule};
+use crate::quad::{Budget, Failure, Options, Outcome, Rule};
 use crate::real::Real;
 
 /// One piece: interpolation data on [a, b].
@@ -48,9 +48,11 @@ const ORDERS: [usize; 2] = [16, 32];
 /// Options for computing the samples of a table built to `rel_tol` with
 /// the rule `rule`: a fortieth of the tolerance (at least 64 ulps),
 /// relative only, no cross-check of their own (the table belongs to one
-/// pass; the other pass builds its own with the other rule).
-pub fn sample_options<T: Real>(like: &T, rel_tol: f64, rule: Rule) -> Options {
+/// pass; the other pass builds its own with the other rule). `budget` is
+/// the asking computation's, shared.
+pub fn sample_options<T: Real>(like: &T, rel_tol: f64, rule: Rule, budget: &Budget) -> Options {
     Options {
+        budget: budget.clone(),
         rel_tol: (rel_tol / 40.0).max(64.0 * like.eps().to_f64()),
         abs_tol: 0.0,
         rule,

@@ -136,6 +136,7 @@ pub fn scattered_mean_table<T: CheckRule>(
     field: &Field<T>,
     rule: Rule,
     rel_tol: f64,
+    budget: &crate::quad::Budget,
 ) -> Result<Arc<Piecewise<T>>, Failure<T>> {
     let key = (rule, rel_tol.to_bits());
     if let Some(t) = field.tables.lock().expect("no panic while holding the tables").get(&key) {
@@ -151,7 +152,7 @@ pub fn scattered_mean_table<T: CheckRule>(
     }
     cuts.push(lo.clone());
     cuts.push(end);
-    let opts = sample_options(&lo, rel_tol, rule);
+    let opts = sample_options(&lo, rel_tol, rule, budget);
     let table = Piecewise::build(|x: &T| scattered_mean(field, x, &opts), &cuts, rel_tol / 4.0)?;
     let table = Arc::new(table);
     field.tables.lock().expect("no panic while holding the tables").insert(key, table.clone());
@@ -193,7 +194,7 @@ pub fn mean_contribution_tabled<T: CheckRule>(field: &Field<T>, x: &T, table_tol
         let e = scattered_mean(field, x, &Options { abs_tol: 0.0, ..opts.clone() })?;
         return Ok(Estimate::known(direct + e.value, e.error, e.evaluations + 1, opts.rule));
     }
-    let table = scattered_mean_table(field, opts.rule, table_tol)?;
+    let table = scattered_mean_table(field, opts.rule, table_tol, &opts.budget)?;
     let c1 = table.eval(x);
     let error = c1.abs() * table.rel_error.clone();
     Ok(Estimate::known(direct + c1, error, 1, opts.rule))

@@ -226,6 +226,7 @@ impl<T: CheckRule> AtPoint<T> {
         phase: &Phase,
         rel_tol: f64,
         rule: crate::quad::Rule,
+        budget: &crate::quad::Budget,
     ) -> Result<SourceTable<T>, crate::quad::Failure<T>> {
         let like = &self.r;
         let pi = like.pi();
@@ -249,7 +250,7 @@ impl<T: CheckRule> AtPoint<T> {
         }
         cuts.push(pi.clone());
         cuts.retain(|c| *c >= like.lit(0.0) && *c <= pi);
-        let opts = sample_options(like, rel_tol, rule);
+        let opts = sample_options(like, rel_tol, rule, budget);
         let interp = Piecewise::build(
             |psi: &T| {
                 let e = self.source(psi, sigma_ext, phase, &opts)?;
@@ -311,7 +312,7 @@ impl<T: CheckRule> AtPoint<T> {
         let entry = match hit {
             Some(t) => t,
             None => {
-                let table = self.source_table(sigma_ext, phase, opts.rel_tol, opts.rule)?;
+                let table = self.source_table(sigma_ext, phase, opts.rel_tol, opts.rule, &opts.budget)?;
                 let t = Arc::new((x.clone(), table));
                 shared.sources.lock().expect("no panic while holding the cache").insert(key, t.clone());
                 t

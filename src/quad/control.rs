@@ -16,9 +16,19 @@ pub(crate) trait Panel<T> {
     fn error(&self) -> T;
 }
 
+/// Panels one rule may bisect an integral into before it is declared not to
+/// converge. Every integral of the test suite and of the bundled scenes
+/// (f64 and MPFR, the hard cases of `tests/oracle.rs` and `tests/finite.rs`
+/// included) needed fewer than 50; a rule that keeps bisecting is stuck on
+/// something it cannot resolve (noise in the integrand, a wrong rule), and
+/// the control's cost grows with the square of the panel count, so a stuck
+/// rule must end here rather than after millions of evaluations.
+pub(crate) const MAX_PANELS: usize = 2000;
+
 /// The next panel to refine, or `None` when the goal is met or no panel can
 /// improve (every truncation estimate at its rounding floor). Fails when the
-/// evaluation budget is spent.
+/// evaluation budget (this level's or the computation's) is spent, or the
+/// panels number [`MAX_PANELS`].
 pub(crate) fn next_to_refine<T: Real, P: Panel<T>>(
     panels: &[P],
     like: &T,
@@ -37,6 +47,15 @@ pub(crate) fn next_to_refine<T: Real, P: Panel<T>>(
         .fold((0, like.lit(-1.0)), |acc, (i, e)| if e > acc.1 { (i, e) } else { acc });
     if worst_err <= panels[worst].floor() {
         return Ok(None);
+    }
+    if panels.len() >= MAX_PANELS {
+        return Err(f.fail(
+            format!("{rule} bisected into {} panels without meeting the goal (limit {MAX_PANELS})", panels.len()),
+            Some((value, error)),
+        ));
+    }
+    if let Some(reason) = opts.budget.exhausted() {
+        return Err(f.fail(format!("{reason}; stopped in {rule}"), Some((value, error))));
     }
     if f.tally.calls >= opts.max_evals {
         return Err(f.fail(format!("evaluation budget {} exhausted by {rule}", opts.max_evals), Some((value, error))));

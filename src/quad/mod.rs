@@ -30,6 +30,7 @@
 //! integrated into the outer one, evaluation counts add up, and an inner
 //! `Failure` fails the outer integral.
 
+mod budget;
 mod check;
 mod control;
 mod mapped;
@@ -40,6 +41,7 @@ mod scan;
 mod tanh_sinh;
 
 use crate::real::Real;
+pub use budget::{Budget, DEFAULT_EVALUATIONS};
 pub use check::CheckRule;
 pub(crate) use mapped::{Mapped, Piece, TailMap};
 pub use nested::{integrate_nested, integrate_within_pass};
@@ -66,8 +68,12 @@ pub struct Options {
     pub rel_tol: f64,
     /// Absolute tolerance (the goal is max(abs_tol, rel_tol·|I|)).
     pub abs_tol: f64,
-    /// Budget of integrand evaluations at this level (inner levels have their own).
+    /// Budget of integrand calls at this level (a cap per level; the whole
+    /// computation shares `budget`).
     pub max_evals: u64,
+    /// The evaluation budget (and optional deadline) of the whole
+    /// computation, shared by every level and pass that clones these options.
+    pub budget: Budget,
     /// Whether the breakpoints are hints ([`Structure::Unknown`], a scan runs) or complete.
     pub structure: Structure,
     /// Run the cross-check (on by default; turning it off is for benchmarks
@@ -119,6 +125,7 @@ impl Options {
             rel_tol,
             abs_tol: 0.0,
             max_evals: 2_000_000,
+            budget: Budget::default(),
             structure: Structure::Unknown,
             cross_check: true,
             zero_guard: true,
@@ -135,6 +142,12 @@ impl Options {
     /// These options with the absolute tolerance `abs_tol`.
     pub fn with_abs_tol(mut self, abs_tol: f64) -> Options {
         self.abs_tol = abs_tol;
+        self
+    }
+
+    /// These options with `budget` shared by every level computed with them.
+    pub fn with_budget(mut self, budget: Budget) -> Options {
+        self.budget = budget;
         self
     }
 
@@ -282,7 +295,15 @@ pub struct Sample<T> {
 
 /// ∫ f over `domain` for a plain integrand `f(x) -> T`.
 pub fn integrate<T: CheckRule, F: FnMut(&T) -> T>(mut f: F, domain: &Domain<T>, opts: &Options) -> Outcome<T> {
-    integrate_samples(&mut |x: &T| Ok(Sample { error: x.lit(0.0), value: f(x), evaluations: 1 }), domain, opts)
+    let mut meter = budget::Meter::new(&opts.budget);
+    integrate_samples(
+        &mut |x: &T| {
+            meter.tick();
+            Ok(Sample { error: x.lit(0.0), value: f(x), evaluations: 1 })
+        },
+        domain,
+        opts,
+    )
 }
 
 /// The integrand as the engine sees it, on a piece in its own variable.

@@ -228,7 +228,7 @@ impl<T: CheckRule> FiniteField<T> {
     fn mean_with_bar(&self, x: &T, table_tol: f64, opts: &Options) -> Outcome<T> {
         self.sum_over_lights(x, opts, |i, light| match light {
             FiniteLight::Beam(b) => Ok(Estimate::known(b.moment(self, x, 1), x.lit(0.0), 1, opts.rule)),
-            FiniteLight::Point(p) => self.tables.mean(self, i, p, x, table_tol, opts.rule),
+            FiniteLight::Point(p) => self.tables.mean(self, i, p, x, table_tol, opts),
         })
     }
 

@@ -78,7 +78,9 @@ impl<T: CheckRule> Tables<T> {
     /// ⟨𝒞⟩_R·e^{c₀} of light `index` (the point `p`) at x, with its bar.
     /// Beyond the table's range (past 4^K decay lengths, where the weight
     /// e^{−σs} leaves nothing a goal can see) the value is B/2 ± B/2 with
-    /// B the isotropic closed form times max f/(1/4π), a bound.
+    /// B the isotropic closed form times max f/(1/4π), a bound. The table is
+    /// built to `tol` with the rule and budget of `asking`, the options of
+    /// the integral that needs the value.
     pub(super) fn mean(
         &self,
         ff: &FiniteField<T>,
@@ -86,8 +88,9 @@ impl<T: CheckRule> Tables<T> {
         p: &PointLight<T>,
         x: &T,
         tol: f64,
-        rule: Rule,
+        asking: &Options,
     ) -> Outcome<T> {
+        let (rule, budget) = (asking.rule, &asking.budget);
         let (lo, end) = ff.table_range();
         if *x > end {
             let f_max = phase_eval(&ff.phase, &x.lit(1.0)).max_of(phase_eval(&ff.phase, &x.lit(-1.0)));
@@ -95,9 +98,9 @@ impl<T: CheckRule> Tables<T> {
             return Ok(Estimate::known(half.clone(), half, 1, rule));
         }
         if *x < lo {
-            return p.moment_cap(ff, x, 1, &sample_options(x, tol, rule));
+            return p.moment_cap(ff, x, 1, &sample_options(x, tol, rule, budget));
         }
-        let table = self.get(ff, index, p, tol, rule)?;
+        let table = self.get(ff, index, p, tol, rule, budget)?;
         let (table, map) = (&table.0, &table.1);
         let v = table.eval(&map.y_of(x));
         Ok(Estimate::known(v.clone(), v.abs() * table.rel_error.clone(), 1, rule))
@@ -110,6 +113,7 @@ impl<T: CheckRule> Tables<T> {
         p: &PointLight<T>,
         tol: f64,
         rule: Rule,
+        budget: &crate::quad::Budget,
     ) -> Result<Table<T>, crate::quad::Failure<T>> {
         let key = (index, (rule, tol.to_bits()));
         if let Some(t) = self.map.lock().expect("no panic while holding the tables").get(&key) {
@@ -138,7 +142,7 @@ impl<T: CheckRule> Tables<T> {
         }
         let map = KinkMap { kinks };
         let cuts: Vec<T> = cuts.iter().map(|c| map.y_of(c)).collect();
-        let opts: Options = sample_options(&lo, tol, rule);
+        let opts: Options = sample_options(&lo, tol, rule, budget);
         let table = Piecewise::build(|y: &T| p.moment_cap(ff, &map.x_of(y), 1, &opts), &cuts, tol / 4.0)?;
         let table = Arc::new((table, map));
         self.map.lock().expect("no panic while holding the tables").insert(key, table.clone());

@@ -1,0 +1,149 @@
+//! One evaluation budget (and an optional deadline) per top-level
+//! computation, shared by every nested level and every pass.
+//!
+//! Each level of a nested integral used to have its own budget, so an inner
+//! level that could not converge multiplied into a stall (2·10⁶ inner
+//! evaluations at each of ~10⁵ outer nodes). Now every plain integrand
+//! evaluation, at whatever depth, is charged to the [`Budget`] carried by the
+//! [`Options`](super::Options) it was computed with; `Options` clones (and
+//! the inner options every level derives with `..opts.clone()`) share it.
+//! The engine checks it before every refinement step and fails with
+//! `NOT CONVERGED: … budget …` once it is spent.
+//!
+//! The check is made between refinement steps, so a computation may overrun
+//! the budget by the cost of one step per running pass; a computation whose
+//! cost is close to the budget may end either way when its passes run on
+//! two threads. A computation needing well under the budget is unaffected and
+//! deterministic.
+
+use std::fmt;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Default number of integrand evaluations of one top-level computation:
+/// ~40 s of f64 evaluations on two cores of the reference machine (5·10⁷/s).
+/// The heaviest bundled computation (the order-1 oracle of
+/// `point-isotropic-order1` at 10⁻⁶) takes 4.7·10⁸.
+pub const DEFAULT_EVALUATIONS: u64 = 2_000_000_000;
+
+/// A shared evaluation budget: cheap to clone (clones share the count).
+///
+/// ```
+/// use mcrt_noise::quad::{integrate, Budget, Domain, Options};
+/// let f = |x: &f64| (-x * x).exp();
+/// let ample = Budget::new(1_000_000);
+/// let opts = Options::rel(1e-12).with_budget(ample.clone());
+/// assert!(integrate(f, &Domain::finite(0.0, 1.0), &opts).is_ok());
+/// // A tenth of what it needed: NOT CONVERGED, naming the budget.
+/// let opts = Options::rel(1e-12).with_budget(Budget::new(ample.used() / 10));
+/// let fail = integrate(f, &Domain::finite(0.0, 1.0), &opts).unwrap_err();
+/// assert!(fail.reason.contains("evaluation budget"));
+/// ```
+#[derive(Clone)]
+pub struct Budget(Arc<State>);
+
+struct State {
+    limit: u64,
+    used: AtomicU64,
+    deadline: Option<(Instant, Duration)>,
+    spent: AtomicBool,
+}
+
+impl Budget {
+    /// A budget of `limit` integrand evaluations, no deadline.
+    pub fn new(limit: u64) -> Budget {
+        Budget(Arc::new(State { limit, used: AtomicU64::new(0), deadline: None, spent: AtomicBool::new(false) }))
+    }
+
+    /// A budget of `limit` evaluations that also ends `time` from now.
+    /// (A deadline makes the outcome depend on the machine's speed: use it
+    /// to bound a run's wall time, not in tests.)
+    pub fn with_deadline(limit: u64, time: Duration) -> Budget {
+        let deadline = Some((Instant::now() + time, time));
+        Budget(Arc::new(State { limit, used: AtomicU64::new(0), deadline, spent: AtomicBool::new(false) }))
+    }
+
+    /// Charges `n` evaluations.
+    pub fn charge(&self, n: u64) {
+        self.0.used.fetch_add(n, Ordering::Relaxed);
+    }
+
+    /// Evaluations charged so far.
+    pub fn used(&self) -> u64 {
+        self.0.used.load(Ordering::Relaxed)
+    }
+
+    /// The evaluation limit.
+    pub fn limit(&self) -> u64 {
+        self.0.limit
+    }
+
+    /// Why the computation must stop, if it must: the evaluations or the
+    /// time are spent.
+    pub fn exhausted(&self) -> Option<String> {
+        let used = self.used();
+        if used >= self.0.limit {
+            self.0.spent.store(true, Ordering::Relaxed);
+            return Some(format!(
+                "the computation's evaluation budget of {} is spent ({} evaluations over all its levels and passes)",
+                self.0.limit, used
+            ));
+        }
+        if let Some((at, time)) = self.0.deadline {
+            if Instant::now() >= at {
+                self.0.spent.store(true, Ordering::Relaxed);
+                return Some(format!("the computation's time limit of {:.1} s is spent", time.as_secs_f64()));
+            }
+        }
+        None
+    }
+
+    /// Whether [`Budget::exhausted`] ever said so.
+    pub fn was_exhausted(&self) -> bool {
+        self.0.spent.load(Ordering::Relaxed)
+    }
+}
+
+impl Default for Budget {
+    /// [`DEFAULT_EVALUATIONS`], no deadline.
+    fn default() -> Budget {
+        Budget::new(DEFAULT_EVALUATIONS)
+    }
+}
+
+impl fmt::Debug for Budget {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Budget")
+            .field("limit", &self.0.limit)
+            .field("used", &self.used())
+            .field("deadline", &self.0.deadline.map(|d| d.1))
+            .finish()
+    }
+}
+
+/// Counts a level's plain evaluations and charges them in batches (one
+/// atomic add per 256 evaluations, not per evaluation).
+pub(crate) struct Meter<'b> {
+    budget: &'b Budget,
+    pending: u64,
+}
+
+impl<'b> Meter<'b> {
+    pub fn new(budget: &'b Budget) -> Self {
+        Meter { budget, pending: 0 }
+    }
+    pub fn tick(&mut self) {
+        self.pending += 1;
+        if self.pending >= 256 {
+            self.budget.charge(self.pending);
+            self.pending = 0;
+        }
+    }
+}
+
+impl Drop for Meter<'_> {
+    fn drop(&mut self) {
+        self.budget.charge(self.pending);
+    }
+}
