@@ -372,7 +372,7 @@ pub fn run_with<T: CheckRule>(
             note: SMALL_SPHERE_NOTE.into(),
         },
     };
-    Ok(Report {
+    let report = Report {
         precision: label,
         rel_tol,
         radius: scene.estimator.radius,
@@ -401,7 +401,70 @@ pub fn run_with<T: CheckRule>(
         finite: finite_report,
         prediction,
         wall_time_ms: t0.elapsed().as_secs_f64() * 1e3,
-    })
+    };
+    report.check_representable(scene)?;
+    Ok(report)
+}
+
+impl Report {
+    /// Every number the report prints as a result, by name.
+    fn reported_numbers(&self) -> Vec<(String, f64)> {
+        let mut out = Vec::new();
+        let mut bar = |name: &str, v: &ValueWithBar| {
+            out.push((name.to_string(), v.value));
+            out.push((format!("{name} (bar)"), v.error));
+        };
+        bar("mean luminance (small-sphere)", &self.mean_luminance);
+        bar("Var L (small-sphere)", &self.variance.exact);
+        bar("prediction: mean", &self.prediction.mean);
+        bar("prediction: Var L", &self.prediction.variance);
+        bar("prediction: relative noise", &self.prediction.relative_noise);
+        if let Some(f) = &self.finite {
+            bar("finite-sphere mean", &f.mean);
+            bar("finite-sphere Var L", &f.variance);
+            bar("finite-sphere bias", &f.bias);
+            bar("finite-sphere relative noise", &f.relative_noise);
+            bar("finite/small mean ratio", &f.mean_ratio);
+            bar("finite/small Var L ratio", &f.variance_ratio);
+        }
+        out.push(("relative noise (small-sphere)".into(), self.variance.relative));
+        out.push(("relative noise (small-sphere, bar)".into(), self.variance.relative_error));
+        for (name, c) in [("(23)", &self.corr23), ("(24)", &self.corr24)] {
+            out.push((format!("{name} exact"), c.exact.value));
+            out.push((format!("{name} exact (bar)"), c.exact.error));
+            for (what, v) in [("ratio", c.ratio), ("ratio bar", c.ratio_error)] {
+                if let Some(v) = v {
+                    out.push((format!("{name} exact/R→0 {what}"), v));
+                }
+            }
+        }
+        out
+    }
+
+    /// Fails when a printed number is not finite, or the mean is not
+    /// positive (the ratios and the relative noise divide by it).
+    fn check_representable(&self, scene: &Scene) -> Result<(), OracleError> {
+        let fluxes: Vec<String> = scene.lights.iter().map(|l| format!("{:e}", l.flux())).collect();
+        let advice = format!(
+            "the mean scales with the lights' flux ({}) and Var L with its square, the relative noise not at all: \
+             rescale the fluxes (or bring the lights nearer: e^(−σ_ext·distance) underflows beyond ~700)",
+            fluxes.join(", ")
+        );
+        for (name, v) in
+            [("mean luminance (small-sphere)", &self.mean_luminance), ("prediction: mean", &self.prediction.mean)]
+        {
+            if !(v.value > 0.0) {
+                return Err(OracleError::NotRepresentable(format!(
+                    "{name} is {:e} ± {:e}: it underflows f64; {advice}",
+                    v.value, v.error
+                )));
+            }
+        }
+        if let Some((name, v)) = self.reported_numbers().into_iter().find(|(_, v)| !v.is_finite()) {
+            return Err(OracleError::NotRepresentable(format!("{name} is {v}; {advice}")));
+        }
+        Ok(())
+    }
 }
 
 /// The finite-sphere model's report from its integrals, beside the

@@ -32,6 +32,10 @@ pub enum OracleError {
         /// The engine's [`Failure`] message (`NOT CONVERGED: …`).
         reason: String,
     },
+    /// A result the oracle computed is not representable as a finite f64
+    /// (or a ratio's denominator underflowed to 0): the scene's numbers
+    /// leave the range of f64. Names the quantity and what to change.
+    NotRepresentable(String),
 }
 
 impl fmt::Display for OracleError {
@@ -39,6 +43,7 @@ impl fmt::Display for OracleError {
         match self {
             OracleError::Unsupported(msg) => write!(f, "unsupported: {msg}"),
             OracleError::Quadrature { what, reason } => write!(f, "{what}: {reason}"),
+            OracleError::NotRepresentable(msg) => write!(f, "not representable in f64: {msg}"),
         }
     }
 }

@@ -1,0 +1,99 @@
+//! The numerical items of issue 11's adversarial probe, re-run through the
+//! CLI: each ends in a correct result with a bar, or a clear error and a
+//! non-zero exit with nothing on standard output; none hangs (each command
+//! here finishes in seconds; the old behaviour is in each test's comment).
+
+use std::process::{Command, Output};
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_mcrt-noise")).args(args).output().expect("the binary runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// The value printed after `= ` on the first line of `kernel`'s output, and its bar.
+fn kernel_value(args: &[&str]) -> (f64, f64) {
+    let out = run(&[&["kernel"], args].concat());
+    assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    let text = stdout(&out);
+    let value: f64 = text.lines().next().unwrap().rsplit("= ").next().unwrap().trim().parse().unwrap();
+    let bar: f64 = text.lines().nth(1).unwrap().split_whitespace().nth(2).unwrap().parse().unwrap();
+    (value, bar)
+}
+
+/// Was `I = 0 ± 2.9e−290` (exit 0) for ϑ = 1e−100, 1e−200, 1e−300 and at
+/// 128 bits; the limit is π/(2c) with c = 1 + |cos ϑ|.
+#[test]
+fn kernel_near_the_pole_is_pi_over_4() {
+    for theta in ["1e-100", "1e-200", "1e-300"] {
+        let (v, bar) = kernel_value(&["--theta", theta, "--radius", "0.001"]);
+        assert!((v - std::f64::consts::FRAC_PI_4).abs() <= bar + 1e-15, "ϑ = {theta}: {v} ± {bar:e}");
+    }
+    let (v, bar) = kernel_value(&["--theta", "1e-100", "--radius", "0.001", "--precision", "128"]);
+    assert!((v - std::f64::consts::FRAC_PI_4).abs() <= bar + 1e-16, "128 bits: {v} ± {bar:e}");
+}
+
+/// Was `I = 0` for R = 1e100; the limit is π/(2(1 + cos 1)) = 1.0198.
+#[test]
+fn kernel_with_a_huge_radius_is_pi_over_2c() {
+    let (v, bar) = kernel_value(&["--theta", "1", "--radius", "1e100"]);
+    let limit = std::f64::consts::PI / (2.0 * (1.0 + 1f64.cos()));
+    assert!((v - limit).abs() <= bar + 1e-15, "{v} ± {bar:e} vs {limit}");
+}
+
+/// Each of these hung (refinement loop of the check rule at 50–53 bits; the
+/// kernel at π in 128 bits sampled e^{−ct} out to t ~ 10³⁶).
+#[test]
+fn the_precisions_that_hung_finish() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml");
+    for bits in ["50", "51", "52", "53"] {
+        let out = run(&["oracle", scene, "--precision", bits]);
+        assert!(out.status.success(), "{bits} bits: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(stdout(&out).contains("mean luminance"));
+    }
+    kernel_value(&["--theta", "1", "--radius", "0.001", "--precision", "53", "--rel-tol", "1e-6"]);
+    let (v, bar) = kernel_value(&["--theta", "pi", "--radius", "0.001", "--precision", "128"]);
+    assert!((v - std::f64::consts::FRAC_PI_4).abs() <= bar + 1e-16, "{v} ± {bar:e}");
+}
+
+fn scene_with(replace: &str, with: &str) -> std::path::PathBuf {
+    let text = include_str!("../scenes/point-isotropic.toml");
+    assert!(text.contains(replace));
+    let dir = std::env::temp_dir().join(format!("mcrt-noise-probe-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{:x}.toml", text.len() + with.len() * 31 + replace.len() * 7));
+    std::fs::write(&path, text.replace(replace, with)).unwrap();
+    path
+}
+
+/// Was `mean 0 ± 0`, `relative noise inf`, `ratio NaN ± NaN` with exit 0.
+#[test]
+fn results_outside_f64_are_refused_not_printed() {
+    for (replace, with) in [
+        ("position = [1.0, 0.0, 1.0]", "position = [800.0, 0.0, 1.0]"),
+        ("flux = 1.0", "flux = 1e-300"),
+        ("radius = 0.01", "radius = 1e300"),
+    ] {
+        let path = scene_with(replace, with);
+        let out = run(&["oracle", path.to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{with}: exit 0 with {}", stdout(&out));
+        assert!(out.stdout.is_empty(), "{with}: printed {}", stdout(&out));
+        assert!(!err.contains("NaN ±") && !err.is_empty(), "{with}: {err}");
+    }
+}
+
+#[test]
+fn an_oracle_run_over_its_budget_says_so() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml");
+    let out = run(&["oracle", scene, "--max-evals", "1000"]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("NOT CONVERGED") && err.contains("evaluation budget of 1000"), "{err}");
+    let out = run(&["oracle", scene, "--max-evals=-5"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--max-evals"));
+    let out = run(&["oracle", scene, "--time-limit", "0"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--time-limit"));
+}
