@@ -27,16 +27,24 @@ pub struct Row {
     pub finite: Option<FiniteColumns>,
     /// The correlation integral (23), exact at R.
     pub corr23_exact: f64,
+    /// The bar of `corr23_exact`.
+    pub corr23_exact_error: f64,
     /// Its R → 0 form (25).
     pub corr23_asymptotic: f64,
+    /// The bar of `corr23_asymptotic`.
+    pub corr23_asymptotic_error: f64,
     /// (23) exact/(25) (NaN when the oracle gives none).
     pub ratio23: f64,
     /// The bar of `ratio23` (NaN when the oracle gives none).
     pub ratio23_error: f64,
     /// The correlation integral (24), exact at R.
     pub corr24_exact: f64,
+    /// The bar of `corr24_exact`.
+    pub corr24_exact_error: f64,
     /// Its R → 0 form (26).
     pub corr24_asymptotic: f64,
+    /// The bar of `corr24_asymptotic`.
+    pub corr24_asymptotic_error: f64,
     /// (24) exact/(26) (NaN when the oracle gives none).
     pub ratio24: f64,
     /// The bar of `ratio24` (NaN when the oracle gives none).
@@ -86,11 +94,15 @@ pub fn sweep(scene: &Scene, radii: &[f64]) -> Result<Vec<Row>, String> {
                 radius: r,
                 finite,
                 corr23_exact: rep.corr23.exact.value,
+                corr23_exact_error: rep.corr23.exact.error,
                 corr23_asymptotic: rep.corr23.asymptotic.value.ok_or_else(|| missing("(23)"))?,
+                corr23_asymptotic_error: rep.corr23.asymptotic.error.ok_or_else(|| missing("(23)"))?,
                 ratio23: rep.corr23.ratio.unwrap_or(f64::NAN),
                 ratio23_error: rep.corr23.ratio_error.unwrap_or(f64::NAN),
                 corr24_exact: rep.corr24.exact.value,
+                corr24_exact_error: rep.corr24.exact.error,
                 corr24_asymptotic: rep.corr24.asymptotic.value.ok_or_else(|| missing("(24)"))?,
+                corr24_asymptotic_error: rep.corr24.asymptotic.error.ok_or_else(|| missing("(24)"))?,
                 ratio24: rep.corr24.ratio.unwrap_or(f64::NAN),
                 ratio24_error: rep.corr24.ratio_error.unwrap_or(f64::NAN),
             })
@@ -242,14 +254,18 @@ pub fn table(rows: &[Row]) -> String {
     for r in rows {
         writeln!(
             s,
-            "| {:.0e} | {:.9e} | {:.9e} | {:.9} ± {:.0e} | {:.9e} | {:.9e} | {:.9} ± {:.0e} |",
+            "| {:.0e} | {:.9e} ± {:.0e} | {:.9e} ± {:.0e} | {:.9} ± {:.0e} | {:.9e} ± {:.0e} | {:.9e} ± {:.0e} | {:.9} ± {:.0e} |",
             r.radius,
             r.corr23_exact,
+            r.corr23_exact_error,
             r.corr23_asymptotic,
+            r.corr23_asymptotic_error,
             r.ratio23,
             r.ratio23_error,
             r.corr24_exact,
+            r.corr24_exact_error,
             r.corr24_asymptotic,
+            r.corr24_asymptotic_error,
             r.ratio24,
             r.ratio24_error
         )
