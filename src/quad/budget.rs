@@ -3,10 +3,14 @@
 //!
 //! Each level of a nested integral used to have its own budget, so an inner
 //! level that could not converge multiplied into a stall (2·10⁶ inner
-//! evaluations at each of ~10⁵ outer nodes). Now every plain integrand
-//! evaluation, at whatever depth, is charged to the [`Budget`] carried by the
-//! [`Options`](super::Options) it was computed with; `Options` clones (and
-//! the inner options every level derives with `..opts.clone()`) share it.
+//! evaluations at each of ~10⁵ outer nodes). Now every call of an
+//! integrand, at whatever depth (a plain function, a table or closed form
+//! standing for an inner integral, or an inner integral itself), is charged
+//! to the [`Budget`] carried by the [`Options`](super::Options) it was
+//! computed with; `Options` clones (and the inner options every level
+//! derives with `..opts.clone()`) share it. A nested integral's calls are
+//! thus counted once per level: the outer calls add to the inner ones a
+//! fraction of a percent.
 //! The engine checks it before every refinement step and fails with
 //! `NOT CONVERGED: … budget …` once it is spent.
 //!
@@ -122,7 +126,7 @@ impl fmt::Debug for Budget {
     }
 }
 
-/// Counts a level's plain evaluations and charges them in batches (one
+/// Counts a level's integrand calls and charges them in batches (one
 /// atomic add per 256 evaluations, not per evaluation).
 pub(crate) struct Meter<'b> {
     budget: &'b Budget,

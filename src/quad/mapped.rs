@@ -1,6 +1,7 @@
 //! The integrand in the engine's piece variable: the map of a semi-infinite
 //! tail, evaluation counting, and the refusal of non-finite values.
 
+use super::budget::{Budget, Meter};
 use super::{Failure, Sample, SampleFn};
 use crate::real::Real;
 
@@ -55,6 +56,8 @@ pub(crate) struct Tally {
 /// Jacobian, counts evaluations, rejects non-finite values.
 pub(crate) struct Mapped<'f, 'g, T> {
     f: &'f mut SampleFn<'g, T>,
+    /// Charges every call to the computation's budget.
+    meter: Meter<'f>,
     /// Semi-infinite [a, ∞): the piece variable u ∈ [0, 1) and its map.
     semi: Option<(T, TailMap<T>)>,
     pub tally: Tally,
@@ -62,8 +65,8 @@ pub(crate) struct Mapped<'f, 'g, T> {
 
 impl<'f, 'g, T: Real> Mapped<'f, 'g, T> {
     /// The integrand `f` on a domain whose tail (if any) is mapped by `semi`.
-    pub fn new(f: &'f mut SampleFn<'g, T>, semi: Option<(T, TailMap<T>)>) -> Self {
-        Mapped { f, semi, tally: Tally { all_zero: true, ..Tally::default() } }
+    pub fn new(f: &'f mut SampleFn<'g, T>, semi: Option<(T, TailMap<T>)>, budget: &'f Budget) -> Self {
+        Mapped { f, meter: Meter::new(budget), semi, tally: Tally { all_zero: true, ..Tally::default() } }
     }
 
     pub fn eval(&mut self, u: &T) -> Result<Sample<T>, Failure<T>> {
@@ -75,6 +78,7 @@ impl<'f, 'g, T: Real> Mapped<'f, 'g, T> {
             }
         };
         let mut s = (self.f)(&t)?;
+        self.meter.tick();
         self.tally.calls += 1;
         self.tally.evaluations += s.evaluations;
         if !s.value.is_finite() || !s.error.is_finite() {

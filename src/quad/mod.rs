@@ -295,15 +295,7 @@ pub struct Sample<T> {
 
 /// ∫ f over `domain` for a plain integrand `f(x) -> T`.
 pub fn integrate<T: CheckRule, F: FnMut(&T) -> T>(mut f: F, domain: &Domain<T>, opts: &Options) -> Outcome<T> {
-    let mut meter = budget::Meter::new(&opts.budget);
-    integrate_samples(
-        &mut |x: &T| {
-            meter.tick();
-            Ok(Sample { error: x.lit(0.0), value: f(x), evaluations: 1 })
-        },
-        domain,
-        opts,
-    )
+    integrate_samples(&mut |x: &T| Ok(Sample { error: x.lit(0.0), value: f(x), evaluations: 1 }), domain, opts)
 }
 
 /// The integrand as the engine sees it, on a piece in its own variable.
@@ -438,7 +430,7 @@ fn integrate_pieces<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, o
         .filter(|p| p.is_finite() && **p > domain.lo && domain.hi.as_ref().is_none_or(|h| *p < h))
         .map(to_piece_var)
         .collect();
-    let mut mapped = Mapped::new(f, tail.clone());
+    let mut mapped = Mapped::new(f, tail.clone(), &opts.budget);
 
     let declared_count = cuts.len();
     if opts.structure == Structure::Unknown {
