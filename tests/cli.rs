@@ -315,3 +315,207 @@ fn compare_prints_its_verdict_once_on_stdout_and_exits_2_on_bad_input() {
     let out = bin().args(["compare", scene.to_str().unwrap(), "--trials", "0..0"]).output().unwrap();
     assert_eq!(out.status.code(), Some(2));
 }
+
+// ---- Issue 11, adversarial probe of the tracer's commands ----
+
+/// `scenes/point-isotropic.toml` with text replacements, written to a temporary file.
+fn edited_scene(tag: &str, edits: &[(&str, &str)]) -> std::path::PathBuf {
+    let mut text =
+        std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml"))
+            .unwrap();
+    for (from, to) in edits {
+        assert!(text.contains(from), "no {from:?} to replace");
+        text = text.replacen(from, to, 1);
+    }
+    let path = temp_dir("probe").join(format!("{tag}.toml"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Runs the binary, killing it after `seconds` (then `None`: it hung).
+fn run_within(args: &[&str], seconds: u64) -> Option<std::process::Output> {
+    use std::process::Stdio;
+    let mut child = bin().args(args).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed().as_secs() >= seconds {
+            child.kill().ok();
+            child.wait().ok();
+            return None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    Some(child.wait_with_output().unwrap())
+}
+
+/// Exit code, stdout, stderr of a run that must end within 60 s.
+fn ended(args: &[&str]) -> (Option<i32>, String, String) {
+    let out = run_within(args, 60).unwrap_or_else(|| panic!("{args:?} still running after 60 s"));
+    (out.status.code(), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+}
+
+/// Nothing printed is inf or NaN.
+fn assert_finite_output(text: &str) {
+    let lower = text.to_lowercase();
+    assert!(!lower.contains("nan") && !lower.contains("inf"), "inf or NaN printed:\n{text}");
+}
+
+#[test]
+fn trace_scales_extreme_fluxes_exactly_and_refuses_degenerate_lengths() {
+    let p = |tag, edits: &[(&str, &str)]| edited_scene(tag, edits).to_str().unwrap().to_string();
+    let base = p("flux1", &[]);
+    let (code, one, err) = ended(&["trace", &base, "--trials", "20000", "--seed", "3", "--json"]);
+    assert_eq!(code, Some(0), "{err}");
+    let one: serde_json::Value = serde_json::from_str(&one).unwrap();
+    // Fluxes 2^900 and 2^-1000: L is linear in the flux, and scaling by a power of two is exact.
+    for (tag, flux, k) in
+        [("fluxbig", "flux = 8.452712498170644e270", 900), ("fluxsmall", "flux = 9.332636185032189e-302", -1000)]
+    {
+        let path = p(tag, &[("flux = 1.0", flux)]);
+        let (code, text, err) = ended(&["trace", &path, "--trials", "20000", "--seed", "3"]);
+        assert_eq!(code, Some(0), "{tag}: {err}");
+        assert_finite_output(&text);
+        let (code, json, _) = ended(&["trace", &path, "--trials", "20000", "--seed", "3", "--json"]);
+        assert_eq!(code, Some(0));
+        let json: serde_json::Value = serde_json::from_str(&json).unwrap();
+        let scale = 2f64.powi(k / 2) * 2f64.powi(k - k / 2);
+        // Exact (reference/tests/limits.rs); here to 1e-15, since serde_json's parser may miss by an ulp.
+        for key in ["value", "se"] {
+            let (got, want) = (json["mean"][key].as_f64().unwrap(), one["mean"][key].as_f64().unwrap() * scale);
+            assert!(((got - want) / want).abs() <= 1e-15, "{tag} {key}: {got:e} against {want:e}");
+        }
+        // Var L is beyond a double (2^1800 and 2^-2000 times Var L of flux 1): a reason, not inf or 0.
+        assert!(json["variance"].is_null(), "{tag}: {json}");
+        assert!(json["not_resolved"].as_str().unwrap().starts_with("Var L ≈ "), "{tag}: {json}");
+    }
+    // flux = 1e300 and 1e-300: a result with error bars or a reason, never a panic, inf or NaN.
+    for (tag, flux) in [("f300", "flux = 1e300"), ("fm300", "flux = 1e-300")] {
+        let path = p(tag, &[("flux = 1.0", flux)]);
+        let (code, text, err) = ended(&["trace", &path, "--trials", "1000"]);
+        assert_eq!(code, Some(0), "{tag}: {err}");
+        assert_finite_output(&text);
+        assert!(text.contains("mean L") && text.contains("Var L"), "{text}");
+    }
+    let (_, text, _) = ended(&["trace", &p("fm300b", &[("flux = 1.0", "flux = 1e-300")]), "--trials", "1000"]);
+    assert!(text.contains("outside the range of a double"), "{text}");
+    // Lengths the tracer cannot square or step: refused up front, the field named, exit 2.
+    for (tag, edit, field) in [
+        ("ext", ("sigma_ext = 1.0", "sigma_ext = 5e-324"), "medium.sigma_ext"),
+        ("rad", ("radius = 0.01", "radius = 1e-300"), "estimator.radius"),
+    ] {
+        let (code, text, err) = ended(&["trace", &p(tag, &[edit]), "--trials", "1000"]);
+        assert_eq!(code, Some(2), "{tag}: {text}{err}");
+        assert!(text.is_empty() && err.contains(field) && !err.contains("panicked"), "{tag}: {err}");
+    }
+}
+
+#[test]
+fn trace_refuses_trials_beyond_its_memory_and_work_bounds_with_the_field_named() {
+    let p = |tag, edits: &[(&str, &str)]| edited_scene(tag, edits).to_str().unwrap().to_string();
+    let scene = p("bounds", &[]);
+    for (path, trials, needle) in [
+        (p("cam", &[("camera_rays = 8", "camera_rays = 1099511627776")]), "10", "estimator.camera_rays"),
+        (p("q", &[("q = 0.5", "q = 1e-12")]), "10", "estimator.q"),
+        (p("fwd", &[("forward_rays = 200", "forward_rays = 1099511627776")]), "10", "estimator.forward_rays"),
+        (
+            p("orders", &[("scattering_orders = 0", "scattering_orders = 1000000"), ("albedo = 0.8", "albedo = 1.0")]),
+            "10",
+            "effects.scattering_orders",
+        ),
+        (scene.clone(), "18446744073709551615", "--trials"),
+    ] {
+        let (code, text, err) = ended(&["trace", &path, "--trials", trials]);
+        assert_eq!(code, Some(2), "{needle}: {text}{err}");
+        assert!(text.is_empty() && err.contains(needle) && err.contains("at most"), "{needle}: {err}");
+    }
+}
+
+#[test]
+fn trial_ranges_near_the_end_of_u64_are_traced_and_merged() {
+    let dir = temp_dir("u64max");
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
+    let scene = scene.to_str().unwrap();
+    let (a, b) = (dir.join("a.json"), dir.join("b.json"));
+    let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
+    let json =
+        trace_json(&["trace", scene, "--trials", "18446744073709550000..18446744073709551615", "--json", "--out", a]);
+    assert_eq!(json["trial_count"], 1615, "{json}");
+    assert_eq!(json["counters"]["trials"], 1615);
+    assert!(json["mean"]["se"].as_f64().unwrap() > 0.0);
+    trace_json(&["trace", scene, "--trials", "18446744073709549000..18446744073709550000", "--json", "--out", b]);
+    let merged = trace_json(&["merge", a, b, "--json"]);
+    assert_eq!(merged["trial_count"], 2615);
+    assert_eq!(merged["trials"][0][0].as_u64(), Some(18446744073709549000));
+    assert_eq!(merged["trials"][0][1].as_u64(), Some(u64::MAX));
+}
+
+#[test]
+fn zero_hits_are_reported_as_not_resolved_by_trace_and_compare() {
+    let far = edited_scene("far", &[("position = [1.0, 0.0, 1.0]", "position = [40.0, 0.0, 1.0]")]);
+    let far = far.to_str().unwrap();
+    let (code, text, err) = ended(&["trace", far, "--trials", "20000"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(text.contains("no hits in 20000 trials: the mean and variance are not resolved"), "{text}");
+    assert!(!text.contains("± 0.00e0"), "{text}");
+    let (code, json, _) = ended(&["trace", far, "--trials", "20000", "--json"]);
+    assert_eq!(code, Some(0));
+    let json: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert!(json["mean"].is_null() && json["variance"].is_null(), "{json}");
+    assert!(json["not_resolved"].as_str().unwrap().contains("no hits"), "{json}");
+    let (code, text, _) = ended(&["compare", far, "--trials", "20000"]);
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("NOT RESOLVED: no hits in 20000 trials") && !text.contains("DISAGREE"), "{text}");
+    assert_finite_output(&text);
+    let (code, json, _) = ended(&["compare", far, "--trials", "20000", "--json"]);
+    assert_eq!(code, Some(1));
+    let json: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(json["pass"], false);
+    assert!(json["verdict"].as_str().unwrap().starts_with("NOT RESOLVED"), "{json}");
+}
+
+#[test]
+fn merge_validates_every_field_of_every_shard() {
+    let dir = temp_dir("badshards");
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
+    let good = dir.join("good.json");
+    trace_json(&["trace", scene.to_str().unwrap(), "--trials", "100", "--json", "--out", good.to_str().unwrap()]);
+    let shard: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&good).unwrap()).unwrap();
+    let edit = |f: &dyn Fn(&mut serde_json::Value)| {
+        let mut s = shard.clone();
+        f(&mut s);
+        s
+    };
+    let albedo7 = shard["scene"].as_str().unwrap().replace("albedo = 0.8", "albedo = 7.0");
+    for (tag, bad, needle) in [
+        ("inf", edit(&|s| s["sums"][0] = "@inf@".into()), "sums"),
+        ("nan", edit(&|s| s["sums"][3] = "@nan@".into()), "sums"),
+        ("notscene", edit(&|s| s["scene"] = "not a scene".into()), "scene"),
+        ("albedo", edit(&|s| s["scene"] = albedo7.clone().into()), "medium.albedo"),
+        ("rays", edit(&|s| s["counters"]["forward_rays"] = 7.into()), "counters.forward_rays"),
+        ("order", edit(&|s| s["ranges"] = serde_json::json!([[50, 100], [0, 50]])), "ranges"),
+        ("overlap", edit(&|s| s["ranges"] = serde_json::json!([[0, 60], [40, 80]])), "ranges"),
+        ("negative", edit(&|s| s["sums"][1] = "-1.0".into()), "sums"),
+    ] {
+        let path = dir.join(format!("{tag}.json"));
+        std::fs::write(&path, serde_json::to_string(&bad).unwrap()).unwrap();
+        let (code, text, err) = ended(&["merge", path.to_str().unwrap()]);
+        assert_eq!(code, Some(2), "{tag}: {text}{err}");
+        assert!(text.is_empty() && err.contains(&format!("{tag}.json")) && err.contains(needle), "{tag}: {err}");
+    }
+}
+
+#[test]
+fn trace_checks_its_output_path_before_the_run_and_prints_the_result_if_writing_fails() {
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
+    let scene = scene.to_str().unwrap();
+    // A billion trials would take hours: the bad path must be refused first.
+    let (code, text, err) = ended(&["trace", scene, "--trials", "1000000000", "--out", "/nonexistent/x.json"]);
+    assert_eq!(code, Some(2), "{text}{err}");
+    assert!(text.is_empty() && err.contains("/nonexistent/x.json") && err.contains("--out"), "{err}");
+    if std::path::Path::new("/dev/full").exists() {
+        // Writable when opened, full when written: the result is printed before the error.
+        let (code, text, err) = ended(&["trace", scene, "--trials", "1000", "--out", "/dev/full"]);
+        assert_ne!(code, Some(0), "{err}");
+        assert!(text.contains("mean L") && err.contains("/dev/full"), "{text}{err}");
+    }
+}

@@ -21,6 +21,7 @@
 //!   forward rays and all spheres of all camera rays.
 
 use crate::hits::{hits_brute_force, hits_sorted, Line, Segment};
+use crate::limits::{self, ldexp, split, Work};
 use crate::rng::{Draw, DrawCounts, Stream};
 use crate::sampling::{disk_point, exponential, hg_cosine, rotate, uniform_direction};
 use mcrt_scene::{Light, Phase, ScatteringOrders, Scene};
@@ -65,6 +66,30 @@ impl Counters {
         self.hg_evaluations += o.hg_evaluations;
         self.draws.add(&o.draws);
     }
+
+    /// This tally plus another, or `None` if a count would overflow a u64.
+    pub fn checked_sum(&self, o: &Counters) -> Option<Counters> {
+        let (a, b) = (&self.draws, &o.draws);
+        Some(Counters {
+            trials: self.trials.checked_add(o.trials)?,
+            forward_rays: self.forward_rays.checked_add(o.forward_rays)?,
+            forward_segments: self.forward_segments.checked_add(o.forward_segments)?,
+            sphere_placements: self.sphere_placements.checked_add(o.sphere_placements)?,
+            candidate_tests: self.candidate_tests.checked_add(o.candidate_tests)?,
+            hits: self.hits.checked_add(o.hits)?,
+            hg_evaluations: self.hg_evaluations.checked_add(o.hg_evaluations)?,
+            draws: DrawCounts {
+                sub_step: a.sub_step.checked_add(b.sub_step)?,
+                extinction: a.extinction.checked_add(b.extinction)?,
+                light_choice: a.light_choice.checked_add(b.light_choice)?,
+                emission_direction: a.emission_direction.checked_add(b.emission_direction)?,
+                emission_position: a.emission_position.checked_add(b.emission_position)?,
+                free_path: a.free_path.checked_add(b.free_path)?,
+                roulette: a.roulette.checked_add(b.roulette)?,
+                phase: a.phase.checked_add(b.phase)?,
+            },
+        })
+    }
 }
 
 /// Why a scene cannot be traced.
@@ -75,6 +100,11 @@ pub enum TraceError {
     EndlessPaths,
     /// The scene has no light with positive flux.
     NoFlux,
+    /// The scene fails `mcrt-scene`'s validation (a `Scene` built in code).
+    InvalidScene(String),
+    /// The scene is beyond one of the tracer's bounds (`limits`): the
+    /// message names the field, its value and the bound.
+    Bound(String),
 }
 
 impl fmt::Display for TraceError {
@@ -86,6 +116,7 @@ impl fmt::Display for TraceError {
                  infinite medium; give a finite number of orders (an integer >= 0) or an albedo < 1"
             ),
             TraceError::NoFlux => write!(f, "lights: total flux is 0, nothing to trace"),
+            TraceError::InvalidScene(why) | TraceError::Bound(why) => write!(f, "{why}"),
         }
     }
 }
@@ -103,22 +134,34 @@ pub struct Tracer {
     max_orders: Option<u32>,
     /// Cumulative flux fractions of the lights (choice in proportion to flux).
     cumulative: Vec<f64>,
-    /// 𝒞 per unit of f, σ_sc 𝓕/(σ_ext π R²) (5).
+    /// 𝒞 per unit of f, σ_sc 𝓕/(σ_ext π R²) (5) (inf or 0 if beyond a double).
     c_per_f: f64,
-    /// q 𝒞/(f N_F N_B): L = this × Σ_hits f.
-    weight: f64,
+    /// q 𝒞/(f N_F N_B)/2^E: L/2^E = this × Σ_hits f, of order 1 for any scene.
+    weight_scaled: f64,
+    /// E, the power of two that L is computed in units of.
+    scale_exp: i32,
+    /// Expected work of one trial.
+    work: Work,
 }
 
 impl Tracer {
-    /// Prepares a validated scene.
+    /// Prepares a scene: validated as a scene file is (a `Scene` built in
+    /// code included), then checked against the tracer's own bounds
+    /// (`limits`: lengths, memory and work of one trial).
     pub fn new(scene: &Scene) -> Result<Tracer, TraceError> {
+        let scene = scene.validated().map_err(|e| TraceError::InvalidScene(e.to_string()))?;
         let medium = &scene.medium;
         let max_orders = match scene.effects.scattering_orders {
             ScatteringOrders::Limited(k) => Some(k),
             ScatteringOrders::All if medium.albedo >= 1.0 => return Err(TraceError::EndlessPaths),
             ScatteringOrders::All => None,
         };
-        let total = scene.total_flux();
+        let work = limits::check_scene(&scene).map_err(TraceError::Bound)?;
+        // Every factor as m·2^e, m in [1, 2): the products below are those of
+        // the plain formula divided by 2^e, rounded identically wherever the
+        // plain one stays normal, and never overflow.
+        let flux_exp = scene.lights.iter().map(|l| split(l.flux()).1).max().unwrap_or(0);
+        let total = scene.lights.iter().map(|l| ldexp(l.flux(), -flux_exp)).sum::<f64>();
         if total <= 0.0 {
             // Validated fluxes are finite and >= 0, so this is the all-zero case.
             return Err(TraceError::NoFlux);
@@ -128,30 +171,62 @@ impl Tracer {
             .lights
             .iter()
             .map(|l| {
-                acc += l.flux();
+                acc += ldexp(l.flux(), -flux_exp);
                 acc / total
             })
             .collect();
         let est = &scene.estimator;
-        let c_per_f = medium.sigma_sc() * total / (medium.sigma_ext * PI * est.radius * est.radius);
-        let weight = est.q * c_per_f / (est.forward_rays as f64 * est.camera_rays as f64);
+        let (total, e_total) = split(total);
+        let [(albedo, e_albedo), (sigma, e_sigma), (radius, e_radius), (q, e_q), (nf, e_nf), (nb, e_nb)] =
+            [medium.albedo, medium.sigma_ext, est.radius, est.q, est.forward_rays as f64, est.camera_rays as f64]
+                .map(split);
+        // 𝒞/f = σ_sc 𝓕/(σ_ext π R²) (5), σ_sc = albedo σ_ext.
+        let c_scaled = (albedo * sigma) * total / (sigma * PI * radius * radius);
+        let c_exp = e_albedo + e_sigma + e_total + flux_exp - e_sigma - 2 * e_radius;
+        let weight_scaled = q * c_scaled / (nf * nb);
         Ok(Tracer {
             line: Line { origin: scene.camera.origin, dir: scene.camera.direction, radius: est.radius },
             alpha: medium.sigma_ext / est.q,
             max_orders,
             cumulative,
-            c_per_f,
-            weight,
-            scene: scene.clone(),
+            c_per_f: ldexp(c_scaled, c_exp),
+            weight_scaled,
+            scale_exp: if albedo == 0.0 { 0 } else { c_exp + e_q - e_nf - e_nb },
+            work,
+            scene,
         })
+    }
+
+    /// E: the tracer computes L/2^E (`trial_scaled`), of order 1 for any
+    /// scene, so that no L, L⁴ or power sum overflows or underflows.
+    pub fn scale_exponent(&self) -> i32 {
+        self.scale_exp
+    }
+
+    /// The expected work of one trial (within the bounds of `limits`).
+    pub fn work(&self) -> Work {
+        self.work
+    }
+
+    /// Whether a run of `trials` trials is within `limits::MAX_RUN_WORK`;
+    /// the error names `--trials` and the largest allowed count.
+    pub fn check_trials(&self, trials: u64) -> Result<(), TraceError> {
+        limits::check_run(&self.work, trials).map_err(TraceError::Bound)
     }
 
     pub fn scene(&self) -> &Scene {
         &self.scene
     }
 
-    /// L of trial `index` of the run seeded with `seed`, and what it took.
+    /// L of trial `index` of the run seeded with `seed`, and what it took
+    /// (inf or 0 for a scene whose L is beyond a double; `trial_scaled` never is).
     pub fn trial(&self, seed: u64, index: u64, method: HitMethod) -> (f64, Counters) {
+        let (l, counters) = self.trial_scaled(seed, index, method);
+        (ldexp(l, self.scale_exp), counters)
+    }
+
+    /// L/2^E of trial `index` (E = [`Tracer::scale_exponent`]), and what it took.
+    pub fn trial_scaled(&self, seed: u64, index: u64, method: HitMethod) -> (f64, Counters) {
         let mut stream = Stream::new(seed, index);
         let mut counters = Counters { trials: 1, ..Counters::default() };
         let centres = self.place_spheres(&mut stream, &mut counters);
@@ -160,7 +235,7 @@ impl Tracer {
             sum_f += self.forward_ray(&mut stream, &centres, method, &mut counters);
         }
         counters.draws = stream.counts;
-        (self.weight * sum_f, counters)
+        (self.weight_scaled * sum_f, counters)
     }
 
     /// Sphere centres of all N_B camera rays (distances along u), sorted.

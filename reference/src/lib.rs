@@ -10,6 +10,7 @@
 //! - [`rng`]: per-trial streams keyed by (seed, trial), draws counted by kind;
 //! - [`sampling`]: exponential steps, directions, disk points;
 //! - [`hits`]: which spheres a forward segment hits (sorted search, brute force);
+//! - [`limits`]: the tracer's bounds (lengths, memory and work of a trial, work of a run);
 //! - [`estimator`]: one trial (one iteration of one pixel), with counters;
 //! - [`moments`]: exact power sums, mean, variance and standard errors;
 //! - [`run`]: parallel runs over trial ranges, shards and their exact merge;
@@ -18,6 +19,7 @@
 pub mod correlation;
 pub mod estimator;
 pub mod hits;
+pub mod limits;
 pub mod moments;
 pub mod rng;
 pub mod run;

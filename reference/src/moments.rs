@@ -8,6 +8,13 @@
 //! the trial range into shards, and the central moments are formed at that
 //! width too, without cancellation.
 //!
+//! The tracer accumulates the sums of L/2^E (E from the scene, so that
+//! L/2^E is of order 1 whatever the flux, R or σ_ext) and shifts them by
+//! 2^{kE}: exact, and the same sums as of L itself wherever L⁴ is a normal
+//! double. A mean or variance beyond the range of a double is then still
+//! computed, and reported with its error in words rather than as inf or 0
+//! ([`PowerSums::estimates`]).
+//!
 //! Standard errors: of the mean, √(s²/M); of the unbiased variance s², from
 //! the fourth central moment, Var(s²) = μ₄/M − σ⁴(M − 3)/(M(M − 1)), with the
 //! sample moments in place of μ₄, σ² (tested against the exponential
@@ -47,10 +54,49 @@ pub struct Summary {
     pub variance: WithError,
 }
 
+/// The mean and the variance, each with its standard error or the reason
+/// it is not given (never inf, NaN, or a standard error of 0).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Estimates {
+    pub mean: Result<WithError, String>,
+    pub variance: Result<WithError, String>,
+}
+
+impl Estimates {
+    /// Both, or the reason(s) either is not given.
+    pub fn summary(&self) -> Result<Summary, String> {
+        match (&self.mean, &self.variance) {
+            (Ok(mean), Ok(variance)) => Ok(Summary { mean: *mean, variance: *variance }),
+            (Err(a), Err(b)) if a == b => Err(a.clone()),
+            (Err(a), Err(b)) => Err(format!("{a}; {b}")),
+            (Err(why), _) | (_, Err(why)) => Err(why.clone()),
+        }
+    }
+}
+
+/// A value and its standard error as doubles, or why they cannot be: the
+/// error is 0, or either is beyond the range of a double.
+fn as_double(name: &str, value: &Float, se: &Float) -> Result<WithError, String> {
+    let representable = |x: &Float| x.is_zero() || (x.to_f64().is_finite() && x.to_f64().abs() >= f64::MIN_POSITIVE);
+    if se.is_zero() {
+        return Err(format!("{name}: its standard error is 0, so it is not resolved"));
+    }
+    if !(representable(value) && representable(se)) {
+        return Err(format!(
+            "{name} ≈ {value:.6e} ± {se:.2e} (s.e.), outside the range of a double ({:.1e} … {:.1e}), so not \
+             given as a number; L is linear in the lights' flux: scale the fluxes by a power of two",
+            f64::MIN_POSITIVE,
+            f64::MAX
+        ));
+    }
+    Ok(WithError { value: value.to_f64(), se: se.to_f64() })
+}
+
 impl PowerSums {
     /// Adds one trial's L. Panics if L or L⁴ is not a finite double (|L| ≥
-    /// ~10⁷⁷: the scene's flux is then beyond what the fourth-moment sums
-    /// can hold; rescale the flux, L is linear in it).
+    /// ~10⁷⁷); callers check first: `Samples::push` refuses such values, and
+    /// the tracer pushes L/2^E, which stays far inside the range (E from the
+    /// scene; the sums are then [`PowerSums::scaled`] by 2^E, exactly).
     pub fn push(&mut self, l: f64) {
         let fourth = (l * l) * (l * l);
         assert!(l.is_finite() && fourth.is_finite(), "a trial's luminance {l:e} or its fourth power is not finite");
@@ -73,9 +119,19 @@ impl PowerSums {
         self
     }
 
-    /// Mean, variance and their standard errors (`None` below 4 trials,
-    /// where the variance's error is not defined).
-    pub fn summary(&self) -> Option<Summary> {
+    /// The sums of L·2^`exp` for these sums of L (exact: a shift). A run
+    /// accumulates the sums of L/2^E, which never overflow, and scales them
+    /// by 2^E once per chunk (`run::trace`).
+    pub fn scaled(mut self, exp: i32) -> PowerSums {
+        for (k, sum) in self.sums.iter_mut().enumerate() {
+            *sum <<= (k as i32 + 1) * exp;
+        }
+        self
+    }
+
+    /// Mean, its standard error, s² and its standard error, at full width
+    /// (`None` below 4 trials).
+    fn moments(&self) -> Option<[Float; 4]> {
         if self.count < 4 {
             return None;
         }
@@ -95,7 +151,7 @@ impl PowerSums {
         };
         let mut s2 = Float::with_val(prec, &mu2 * &m);
         s2 /= Float::with_val(prec, &m - 1u32);
-        let se_mean = Float::with_val(prec, &s2 / &m).sqrt();
+        let se_mean = Float::with_val(prec, &s2 / &m).max(&Float::new(prec)).sqrt();
         // Var(s²) = μ₄/M − σ⁴(M − 3)/(M(M − 1)).
         let sigma4 = Float::with_val(prec, &s2 * &s2);
         let mut var_s2 = Float::with_val(prec, &mu4 / &m);
@@ -105,10 +161,48 @@ impl PowerSums {
         let mut zero = Float::new(prec);
         zero.assign(0);
         let se_var = var_s2.max(&zero).sqrt();
+        Some([mean, se_mean, s2, se_var])
+    }
+
+    /// Mean, variance and their standard errors as doubles (`None` below 4
+    /// trials, where the variance's error is not defined). A value beyond
+    /// the range of a double is rounded to ±inf or 0 here: [`PowerSums::estimates`]
+    /// says so instead.
+    pub fn summary(&self) -> Option<Summary> {
+        let [mean, se_mean, s2, se_var] = self.moments()?;
         Some(Summary {
             mean: WithError { value: mean.to_f64(), se: se_mean.to_f64() },
             variance: WithError { value: s2.to_f64(), se: se_var.to_f64() },
         })
+    }
+
+    /// The mean and the variance, each with its standard error, or the
+    /// reason it is not given: fewer than 4 values; all values equal (no
+    /// spread: standard errors of 0 would make any z-score infinite); a
+    /// value or its error outside the range of a double (printed here at
+    /// full range, with its error).
+    pub fn estimates(&self) -> Estimates {
+        let Some([mean, se_mean, s2, se_var]) = self.moments() else {
+            let why = format!(
+                "fewer than 4 trials ({}): the variance's standard error is not defined (merge shards first)",
+                self.count
+            );
+            return Estimates { mean: Err(why.clone()), variance: Err(why) };
+        };
+        if s2 <= 0 {
+            let why = if s2 == 0 {
+                format!(
+                    "all {} values are equal ({:.6e}): no spread, so the standard errors are 0 and the mean and \
+                     variance are not resolved",
+                    self.count,
+                    mean.to_f64()
+                )
+            } else {
+                "the power sums are inconsistent (negative variance)".to_string()
+            };
+            return Estimates { mean: Err(why.clone()), variance: Err(why) };
+        }
+        Estimates { mean: as_double("mean L", &mean, &se_mean), variance: as_double("Var L", &s2, &se_var) }
     }
 
     /// Sums given as doubles (for instance accumulated by a renderer in
@@ -135,10 +229,45 @@ impl PowerSums {
         for (k, text) in hex.iter().enumerate() {
             let parsed = Float::parse_radix(text, 16).map_err(|e| format!("sum {}: {e}", k + 1))?;
             sums[k].assign(parsed);
+            if !sums[k].is_finite() {
+                return Err(format!("sums[{k}] = \"{text}\": must be finite"));
+            }
             if sums[k].to_string_radix(16, None) != *text {
-                return Err(format!("sum {} does not fit {EXACT_BITS} bits exactly", k + 1));
+                return Err(format!("sums[{k}] = \"{text}\": does not fit {EXACT_BITS} bits exactly"));
             }
         }
-        Ok(PowerSums { count, sums })
+        let out = PowerSums { count, sums };
+        out.check_real()?;
+        Ok(out)
+    }
+
+    /// Whether every sum is 0 (every L was 0).
+    pub fn is_zero(&self) -> bool {
+        self.sums.iter().all(Float::is_zero)
+    }
+
+    /// Whether these can be the sums of `count` real numbers: Σ L² ≥ 0,
+    /// Σ L⁴ ≥ 0, M Σ L² ≥ (Σ L)², M Σ L⁴ ≥ (Σ L²)² (Cauchy–Schwarz; exact at
+    /// twice the sums' width), all 0 when M = 0.
+    pub fn check_real(&self) -> Result<(), String> {
+        let s = &self.sums;
+        if self.count == 0 {
+            return match s.iter().position(|x| !x.is_zero()) {
+                Some(k) => Err(format!("sums[{k}]: must be 0 for 0 trials")),
+                None => Ok(()),
+            };
+        }
+        let prec = 2 * EXACT_BITS + 64;
+        let m = Float::with_val(prec, self.count);
+        let square = |x: &Float| Float::with_val(prec, x * x);
+        let times_m = |x: &Float| Float::with_val(prec, x * &m);
+        if s[1] < 0 || s[3] < 0 || times_m(&s[1]) < square(&s[0]) || times_m(&s[3]) < square(&s[1]) {
+            return Err(format!(
+                "sums: not the power sums of {} real numbers (need Σ L², Σ L⁴ >= 0, M Σ L² >= (Σ L)², \
+                 M Σ L⁴ >= (Σ L²)²)",
+                self.count
+            ));
+        }
+        Ok(())
     }
 }

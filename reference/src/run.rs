@@ -6,13 +6,18 @@
 //! into exactly the single run's numbers.
 
 use crate::estimator::{Counters, HitMethod, Tracer};
-use crate::moments::{PowerSums, Summary};
+use crate::moments::{Estimates, PowerSums, Summary};
+use mcrt_scene::Scene;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::ops::Range;
 
-/// Trials per work item: progress is reported and sums are merged per chunk.
+/// Largest number of trials per work item: progress is reported and sums
+/// are merged per chunk. Chunks of heavy trials are smaller (down to one
+/// trial), so that progress shows every ~2²⁰ units of expected work.
 const CHUNK: u64 = 4096;
+/// Expected work (rays + segments + spheres) per chunk, where trials are heavy.
+const CHUNK_WORK: f64 = 1048576.0;
 
 /// The outcome of tracing some trials of a run.
 #[derive(Debug, Clone, PartialEq)]
@@ -31,27 +36,49 @@ impl Run {
     pub fn summary(&self) -> Option<Summary> {
         self.sums.summary()
     }
+
+    /// The mean and the variance, each with its standard error or the
+    /// reason it is not given: no hits in the run (L = 0 in every trial);
+    /// otherwise as [`PowerSums::estimates`] (fewer than 4 trials, no spread,
+    /// beyond the range of a double).
+    pub fn estimates(&self) -> Estimates {
+        if self.counters.trials >= 4 && self.counters.hits == 0 {
+            let why = format!(
+                "no hits in {} trials: the mean and variance are not resolved (no forward segment passed within R \
+                 of a sphere; run more trials or take a larger estimator.radius)",
+                self.counters.trials
+            );
+            return Estimates { mean: Err(why.clone()), variance: Err(why) };
+        }
+        self.sums.estimates()
+    }
 }
 
 /// Traces trials `range` of the run seeded with `seed`, in parallel on the
 /// current rayon pool; `progress` is called with the number of trials done
-/// after each chunk (from any thread).
+/// after each chunk (from any thread). Nothing is allocated per trial or
+/// chunk up front, and the range may end anywhere up to `u64::MAX`. A run
+/// beyond `limits::MAX_RUN_WORK` should be refused first
+/// ([`Tracer::check_trials`]): its counters could overflow.
 pub fn trace(tracer: &Tracer, seed: u64, range: Range<u64>, method: HitMethod, progress: &(dyn Fn(u64) + Sync)) -> Run {
-    let chunks: Vec<Range<u64>> =
-        (range.start..range.end).step_by(CHUNK as usize).map(|a| a..(a + CHUNK).min(range.end)).collect();
-    let (counters, sums) = chunks
+    let len = range.end.saturating_sub(range.start);
+    let chunk = chunk_size(tracer);
+    let exp = tracer.scale_exponent();
+    let (counters, sums) = (0..len.div_ceil(chunk))
         .into_par_iter()
-        .map(|chunk| {
-            let n = chunk.end - chunk.start;
+        .map(|k| {
+            // k·chunk < len: no overflow; the end saturates and is clipped.
+            let start = range.start + k * chunk;
+            let end = start.saturating_add(chunk).min(range.end);
             let mut counters = Counters::default();
-            let mut sums = PowerSums::default();
-            for i in chunk {
-                let (l, c) = tracer.trial(seed, i, method);
-                sums.push(l);
+            let mut scaled = PowerSums::default();
+            for i in start..end {
+                let (l, c) = tracer.trial_scaled(seed, i, method);
+                scaled.push(l);
                 counters.add(&c);
             }
-            progress(n);
-            (counters, sums)
+            progress(end - start);
+            (counters, scaled.scaled(exp))
         })
         .reduce(
             || (Counters::default(), PowerSums::default()),
@@ -62,6 +89,11 @@ pub fn trace(tracer: &Tracer, seed: u64, range: Range<u64>, method: HitMethod, p
         );
     let ranges = if range.is_empty() { Vec::new() } else { vec![range] };
     Run { scene: tracer.scene().to_toml_string(), seed, ranges, counters, sums }
+}
+
+/// Trials per chunk: [`CHUNK`], or fewer for heavy trials.
+fn chunk_size(tracer: &Tracer) -> u64 {
+    (CHUNK_WORK / tracer.work().total()).clamp(1.0, CHUNK as f64) as u64
 }
 
 /// A run as stored in a shard file.
@@ -91,21 +123,72 @@ impl Run {
         }
     }
 
+    /// The run of a shard, every field checked: the format; the scene
+    /// through the scene validation and the tracer's bounds (stored
+    /// normalised); the ranges non-empty, ascending and disjoint; the
+    /// counters consistent with them and with the scene; the sums finite,
+    /// exact and those of real numbers. The error names the field.
     pub fn from_shard(shard: &Shard) -> Result<Run, String> {
         if shard.format != SHARD_FORMAT {
             return Err(format!("format: expected \"{SHARD_FORMAT}\", found \"{}\"", shard.format));
         }
+        let scene = Scene::from_toml_str(&shard.scene).map_err(|e| format!("scene: {e}"))?;
+        let tracer = Tracer::new(&scene).map_err(|e| format!("scene: {e}"))?;
         let ranges: Vec<Range<u64>> = shard.ranges.iter().map(|r| r[0]..r[1]).collect();
-        if ranges.iter().any(|r| r.start >= r.end) {
-            return Err("ranges: every range must be non-empty (start < end)".into());
+        let mut count = 0u64;
+        for (i, r) in ranges.iter().enumerate() {
+            if r.start >= r.end {
+                return Err(format!("ranges[{i}] = {r:?}: must be non-empty (start < end)"));
+            }
+            if i > 0 && r.start < ranges[i - 1].end {
+                return Err(format!(
+                    "ranges[{i}] = {r:?}: must start at or after the end of ranges[{}] = {:?} (ascending, disjoint)",
+                    i - 1,
+                    ranges[i - 1]
+                ));
+            }
+            count += r.end - r.start; // disjoint ranges within u64: no overflow
         }
-        let count: u64 = ranges.iter().map(|r| r.end - r.start).sum();
-        if count != shard.counters.trials {
-            return Err(format!("ranges cover {count} trials but counters.trials = {}", shard.counters.trials));
-        }
+        check_counters(&shard.counters, count, &tracer)?;
         let sums = PowerSums::from_hex(count, &shard.sums)?;
-        Ok(Run { scene: shard.scene.clone(), seed: shard.seed, ranges, counters: shard.counters, sums })
+        if shard.counters.hits == 0 && !sums.is_zero() {
+            return Err("sums: must be 0 when counters.hits = 0 (no trial hit a sphere)".into());
+        }
+        Ok(Run { scene: scene.to_toml_string(), seed: shard.seed, ranges, counters: shard.counters, sums })
     }
+}
+
+/// The counters of a shard against its ranges (`trials` in all) and scene.
+fn check_counters(c: &Counters, trials: u64, tracer: &Tracer) -> Result<(), String> {
+    let est = &tracer.scene().estimator;
+    let d = &c.draws;
+    let bad = |field: &str, value: u64, want: String| Err(format!("counters.{field} = {value}: must be {want}"));
+    if c.trials != trials {
+        return bad("trials", c.trials, format!("{trials}, the trials the ranges cover"));
+    }
+    if Some(c.forward_rays) != trials.checked_mul(est.forward_rays) {
+        return bad(
+            "forward_rays",
+            c.forward_rays,
+            format!("trials × estimator.forward_rays = {trials} × {}", est.forward_rays),
+        );
+    }
+    if c.forward_segments < c.forward_rays {
+        return bad("forward_segments", c.forward_segments, "at least counters.forward_rays".into());
+    }
+    if d.free_path != c.forward_segments {
+        return bad("draws.free_path", d.free_path, "counters.forward_segments (one free path per segment)".into());
+    }
+    if trials.checked_mul(est.camera_rays).is_none_or(|n| c.sphere_placements < n) {
+        return bad("sphere_placements", c.sphere_placements, "at least trials × estimator.camera_rays".into());
+    }
+    if d.sub_step != c.sphere_placements {
+        return bad("draws.sub_step", d.sub_step, "counters.sphere_placements (one sub-step per sphere)".into());
+    }
+    if c.hits > 0 && c.candidate_tests == 0 {
+        return bad("candidate_tests", c.candidate_tests, "at least 1 when counters.hits > 0".into());
+    }
+    Ok(())
 }
 
 /// Merges runs of the same scene and seed over disjoint trial ranges.
@@ -122,7 +205,10 @@ pub fn merge(runs: &[Run]) -> Result<Run, String> {
             return Err(format!("shard {} has seed {}, shard 1 has seed {}", i + 1, r.seed, first.seed));
         }
         ranges.extend(r.ranges.iter().cloned());
-        counters.add(&r.counters);
+        counters = counters.checked_sum(&r.counters).ok_or(format!(
+            "shard {}: the merged counters would overflow a u64 (too many trials for one run)",
+            i + 1
+        ))?;
         sums = sums.merge(&r.sums);
     }
     ranges.sort_by_key(|r| r.start);

@@ -35,11 +35,19 @@ fn with_threads<R: Send>(threads: Option<usize>, f: impl FnOnce() -> R + Send) -
     }
 }
 
-/// Traces the range with a progress bar on a terminal for long runs.
-fn traced(scene: &Scene, seed: u64, range: Range<u64>, threads: Option<usize>) -> Result<(Run, f64), String> {
+/// The tracer for the scene and the trial count, every bound checked
+/// before anything runs (exit 2 with the field or flag named).
+fn prepared(scene: &Scene, range: &Range<u64>) -> Result<Tracer, String> {
     let tracer = Tracer::new(scene).map_err(|e| e.to_string())?;
+    tracer.check_trials(range.end - range.start).map_err(|e| e.to_string())?;
+    Ok(tracer)
+}
+
+/// Traces the range with a progress bar on a terminal for long runs
+/// (about a second of work or more).
+fn traced(tracer: &Tracer, seed: u64, range: Range<u64>, threads: Option<usize>) -> Result<(Run, f64), String> {
     let total = range.end - range.start;
-    let bar = if std::io::stderr().is_terminal() && total >= 100_000 {
+    let bar = if std::io::stderr().is_terminal() && total as f64 * tracer.work().total() >= 3e7 {
         let bar = ProgressBar::new(total);
         bar.set_style(
             ProgressStyle::with_template("{bar:40} {pos}/{len} trials  {per_sec}  eta {eta}")
@@ -50,7 +58,7 @@ fn traced(scene: &Scene, seed: u64, range: Range<u64>, threads: Option<usize>) -
         ProgressBar::hidden()
     };
     let start = Instant::now();
-    let run = with_threads(threads, || trace(&tracer, seed, range, HitMethod::Sorted, &|n| bar.inc(n)))?;
+    let run = with_threads(threads, || trace(tracer, seed, range, HitMethod::Sorted, &|n| bar.inc(n)))?;
     bar.finish_and_clear();
     Ok((run, start.elapsed().as_secs_f64()))
 }
@@ -64,11 +72,11 @@ pub fn trace_cmd(
     out: Option<&Path>,
 ) -> Result<(), String> {
     let range = parse_trials(trials)?;
-    let (run, seconds) = traced(scene, seed, range, threads)?;
-    if let Some(path) = out {
-        write_shard(&run, path)?;
-    }
-    print_report(&TraceReport::new(&run, seconds), json)
+    let tracer = prepared(scene, &range)?;
+    let file = out.map(open_out).transpose()?;
+    let (run, seconds) = traced(&tracer, seed, range, threads)?;
+    let report = TraceReport::new(&run, seconds);
+    write_then_print(&run, file, out, &report, json)
 }
 
 pub fn merge_cmd(paths: &[PathBuf], json: bool, out: Option<&Path>) -> Result<(), String> {
@@ -80,17 +88,41 @@ pub fn merge_cmd(paths: &[PathBuf], json: bool, out: Option<&Path>) -> Result<()
             Run::from_shard(&shard).map_err(|e| format!("{}: {e}", p.display()))
         })
         .collect::<Result<Vec<_>, _>>()?;
+    let file = out.map(open_out).transpose()?;
     let run = merge(&runs)?;
-    if let Some(path) = out {
-        write_shard(&run, path)?;
-    }
-    print_report(&TraceReport::new(&run, 0.0), json)
+    write_then_print(&run, file, out, &TraceReport::new(&run, 0.0), json)
+}
+
+/// The `--out` file, created (or truncated) before the run, so that a path
+/// that cannot be written is refused before any work.
+fn open_out(path: &Path) -> Result<std::fs::File, String> {
+    std::fs::File::create(path).map_err(|e| format!("--out {}: cannot be written: {e}", path.display()))
+}
+
+/// Writes the shard (if asked), then prints the report; if writing fails,
+/// the report is printed first, then the error.
+fn write_then_print(
+    run: &Run,
+    file: Option<std::fs::File>,
+    path: Option<&Path>,
+    report: &TraceReport,
+    json: bool,
+) -> Result<(), String> {
+    let written = match (file, path) {
+        (Some(file), Some(path)) => write_shard(run, file, path),
+        _ => Ok(()),
+    };
+    print_report(report, json)?;
+    written
 }
 
 /// The run as a shard file for `merge`.
-fn write_shard(run: &Run, path: &Path) -> Result<(), String> {
+fn write_shard(run: &Run, mut file: std::fs::File, path: &Path) -> Result<(), String> {
+    use std::io::Write;
     let text = serde_json::to_string_pretty(&run.to_shard()).map_err(|e| e.to_string())?;
-    std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
+    file.write_all(text.as_bytes()).and_then(|()| file.sync_all()).map_err(|e| {
+        format!("--out {}: writing the shard failed after the run (result printed above): {e}", path.display())
+    })
 }
 
 fn print_report(report: &TraceReport, json: bool) -> Result<(), String> {
@@ -103,13 +135,17 @@ fn print_report(report: &TraceReport, json: bool) -> Result<(), String> {
 }
 
 /// `compare`: prints the comparison (the verdict once, on stdout) and
-/// returns whether the two sides agree.
+/// returns whether the two sides agree (`false` for DISAGREE and for NOT
+/// RESOLVED: exit 1).
 pub fn compare_cmd(scene: &Scene, trials: &str, seed: u64, threads: Option<usize>, json: bool) -> Result<bool, String> {
     let range = parse_trials(trials)?;
+    if range.end - range.start < 4 {
+        return Err(format!("--trials: \"{trials}\" is fewer than 4 trials; compare needs at least 4"));
+    }
+    let tracer = prepared(scene, &range)?;
     let oracle = mcrt_noise::oracle::run(scene, Precision::F64, None).map_err(|e| e.to_string())?;
-    let (run, _) = traced(scene, seed, range, threads)?;
-    let summary = run.summary().ok_or("fewer than 4 trials")?;
-    let cmp = Comparison::new(&oracle, &summary, run.counters.trials, seed);
+    let (run, _) = traced(&tracer, seed, range, threads)?;
+    let cmp = Comparison::new(&oracle, &run.estimates(), run.counters.trials, seed);
     if json {
         println!("{}", serde_json::to_string_pretty(&cmp).map_err(|e| e.to_string())?);
     } else {

@@ -10,7 +10,7 @@
 //! tests (`tests/tracer_vs_oracle.rs`) allow for as measured.
 
 use crate::oracle::Report;
-use mcrt_reference::moments::{Summary, WithError};
+use mcrt_reference::moments::{Estimates, Summary, WithError};
 use mcrt_reference::{Counters, Run};
 use serde::Serialize;
 
@@ -23,12 +23,16 @@ pub struct TraceReport {
     pub trials: Vec<[u64; 2]>,
     /// Trials run (each one iteration: one sample of L).
     pub trial_count: u64,
-    /// `None` (JSON null) below 4 trials, where the variance's error is not
-    /// defined: a small shard is still written and merges normally.
-    /// Sample mean of L with its standard error.
+    /// Sample mean of L with its standard error; `None` (JSON null) when not
+    /// resolved, the reason in `not_resolved` (below 4 trials, where the
+    /// variance's error is not defined, a small shard is still written and
+    /// merges normally; no hits; no spread; beyond the range of a double).
     pub mean: Option<WithError>,
     /// Unbiased sample variance of L with its standard error (from the 4th moment); `None` likewise.
     pub variance: Option<WithError>,
+    /// Why the mean or the variance is not given (absent when both are).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_resolved: Option<String>,
     /// What the run did, summed over its trials.
     pub counters: Counters,
     /// Wall time of the run (ms; 0 for merged shards).
@@ -42,14 +46,24 @@ pub struct TraceReport {
 impl TraceReport {
     /// The report of a run that took `wall_seconds` (0 for merged shards).
     pub fn new(run: &Run, wall_seconds: f64) -> TraceReport {
-        let summary = run.summary();
+        let estimates = run.estimates();
+        let reasons: Vec<&String> =
+            [&estimates.mean, &estimates.variance].into_iter().filter_map(|e| e.as_ref().err()).collect();
+        let not_resolved = match reasons.as_slice() {
+            [] => None,
+            [one] => Some(one.to_string()),
+            [a, b] if a == b => Some(a.to_string()),
+            [a, b] => Some(format!("{a}; {b}")),
+            _ => unreachable!("two estimates"),
+        };
         let per_second = |n: u64| if wall_seconds > 0.0 { n as f64 / wall_seconds } else { 0.0 };
         TraceReport {
             seed: run.seed,
             trials: run.ranges.iter().map(|r| [r.start, r.end]).collect(),
             trial_count: run.counters.trials,
-            mean: summary.map(|s| s.mean),
-            variance: summary.map(|s| s.variance),
+            mean: estimates.mean.ok(),
+            variance: estimates.variance.ok(),
+            not_resolved,
             counters: run.counters,
             wall_time_ms: wall_seconds * 1e3,
             trials_per_second: per_second(run.counters.trials),
@@ -61,13 +75,19 @@ impl TraceReport {
     pub fn table(&self) -> String {
         let c = &self.counters;
         let d = &c.draws;
+        let why = self.not_resolved.as_deref().unwrap_or("");
         let stats = match (&self.mean, &self.variance) {
             (Some(m), Some(v)) => format!(
                 "mean L          {:.10e} ± {:.2e} (s.e.)\nVar L           {:.10e} ± {:.2e} (s.e., from the 4th \
                  moment)\n",
                 m.value, m.se, v.value, v.se
             ),
-            _ => "mean L, Var L   not given below 4 trials (merge shards first)\n".to_string(),
+            // A single missing quantity: its reason starts with its name.
+            (Some(m), None) => format!("mean L          {:.10e} ± {:.2e} (s.e.)\n{why}\n", m.value, m.se),
+            (None, Some(v)) => {
+                format!("{why}\nVar L           {:.10e} ± {:.2e} (s.e., from the 4th moment)\n", v.value, v.se)
+            }
+            (None, None) => format!("mean L, Var L   {why}\n"),
         };
         format!(
             "trials {}  seed {}\n\
@@ -117,10 +137,17 @@ pub struct Side {
 }
 
 impl Side {
-    /// The oracle's value and bar beside the tracer's estimate, with ratio and z.
+    /// The oracle's value and bar beside the tracer's estimate, with ratio
+    /// and z. The tracer's estimate should be resolved (`Run::estimates`:
+    /// s.e. > 0), or z is infinite; [`Side::finite`] says whether it is.
     pub fn new(oracle: f64, oracle_error: f64, tracer: WithError) -> Side {
         let z = (tracer.value - oracle) / (tracer.se * tracer.se + oracle_error * oracle_error).sqrt();
         Side { oracle, oracle_error, tracer: tracer.value, tracer_se: tracer.se, ratio: tracer.value / oracle, z }
+    }
+
+    /// Every number of the side finite (no inf or NaN ratio or z).
+    pub fn finite(&self) -> bool {
+        [self.oracle, self.oracle_error, self.tracer, self.tracer_se, self.ratio, self.z].iter().all(|x| x.is_finite())
     }
 }
 
@@ -146,17 +173,19 @@ pub struct Comparison {
     pub trials: u64,
     /// The tracer's seed.
     pub seed: u64,
-    /// Mean luminance L, oracle beside tracer.
-    pub mean: Side,
-    /// Var L of one iteration, oracle beside tracer.
-    pub variance: Side,
+    /// Mean luminance L, oracle beside tracer (null when not resolved).
+    pub mean: Option<Side>,
+    /// Var L of one iteration, oracle beside tracer (null when not resolved).
+    pub variance: Option<Side>,
     /// |z| ≤ this for both quantities passes.
     pub z_limit: f64,
     /// The oracle model compared against (`ReportPrediction::model`).
     pub model: &'static str,
-    /// Both |z| ≤ `z_limit`.
+    /// Both resolved and |z| ≤ `z_limit`.
     pub pass: bool,
-    /// One line: AGREE or DISAGREE, both z, the limit and the model compared against.
+    /// One line: AGREE or DISAGREE with both z, the limit and the model
+    /// compared against; or NOT RESOLVED with the reason (no hits, no spread,
+    /// a value beyond a double, or a z that would not be finite).
     pub verdict: String,
 }
 
@@ -164,32 +193,56 @@ pub struct Comparison {
 pub const Z_LIMIT: f64 = 4.0;
 
 impl Comparison {
-    /// The verdict of the tracer's `trials` (seed `seed`) against the oracle's prediction.
-    pub fn new(oracle: &Report, tracer: &Summary, trials: u64, seed: u64) -> Comparison {
-        let (mean, variance) = sides(oracle, tracer);
-        let pass = mean.z.abs() <= Z_LIMIT && variance.z.abs() <= Z_LIMIT;
-        let model = oracle.prediction.model;
+    /// The verdict of the tracer's `trials` (seed `seed`) against the
+    /// oracle's prediction: AGREE, DISAGREE, or NOT RESOLVED when the tracer
+    /// has not resolved the mean or the variance (`Run::estimates`) or a
+    /// z-score would not be finite. `pass` only for AGREE.
+    pub fn new(oracle: &Report, tracer: &Estimates, trials: u64, seed: u64) -> Comparison {
+        let p = &oracle.prediction;
+        let side = |name: &str, value: f64, error: f64, measured: &Result<WithError, String>| {
+            let m = measured.as_ref().map_err(|why| why.clone())?;
+            let s = Side::new(value, error, *m);
+            if s.finite() {
+                Ok(s)
+            } else {
+                Err(format!(
+                    "{name}: oracle {value:e} ± {error:e} against tracer {:e} ± {:e} gives no finite ratio and z",
+                    m.value, m.se
+                ))
+            }
+        };
+        let mean = side("mean L", p.mean.value, p.mean.error, &tracer.mean);
+        let variance = side("Var L", p.variance.value, p.variance.error, &tracer.variance);
         let basis = if oracle.finite.is_some() {
             "the finite-sphere model, exact at this R".to_string()
         } else {
             "the small-sphere model, whose own O(R) error is not included".to_string()
         };
-        let verdict = format!(
-            "{}: mean z = {:+.2}, variance z = {:+.2} (limit |z| <= {Z_LIMIT}; against {basis})",
-            if pass { "AGREE" } else { "DISAGREE" },
-            mean.z,
-            variance.z
-        );
-        Comparison { trials, seed, mean, variance, z_limit: Z_LIMIT, model, pass, verdict }
+        let (pass, verdict) = match (&mean, &variance) {
+            (Ok(m), Ok(v)) => {
+                let pass = m.z.abs() <= Z_LIMIT && v.z.abs() <= Z_LIMIT;
+                let verdict = format!(
+                    "{}: mean z = {:+.2}, variance z = {:+.2} (limit |z| <= {Z_LIMIT}; against {basis})",
+                    if pass { "AGREE" } else { "DISAGREE" },
+                    m.z,
+                    v.z
+                );
+                (pass, verdict)
+            }
+            (Err(why), _) | (_, Err(why)) => (false, format!("NOT RESOLVED: {why}")),
+        };
+        let model = p.model;
+        Comparison { trials, seed, mean: mean.ok(), variance: variance.ok(), z_limit: Z_LIMIT, model, pass, verdict }
     }
 
     /// A readable table.
     pub fn table(&self) -> String {
-        let row = |name: &str, s: &Side| {
-            format!(
+        let row = |name: &str, s: &Option<Side>| match s {
+            Some(s) => format!(
                 "{name:<9} oracle {:.8e} ± {:.1e}   tracer {:.8e} ± {:.1e}   ratio {:.5}   z {:+.2}\n",
                 s.oracle, s.oracle_error, s.tracer, s.tracer_se, s.ratio, s.z
-            )
+            ),
+            None => format!("{name:<9} not resolved (below)\n"),
         };
         format!(
             "trials {}  seed {}\n{}{}{}\n",
