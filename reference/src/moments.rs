@@ -1,9 +1,12 @@
 //! Exact power sums of the per-trial luminance, and the mean, the variance
 //! and their standard errors from them.
 //!
-//! Σ L, Σ L², Σ L³, Σ L⁴ are kept *exactly* (MPFR numbers of 2 300 bits: any
-//! sum of up to 2⁶⁴ doubles is exact at that width, since doubles span
-//! 2⁻¹⁰⁷⁴…2¹⁰²⁴). Sums are therefore independent of the order of addition:
+//! Σ L, Σ L², Σ L³, Σ L⁴ are kept *exactly*: each power Lᵏ is formed
+//! exactly (at most 212 significant bits) and added to an MPFR number of
+//! 2 300 bits, which holds the sum of up to 2⁶⁴ such terms exactly as long
+//! as they lie within ~2¹⁹⁰⁰ of each other (the tracer's L/2^E are of
+//! order 1; a term smaller than 2⁻¹⁹⁰⁰ of the largest is rounded at 2⁻²³⁰⁰
+//! relative, far below anything reported). Sums are therefore independent of the order of addition:
 //! the result is bit-identical for any number of threads and any split of
 //! the trial range into shards, and the central moments are formed at that
 //! width too, without cancellation.
@@ -25,6 +28,9 @@ use serde::{Deserialize, Serialize};
 
 /// Width of the exact sums, in bits.
 const EXACT_BITS: u32 = 2300;
+
+/// Width of one trial's powers Lᵏ, k ≤ 4: exact for any double L.
+const POWER_BITS: u32 = 4 * 53;
 
 /// Exact Σ Lᵏ, k = 1…4, over `count` trials.
 #[derive(Debug, Clone, PartialEq)]
@@ -101,11 +107,14 @@ impl PowerSums {
         let fourth = (l * l) * (l * l);
         assert!(l.is_finite() && fourth.is_finite(), "a trial's luminance {l:e} or its fourth power is not finite");
         self.count += 1;
-        let mut power = l;
-        for (k, sum) in self.sums.iter_mut().enumerate() {
-            if k > 0 {
-                power *= l;
-            }
+        // The powers themselves exactly: L has 53 significant bits, L⁴ 212.
+        // (Rounding them to doubles first made 1000 equal values give a
+        // negative s² and a NaN standard error.)
+        let x = Float::with_val(POWER_BITS, l);
+        let x2 = Float::with_val(POWER_BITS, &x * &x);
+        let x3 = Float::with_val(POWER_BITS, &x2 * &x);
+        let x4 = Float::with_val(POWER_BITS, &x2 * &x2);
+        for (sum, power) in self.sums.iter_mut().zip([&x, &x2, &x3, &x4]) {
             *sum += power;
         }
     }
@@ -135,19 +144,25 @@ impl PowerSums {
         if self.count < 4 {
             return None;
         }
-        let prec = EXACT_BITS + 64;
+        // The central sums M·μ₂·M = M·S₂ − S₁² and M⁴·μ₄ = M³S₄ − 4M²S₃S₁ +
+        // 6M S₂S₁² − 3S₁⁴ are polynomials in the exact sums: at 4·2300 bits
+        // (+ the count's 64 bits per factor) they are exact too, so equal
+        // values give μ₂ = 0 exactly and no cancellation can make it negative.
+        let prec = 4 * EXACT_BITS + 4 * 64 + 64;
         let m = Float::with_val(prec, self.count);
-        let mean = Float::with_val(prec, &self.sums[0] / &m);
-        let raw: Vec<Float> = self.sums.iter().map(|s| Float::with_val(prec, s / &m)).collect();
-        // Central moments from the raw ones (exact inputs, wide arithmetic).
-        let mean2 = Float::with_val(prec, &mean * &mean);
-        let mu2 = Float::with_val(prec, &raw[1] - &mean2);
+        let [s1, s2_, s3, s4] = &self.sums;
+        let s1 = Float::with_val(prec, s1);
+        let s1sq = Float::with_val(prec, &s1 * &s1);
+        let mean = Float::with_val(prec, &s1 / &m);
+        let central2 = Float::with_val(prec, Float::with_val(prec, &m * s2_) - &s1sq);
+        let mu2 = Float::with_val(prec, &central2 / Float::with_val(prec, &m * &m));
         let mu4 = {
-            let mut t = raw[3].clone();
-            t -= Float::with_val(prec, 4 * Float::with_val(prec, &raw[2] * &mean));
-            t += Float::with_val(prec, 6 * Float::with_val(prec, &raw[1] * &mean2));
-            t -= Float::with_val(prec, 3 * Float::with_val(prec, &mean2 * &mean2));
-            t
+            let m2 = Float::with_val(prec, &m * &m);
+            let mut t = Float::with_val(prec, Float::with_val(prec, &m2 * &m) * s4);
+            t -= Float::with_val(prec, Float::with_val(prec, &m2 * s3) * &s1) * 4u32;
+            t += Float::with_val(prec, Float::with_val(prec, &m * s2_) * &s1sq) * 6u32;
+            t -= Float::with_val(prec, &s1sq * &s1sq) * 3u32;
+            t / Float::with_val(prec, &m2 * &m2)
         };
         let mut s2 = Float::with_val(prec, &mu2 * &m);
         s2 /= Float::with_val(prec, &m - 1u32);

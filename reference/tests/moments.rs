@@ -72,3 +72,23 @@ fn variance_error_bars_cover_the_truth() {
     let outside = zs.iter().filter(|z| z.abs() > 2.0).count() as f64 / n;
     assert!(outside < 0.1, "{outside} of the runs beyond 2 se");
 }
+
+/// Equal values have s² = 0 exactly and no standard error (the powers used
+/// to be rounded to doubles before the exact sums: 1000 copies of
+/// 1.111498698e−3 gave s² = −3.3e−23 and a NaN standard error).
+#[test]
+fn equal_values_have_zero_variance_exactly() {
+    for l in [1.111498698e-3, 0.1, 1.0 / 3.0, 3.0e-5] {
+        let mut sums = mcrt_reference::moments::PowerSums::default();
+        for _ in 0..1000 {
+            sums.push(l);
+        }
+        let e = sums.estimates();
+        assert!(e.mean.is_err(), "{l}: mean {:?}", e.mean);
+        assert!(e.variance.is_err(), "{l}: variance {:?}", e.variance);
+        // One different value: s² > 0 with finite standard errors.
+        sums.push(l * 2.0);
+        let s = sums.estimates().summary().unwrap_or_else(|why| panic!("{l}: {why}"));
+        assert!(s.variance.value > 0.0 && s.variance.se.is_finite() && s.mean.se > 0.0, "{l}: {s:?}");
+    }
+}

@@ -101,18 +101,10 @@ impl Samples {
         }
         let power_sums = PowerSums::from_f64_sums(count, sums)
             .ok_or_else(|| SampleError::InvalidSums(format!("sums = {sums:?}: must be finite")))?;
-        // Necessary conditions of real data: Σ L² ≥ (Σ L)²/n and Σ L⁴ ≥ (Σ L²)²/n
-        // (Cauchy–Schwarz), up to the stated rounding.
-        let n = count as f64;
-        let slack = 1.0 + 4.0 * sums_relative_error + 1e-12;
-        if sums[1] < 0.0
-            || sums[3] < 0.0
-            || sums[1] * n * slack < sums[0] * sums[0]
-            || sums[3] * n * slack < sums[1] * sums[1]
-        {
+        if let Err(why) = realisable(count, &sums, sums_relative_error) {
             return Err(SampleError::InvalidSums(format!(
-                "sums = {sums:?} with count = {count}: not the power sums of real numbers (need Σ L² ≥ (Σ L)²/n, \
-                 Σ L⁴ ≥ (Σ L²)²/n)"
+                "sums = {sums:?} with count = {count}: not the power sums of real numbers ({why}), even allowing \
+                 for the stated relative error {sums_relative_error:e} of each sum"
             )));
         }
         Ok(Samples { sums: power_sums, sums_relative_error })
@@ -180,4 +172,44 @@ impl Samples {
             _ => (0.0, 0.0),
         }
     }
+}
+
+/// Whether power sums S₁…S₄ of `count` numbers can come from real numbers,
+/// each sum known to relative error `eps`: the central sums c₂ = nS₂ − S₁²
+/// (n²μ₂) and c₄ = n³S₄ − 4n²S₃S₁ + 6nS₂S₁² − 3S₁⁴ (n⁴μ₄) must satisfy
+/// c₂ ≥ 0 and c₄ ≥ c₂² (μ₄ ≥ μ₂²: the variance of (L − μ)² is not
+/// negative), each up to the rounding the stated error allows. Formed
+/// exactly (2400-bit products of the f64 sums).
+fn realisable(count: u64, sums: &[f64; 4], eps: f64) -> Result<(), String> {
+    use rug::Float;
+    const P: u32 = 2400;
+    let n = Float::with_val(P, count);
+    let [s1, s2, s3, s4] = sums.map(|x| Float::with_val(P, x));
+    let n2 = Float::with_val(P, &n * &n);
+    let s1sq = Float::with_val(P, &s1 * &s1);
+    let terms2 = [Float::with_val(P, &n * &s2), -s1sq.clone()];
+    let terms4 = [
+        Float::with_val(P, Float::with_val(P, &n2 * &n) * &s4),
+        Float::with_val(P, Float::with_val(P, &n2 * &s3) * &s1) * -4i32,
+        Float::with_val(P, Float::with_val(P, &n * &s2) * &s1sq) * 6u32,
+        Float::with_val(P, &s1sq * &s1sq) * -3i32,
+    ];
+    // A product of k sums is off by at most ~k·eps of itself.
+    let err = |terms: &[Float], ks: &[u32]| {
+        terms
+            .iter()
+            .zip(ks)
+            .fold(Float::new(P), |acc, (t, k)| acc + Float::with_val(P, t.abs_ref()) * (eps * f64::from(*k) * 1.01))
+    };
+    let c2 = terms2.iter().fold(Float::new(P), |acc, t| acc + t);
+    let c4 = terms4.iter().fold(Float::new(P), |acc, t| acc + t);
+    let (e2, e4) = (err(&terms2, &[1, 2]), err(&terms4, &[1, 2, 3, 4]));
+    if Float::with_val(P, &c2 + &e2) < 0 {
+        return Err("Σ L² < (Σ L)²/n".into());
+    }
+    let c2_low = Float::with_val(P, &c2 - &e2).max(&Float::new(P));
+    if Float::with_val(P, &c4 + &e4) < Float::with_val(P, &c2_low * &c2_low) {
+        return Err("the fourth central moment is below the square of the second".into());
+    }
+    Ok(())
 }

@@ -90,7 +90,19 @@ fn read_samples(path: &Path) -> Result<Samples, String> {
             reader.take(MAX_LINE).read_to_string(&mut text).map_err(io)?;
             let f: SumsFile =
                 serde_json::from_str(&text).map_err(|e| format!("--values {at}: power sums JSON: {e}"))?;
-            let eps = f.sums_relative_error.unwrap_or(f.count as f64 * f64::EPSILON / 2.0);
+            // The default bounds plain f64 summation, M·2⁻⁵³; past ~10¹³
+            // values that bound exceeds what the check accepts: say so.
+            let eps = match f.sums_relative_error {
+                Some(eps) => eps,
+                None if (f.count as f64) * f64::EPSILON / 2.0 < 1e-3 => f.count as f64 * f64::EPSILON / 2.0,
+                None => {
+                    return Err(format!(
+                        "--values {at}: count = {}: plain f64 sums of that many values may be off by more than 10⁻³ \
+                         relative; give \"sums_relative_error\" (e.g. 2⁻⁵³ for compensated sums)",
+                        f.count
+                    ))
+                }
+            };
             Samples::from_power_sums(f.count, f.sums, eps).map_err(|e| format!("--values {at}: {e}"))
         }
         Some(b'[') => {
@@ -102,6 +114,13 @@ fn read_samples(path: &Path) -> Result<Samples, String> {
         }
         _ => read_lines(reader, &at),
     }
+    .and_then(|samples| {
+        if samples.count() == 0 {
+            Err(format!("--values {at}: no values (one number per line, a JSON array, or power sums)"))
+        } else {
+            Ok(samples)
+        }
+    })
 }
 
 /// One number per line (`#` comments and blank lines skipped).
