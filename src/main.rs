@@ -31,8 +31,8 @@ enum Command {
         /// `f64` or a number of MPFR bits.
         #[arg(long, default_value = "f64")]
         precision: String,
-        /// Relative tolerance of every integral (default 1e-10 in f64, 2^-(bits-22) in MPFR).
-        #[arg(long)]
+        /// Relative tolerance of every integral, in [1e-30, 0.1] (default 1e-10 in f64, 2^-(bits-22) in MPFR).
+        #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::rel_tol)]
         rel_tol: Option<f64>,
         /// Integrand evaluations the whole run may spend, over every integral and level (default 2e9, ~40 s in f64).
         #[arg(long)]
@@ -46,17 +46,17 @@ enum Command {
     },
     /// Kernel of integral (23), I(ϑ, R), at a chosen precision, with error bar and cost.
     Kernel {
-        /// Angle ϑ in radians (decimal; parsed at the working precision).
+        /// Angle ϑ in radians, in (0, π] (decimal; parsed at the working precision).
         #[arg(long, allow_hyphen_values = true)]
         theta: String,
-        /// Sphere radius R in units of 1/σ_ext (decimal).
-        #[arg(long)]
+        /// Sphere radius R in units of 1/σ_ext, in [1e-12, 1e3] (decimal).
+        #[arg(long, allow_hyphen_values = true)]
         radius: String,
         /// `f64` or a number of MPFR bits.
         #[arg(long, default_value = "f64")]
         precision: String,
-        /// Relative tolerance (default 1e-13 for f64, 2^-(bits-22) for MPFR).
-        #[arg(long)]
+        /// Relative tolerance, in [1e-30, 0.1] (default 1e-13 for f64, 2^-(bits-22) for MPFR).
+        #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::rel_tol)]
         rel_tol: Option<f64>,
         /// Integrate the bare integrand without telling the engine the kink.
         #[arg(long)]
@@ -140,8 +140,8 @@ enum Command {
     },
     /// Measure the f64 special functions against MPFR and write the table.
     Accuracy {
-        /// Points per function.
-        #[arg(long, default_value_t = 100_000)]
+        /// Points per function, in [1, 10^7].
+        #[arg(long, default_value_t = 100_000, allow_negative_numbers = true, value_parser = cli::flags::points)]
         points: usize,
         /// Write the Markdown report here (e.g. docs/accuracy.md).
         #[arg(long)]
@@ -152,8 +152,8 @@ enum Command {
         /// Write the Markdown report here (e.g. docs/accuracy-cost.md).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Repetitions per f64 row (the minimum time is reported).
-        #[arg(long, default_value_t = 50)]
+        /// Repetitions per f64 row (the minimum time is reported), in [1, 10^4].
+        #[arg(long, default_value_t = 50, allow_negative_numbers = true, value_parser = cli::flags::repeats)]
         repeats: usize,
     },
 }
@@ -167,11 +167,11 @@ struct TraceArgs {
     trials: String,
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Worker threads (default: all cores). The numbers do not depend on it.
-    #[arg(long)]
+    /// Worker threads, in [1, 1024] (default: all cores). The numbers do not depend on it.
+    #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::threads)]
     threads: Option<usize>,
-    /// Sphere radius R instead of the scene's estimator.radius.
-    #[arg(long)]
+    /// Sphere radius R instead of the scene's estimator.radius (its range: σ_ext·R in [1e-12, 1e3]).
+    #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::positive)]
     radius: Option<f64>,
     /// One JSON object instead of the table.
     #[arg(long)]
@@ -189,9 +189,10 @@ fn main() -> ExitCode {
         Command::Oracle { scene, precision, rel_tol, max_evals, time_limit, json } => {
             done(budget_from_flags(max_evals, time_limit).and_then(|b| oracle(&scene, &precision, rel_tol, &b, json)))
         }
-        Command::Kernel { theta, radius, precision, rel_tol, bare } => {
-            done(reports::tables::kernel_cli(&theta, &radius, &precision, rel_tol, bare))
-        }
+        Command::Kernel { theta, radius, precision, rel_tol, bare } => done(
+            kernel_args(&theta, &radius)
+                .and_then(|()| reports::tables::kernel_cli(&theta, &radius, &precision, rel_tol, bare)),
+        ),
         Command::Sweep { scene, radii, json } => done(sweep(&scene, &radii, json)),
         Command::Trace { run: a, out } => done(
             load_with_radius(&a.scene, a.radius)
@@ -250,14 +251,31 @@ fn load(path: &PathBuf) -> Result<Scene, String> {
     Scene::from_toml_str(&text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// The scene with estimator.radius replaced (validated as in a scene file).
+/// `kernel --theta`, `--radius`: in range as numbers (`cli::flags`).
+fn kernel_args(theta: &str, radius: &str) -> Result<(), String> {
+    if let Ok(t) = theta.trim().parse::<f64>() {
+        cli::flags::check_theta(theta, t)?;
+    }
+    if let Ok(r) = radius.trim().parse::<f64>() {
+        cli::flags::check_kernel_radius(radius, r)?;
+    }
+    Ok(())
+}
+
+/// The scene with estimator.radius replaced, validated as in a scene file
+/// (its bound σ_ext·R is the scene's), an error naming `--radius`.
 fn load_with_radius(path: &PathBuf, radius: Option<f64>) -> Result<Scene, String> {
     let mut scene = load(path)?;
     if let Some(r) = radius {
-        if !(r.is_finite() && r > 0.0) {
-            return Err(format!("--radius = {r}: must be finite and > 0"));
-        }
         scene.estimator.radius = r;
+        scene = scene.validated().map_err(|e| match e {
+            mcrt_noise::scene::SceneError::Invalid(errors) => errors
+                .iter()
+                .map(|e| e.to_string().replace("estimator.radius", "--radius"))
+                .collect::<Vec<_>>()
+                .join("; "),
+            other => other.to_string(),
+        })?;
     }
     Ok(scene)
 }
@@ -296,6 +314,11 @@ fn sweep(path: &PathBuf, radii: &[f64], json: bool) -> Result<(), String> {
         return Err(format!("--radii: {bad} is not a radius (finite and > 0)"));
     }
     let scene = load(path)?;
+    for &r in radii {
+        let mut s = scene.clone();
+        s.estimator.radius = r;
+        s.validated().map_err(|e| format!("--radii: {}", e.to_string().replace("estimator.radius", "R")))?;
+    }
     let rows = mcrt_noise::reports::sweep::sweep(&scene, radii)?;
     if json {
         use mcrt_noise::model::correlations::Which;

@@ -8,15 +8,15 @@
 //! the finite-sphere model where it exists, the small-sphere one otherwise,
 //! and says which.
 
-use crate::model::field::Field;
-use crate::model::finite::{FiniteField, FiniteIntegrals};
+use crate::model::field::{beam_interval, Field};
+use crate::model::finite::{FiniteField, FiniteIntegrals, Functional};
 use crate::model::noise::{
     d_constants, d_errors, relative_from_d, relative_from_d_error, variance, Counts, Integrals, Valued,
 };
 use crate::model::OracleError;
 use crate::quad::{Budget, CheckRule, Estimate, Options};
 use crate::real::Real;
-use mcrt_scene::Scene;
+use mcrt_scene::{Light, Scene};
 use serde::Serialize;
 use std::time::Instant;
 
@@ -302,6 +302,9 @@ pub fn run_with<T: CheckRule>(
         ));
     }
     let finite_field = FiniteField::from_scene(scene, &field);
+    if !field.lights_the_camera_ray() {
+        return Err(no_light_on_the_camera_ray(scene, finite_field.as_ref(), rel_tol));
+    }
     let (ints, finite) = rayon::join(
         || Integrals::compute(&field, &r, &Options::rel(rel_tol).with_budget(budget.clone())),
         || finite_field.as_ref().map(|ff| ff.integrals(&Options::rel(rel_tol).with_budget(budget.clone()))).transpose(),
@@ -465,6 +468,51 @@ impl Report {
         }
         Ok(())
     }
+}
+
+/// Why the oracle refuses a scene whose camera ray (its line) meets no
+/// light: the small-sphere model's mean is then exactly 0, and every ratio
+/// of the report is undefined. Spheres of radius R grazing a beam still
+/// receive light (the tracer measures it): then the finite-sphere model's
+/// mean is computed and named, so the message does not claim a dark pixel.
+fn no_light_on_the_camera_ray<T: CheckRule>(scene: &Scene, ff: Option<&FiniteField<T>>, rel_tol: f64) -> OracleError {
+    let r = scene.estimator.radius;
+    // A sphere at x(s), s ≥ 0, receives a beam's rays when its centre is within
+    // a_b + R of the axis, in front of the disk (a ray's closest point to the
+    // centre lies at the centre's depth): the beam widened by R.
+    let (o, u) = (scene.camera.origin, scene.camera.direction);
+    let reach = scene.lights.iter().any(|l| match *l {
+        Light::Beam { center, direction, radius, .. } => {
+            let (mu, depth0) = (u.dot(direction), (o - center).dot(direction));
+            let (s_in, s_out) = beam_interval(o - center, u, direction, radius + r, depth0, mu);
+            s_out != Some(s_in)
+        }
+        Light::Point { .. } => true,
+    });
+    let grazing = ff
+        .filter(|_| reach)
+        .map(|ff| (ff.ray_total(Functional::Mean, &Options::rel(rel_tol)), (-ff.shift.clone()).exp()));
+    let msg = match grazing {
+        Some((Ok(m), k)) if !m.value.is_zero() => format!(
+            "the camera ray passes outside every light (no beam crosses it in front of its disk), so the \
+             small-sphere model (R → 0) predicts L = 0; but its spheres of radius R = {r} graze a beam and receive \
+             light: the finite-sphere model's mean luminance at this R is {:.6e} ± {:.1e} (the tracer measures it \
+             too). The oracle reports a scene only where the camera ray itself meets light (its report compares the \
+             two models); move the beam onto the camera ray, or use `trace`",
+            (m.value * k.clone()).to_f64(),
+            (m.error * k).to_f64()
+        ),
+        Some((Err(e), _)) => format!(
+            "the camera ray passes outside every light (no beam crosses it in front of its disk), so the \
+             small-sphere model (R → 0) predicts L = 0; whether its spheres of radius R = {r} graze a beam is \
+             unknown: {e}"
+        ),
+        _ => format!(
+            "the camera ray meets no light, nor do its spheres of radius R = {r}: the pixel is exactly dark (L = 0, \
+             Var L = 0) and the relative noise is undefined"
+        ),
+    };
+    OracleError::Unsupported(msg)
 }
 
 /// The finite-sphere model's report from its integrals, beside the

@@ -518,4 +518,94 @@ fn trace_checks_its_output_path_before_the_run_and_prints_the_result_if_writing_
         assert_ne!(code, Some(0), "{err}");
         assert!(text.contains("mean L") && err.contains("/dev/full"), "{text}{err}");
     }
+#[test]
+fn every_numeric_flag_is_range_checked_exit_2_naming_flag_value_and_range() {
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
+    let scene = scene.to_str().unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (&["oracle", scene, "--rel-tol", "0"], "'--rel-tol <REL_TOL>': 0 is outside [1e-30, 0.1]"),
+        (&["oracle", scene, "--rel-tol", "NaN"], "'--rel-tol <REL_TOL>': NaN is outside [1e-30, 0.1]"),
+        (&["oracle", scene, "--rel-tol", "-1"], "'--rel-tol <REL_TOL>': -1 is outside [1e-30, 0.1]"),
+        (&["oracle", scene, "--rel-tol", "2"], "'--rel-tol <REL_TOL>': 2 is outside [1e-30, 0.1]"),
+        (&["oracle", scene, "--rel-tol", "inf"], "'--rel-tol <REL_TOL>': inf is outside [1e-30, 0.1]"),
+        (&["kernel", "--theta", "1", "--radius", "1e-3", "--rel-tol", "0.5"], "--rel-tol"),
+        (&["kernel", "--theta", "7", "--radius", "1e-3"], "--theta: 7 is outside (0, π]"),
+        (&["kernel", "--theta", "-1", "--radius", "1e-3"], "--theta: -1 is outside (0, π]"),
+        (&["kernel", "--theta", "1", "--radius", "-0.001"], "--radius: -0.001 is outside [1e-12, 1e3]"),
+        (&["kernel", "--theta", "1", "--radius", "1e-300"], "--radius: 1e-300 is outside [1e-12, 1e3]"),
+        (&["trace", scene, "--trials", "10", "--radius", "-0.001"], "-0.001 is outside (0, ∞)"),
+        (
+            &["trace", scene, "--trials", "10", "--radius", "1e-300"],
+            "--radius = 1e-300: must be finite and > 0 with σ_ext",
+        ),
+        (&["trace", scene, "--trials", "10", "--threads", "1099511627776"], "1099511627776 is outside [1, 1024]"),
+        (&["compare", scene, "--trials", "10", "--threads", "0"], "'--threads <THREADS>': 0 is outside [1, 1024]"),
+        (&["sweep", scene, "--radii", "1e-2,1e-300"], "--radii: scene has 1 invalid value(s):\n  R = 1e-300"),
+        (&["accuracy", "--points", "1099511627776"], "'--points <POINTS>': 1099511627776 is outside [1, 10000000]"),
+        (&["cost", "--repeats", "0"], "'--repeats <REPEATS>': 0 is outside [1, 10000]"),
+    ];
+    for (args, needle) in cases {
+        let out = bin().args(*args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(out.stdout.is_empty(), "{args:?}");
+        assert!(err.contains(needle), "{args:?}: {needle:?} not in {err}");
+        assert!(!err.contains("panicked") && !err.contains("NOT CONVERGED"), "{args:?}: {err}");
+    }
+}
+
+/// A beam whose axis crosses the camera line behind its disk: the line
+/// itself passes just outside the beam (the small-sphere model sees no
+/// light), while the spheres of radius R = 0.01 graze it.
+const GRAZING_BEAM: &str = r#"
+[medium]
+sigma_ext = 1.0
+albedo = 0.8
+[[lights]]
+kind = "beam"
+center = [0.075, 0.0, 1.075]
+direction = [1.0, 0.0, 1.0]
+radius = 0.1
+flux = 1.0
+[camera]
+origin = [0.0, 0.0, 0.0]
+direction = [0.0, 0.0, 1.0]
+[estimator]
+radius = 0.01
+q = 0.5
+forward_rays = 200
+camera_rays = 8
+"#;
+
+#[test]
+fn oracle_names_the_light_grazing_spheres_receive_when_the_camera_ray_misses_every_beam() {
+    let dir = temp_dir("grazing");
+    let path = dir.join("grazing.toml");
+    std::fs::write(&path, GRAZING_BEAM).unwrap();
+    let out = bin().arg("oracle").arg(&path).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(out.stdout.is_empty());
+    assert!(err.contains("spheres of radius R = 0.01 graze a beam") && !err.contains("meets no light"), "{err}");
+    let mean: f64 = err
+        .split("mean luminance at this R is ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no finite-sphere mean in {err}"));
+    // The tracer measures that light: the message's mean, not "no light".
+    let scene = mcrt_noise::Scene::from_toml_str(GRAZING_BEAM).unwrap();
+    let tracer = mcrt_noise::reference::Tracer::new(&scene).unwrap();
+    let n = 100_000u64;
+    let values: Vec<f64> = (0..n).map(|i| tracer.trial(5, i, mcrt_noise::reference::HitMethod::Sorted).0).collect();
+    let m = values.iter().sum::<f64>() / n as f64;
+    let se = (values.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / (n - 1) as f64 / n as f64).sqrt();
+    assert!(m > 0.0 && ((m - mean) / se).abs() < 4.0, "tracer {m} ± {se}, oracle's finite-sphere mean {mean}");
+    // Moved 1 further off the line: not even the spheres see it.
+    std::fs::write(&path, GRAZING_BEAM.replace("center = [0.075, 0.0, 1.075]", "center = [0.075, 1.0, 1.075]"))
+        .unwrap();
+    let out = bin().arg("oracle").arg(&path).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("meets no light, nor do its spheres of radius R = 0.01"), "{err}");
 }

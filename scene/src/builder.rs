@@ -88,7 +88,7 @@ impl SceneBuilder {
     pub fn point_light(mut self, position: [f64; 3], flux: f64) -> Self {
         self.lights.push(LightFile {
             kind: "point".into(),
-            position: Some(position),
+            position: Some(position.into()),
             center: None,
             direction: None,
             radius: None,
@@ -104,8 +104,8 @@ impl SceneBuilder {
         self.lights.push(LightFile {
             kind: "beam".into(),
             position: None,
-            center: Some(center),
-            direction: Some(direction),
+            center: Some(center.into()),
+            direction: Some(direction.into()),
             radius: Some(radius),
             flux,
         });
@@ -183,7 +183,7 @@ impl SceneBuilder {
         let file = SceneFile {
             medium: MediumFile { sigma_ext, albedo, phase },
             lights: self.lights,
-            camera: CameraFile { origin, direction },
+            camera: CameraFile { origin: origin.into(), direction: direction.into() },
             estimator,
             effects: EffectsFile { scattering_orders },
         };

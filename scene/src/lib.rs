@@ -15,6 +15,7 @@
 mod builder;
 mod error;
 mod file;
+pub mod limits;
 mod model;
 mod phase;
 mod validate;

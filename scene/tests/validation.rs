@@ -243,3 +243,131 @@ fn the_builder_names_every_missing_and_invalid_value() {
     scene.medium.albedo = 2.0;
     assert!(scene.validated().unwrap_err().to_string().contains("medium.albedo = 2"));
 }
+
+/// Issue 11: every field error of `text`, as "field = value: must be …" lines.
+fn errors_of(text: &str) -> Vec<(String, String)> {
+    match Scene::from_toml_str(text) {
+        Err(SceneError::Invalid(errors)) => errors.iter().map(|e| (e.field.clone(), e.to_string())).collect(),
+        other => panic!("expected field errors, got {other:?}"),
+    }
+}
+
+#[test]
+fn arrays_of_other_than_three_numbers_are_refused_not_truncated() {
+    for (from, to, field) in [
+        ("position = [1.0, 0.0, 1.0]", "position = [1, 0, 1, 2]", "lights[0].position"),
+        ("position = [1.0, 0.0, 1.0]", "position = [1.0, 0.0]", "lights[0].position"),
+        ("origin = [0.0, 0.0, 0.0]", "origin = [0.0, 0.0, 0.0, 0.0, 0.0]", "camera.origin"),
+        ("direction = [0.0, 0.0, 1.0]", "direction = []", "camera.direction"),
+    ] {
+        let (f, msg) = field_error(&with(from, to));
+        assert_eq!(f, field, "{to}: {msg}");
+        assert!(msg.contains("exactly 3 numbers"), "{msg}");
+    }
+    let (_, msg) = field_error(&with("position = [1.0, 0.0, 1.0]", "position = [1, 0, 1, 2]"));
+    assert_eq!(msg, "lights[0].position = an array of 4 numbers: must be an array of exactly 3 numbers [x, y, z]");
+}
+
+#[test]
+fn huge_directions_normalise_without_overflow_and_huge_lengths_are_refused_by_name() {
+    // |d| overflows f64, d itself is fine: normalised, not "zero".
+    let s = Scene::from_toml_str(&with("direction = [0.0, 0.0, 1.0]", "direction = [1e300, 1e300, 0]")).unwrap();
+    approx::assert_relative_eq!(s.camera.direction.x, std::f64::consts::FRAC_1_SQRT_2, max_relative = 1e-15);
+    assert_eq!(Scene::from_toml_str(&s.to_toml_string()).unwrap(), s);
+    let s = Scene::from_toml_str(&with("direction = [0.0, 0.0, 1.0]", "direction = [0.0, 1e-320, 1e-320]")).unwrap();
+    approx::assert_relative_eq!(s.camera.direction.length(), 1.0, max_relative = 1e-15);
+    // A coordinate beyond σ_ext·|x| ≤ 1e6: that coordinate is named, nothing else.
+    let (f, msg) = field_error(&with("position = [1.0, 0.0, 1.0]", "position = [1e300, 0.0, 1.0]"));
+    assert_eq!(f, "lights[0].position[0]");
+    assert!(msg.contains("σ_ext·|x| ≤ 1e6"), "{msg}");
+    let (f, msg) = field_error(&with("origin = [0.0, 0.0, 0.0]", "origin = [0.0, -2e6, 0.0]"));
+    assert_eq!(f, "camera.origin[1]", "{msg}");
+    // A light beyond 600 optical depths: named with its optical distance.
+    let (f, msg) = field_error(&with("position = [1.0, 0.0, 1.0]", "position = [800.0, 0.0, 1.0]"));
+    assert_eq!(f, "lights[0].position");
+    assert!(msg.contains("σ_ext·r ≤ 600") && msg.contains("here 800.0") && msg.contains("underflows"), "{msg}");
+    let far =
+        with("sigma_ext = 1.0", "sigma_ext = 2.0").replace("position = [1.0, 0.0, 1.0]", "position = [0, 1, 400]");
+    assert_eq!(field_error(&far).0, "lights[0].position");
+    Scene::from_toml_str(&with("position = [1.0, 0.0, 1.0]", "position = [0.0, 1.0, 599.0]")).unwrap();
+    // A beam: its disk's nearest point counts.
+    let beam = |center: &str| {
+        with(
+            "kind = \"point\"\nposition = [1.0, 0.0, 1.0]",
+            &format!("kind = \"beam\"\ncenter = {center}\ndirection = [1.0, 0.0, 0.0]\nradius = 0.5"),
+        )
+    };
+    let (f, msg) = field_error(&beam("[-700.0, 0.0, 1.0]"));
+    assert_eq!(f, "lights[0].center");
+    assert!(msg.contains("nearest point of the beam's disk"), "{msg}");
+    Scene::from_toml_str(&beam("[-2.0, 0.0, 1.0]")).unwrap();
+    // The builder goes through the same checks.
+    let err = Scene::builder()
+        .medium(1.0, 0.8)
+        .point_light([900.0, 0.0, 1.0], 1.0)
+        .camera([0.0; 3], [1e300, 1e300, 0.0])
+        .estimator(0.01, 0.5, 10, 1)
+        .build()
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("lights[0].position") && err.contains("σ_ext·r ≤ 600") && !err.contains("camera.direction"),
+        "{err}"
+    );
+}
+
+#[test]
+fn scattering_orders_of_a_wrong_type_name_the_field_and_the_allowed_values() {
+    for v in ["1.0", "true", "18446744073709551615", "-1"] {
+        let (f, msg) = field_error(&with("scattering_orders = 0", &format!("scattering_orders = {v}")));
+        assert_eq!(f, "effects.scattering_orders", "{v}");
+        assert!(msg.contains("an integer in [0, 1000000] or \"all\""), "{v}: {msg}");
+        assert!(msg.contains(v), "{v}: {msg}");
+    }
+}
+
+#[test]
+fn scales_counts_and_q_outside_what_downstream_can_compute_are_refused_with_the_bound() {
+    let cases: &[(&str, &str, &str, &str)] = &[
+        ("q = 0.5", "q = 1e-12", "estimator.q", "at least 1e-6"),
+        ("camera_rays = 8", "camera_rays = 1099511627776", "estimator.camera_rays", "[1, 1000000]"),
+        ("forward_rays = 200", "forward_rays = 1099511627776", "estimator.forward_rays", "[1, 100000000]"),
+        ("radius = 0.01", "radius = 1e-300", "estimator.radius", "σ_ext·radius in [1e-12, 1e3]"),
+        ("radius = 0.01", "radius = 1e4", "estimator.radius", "σ_ext·radius in [1e-12, 1e3]"),
+        ("flux = 1.0", "flux = 1e300", "lights[0].flux", "[1e-10, 1e10]"),
+        ("flux = 1.0", "flux = 1e-300", "lights[0].flux", "[1e-10, 1e10]"),
+        ("sigma_ext = 1.0", "sigma_ext = 5e-324", "medium.sigma_ext", "[1e-10, 1e10]"),
+        ("sigma_ext = 1.0", "sigma_ext = 1e300", "medium.sigma_ext", "[1e-10, 1e10]"),
+        ("g = 0.0", "g = 0.9999999", "medium.phase.g", "[-0.999999, 0.999999]"),
+    ];
+    for (from, to, field, range) in cases {
+        let (f, msg) = field_error(&with(from, to));
+        assert_eq!(&f, field, "{to}: {msg}");
+        assert!(msg.contains(range), "{to}: message {msg:?} lacks {range:?}");
+    }
+    // N_B/q bounds the spheres one iteration stores.
+    let text = with("q = 0.5", "q = 0.01").replace("camera_rays = 8", "camera_rays = 1000000");
+    let errors = errors_of(&text);
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert_eq!(errors[0].0, "estimator.camera_rays / estimator.q");
+    assert!(errors[0].1.contains("1e8") && errors[0].1.contains("at most 1e7"), "{}", errors[0].1);
+    // σ_ext·R is checked in units of 1/σ_ext, with a few ulps of slack at the bound.
+    let dense = with("sigma_ext = 1.0", "sigma_ext = 1e10")
+        .replace("position = [1.0, 0.0, 1.0]", "position = [1e-10, 0.0, 1e-10]");
+    Scene::from_toml_str(&dense.replace("radius = 0.01", "radius = 1e-22")).unwrap();
+    assert_eq!(field_error(&dense).0, "estimator.radius");
+    // The builder: the same bounds.
+    let err = Scene::builder()
+        .medium(5e-324, 0.8)
+        .point_light([1.0, 0.0, 1.0], 1e300)
+        .camera([0.0; 3], [0.0, 0.0, 1.0])
+        .estimator(1e-300, 1e-12, 1 << 40, 1 << 40)
+        .build()
+        .unwrap_err()
+        .to_string();
+    for field in
+        ["medium.sigma_ext", "lights[0].flux", "estimator.q", "estimator.forward_rays", "estimator.camera_rays"]
+    {
+        assert!(err.contains(field), "{field} not in {err}");
+    }
+}

@@ -1,2 +1,3 @@
 pub mod check_cmd;
+pub mod flags;
 pub mod trace_cmd;

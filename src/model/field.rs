@@ -226,6 +226,20 @@ impl<T: Real> Field<T> {
         !self.scattered.is_empty()
     }
 
+    /// Whether any light reaches the camera ray itself (its line, s ≥ 0):
+    /// every point light and single-scattered field does; a beam only if the
+    /// line passes through it in front of its disk. Where none does, the
+    /// small-sphere model (which takes the field at a sphere's centre) sees
+    /// no light, though spheres of radius R grazing a beam may (finite-sphere
+    /// model, the tracer).
+    pub fn lights_the_camera_ray(&self) -> bool {
+        !self.scattered.is_empty()
+            || self.components.iter().any(|c| match &c.geometry {
+                Geometry::Point { .. } => true,
+                Geometry::Beam { s_in, s_out, .. } => s_out.as_ref() != Some(s_in),
+            })
+    }
+
     /// The x of the camera (s = 0).
     pub fn x_camera(&self) -> T {
         -self.center.clone()

@@ -1,0 +1,102 @@
+//! The numeric flags' ranges, in one place: clap value parsers that refuse
+//! a value outside its range with the value and the range named (clap adds
+//! the flag and exits 2). Ranges: `docs/scene-format.md`, "Command-line flags".
+
+use mcrt_noise::scene::limits::{MAX_OPTICAL_RADIUS, MIN_OPTICAL_RADIUS};
+
+/// `--rel-tol` in [1e-30, 0.1]: looser than 10 % is no error bar; 1e-30
+/// is about 100 bits of MPFR (a tolerance tighter than the working
+/// precision's rounding is attempted and reported as NOT CONVERGED).
+pub const REL_TOL: (f64, f64) = (1e-30, 0.1);
+/// `kernel --radius` (R in units of 1/σ_ext): the scene's bound on σ_ext·R.
+pub const KERNEL_RADIUS: (f64, f64) = (MIN_OPTICAL_RADIUS, MAX_OPTICAL_RADIUS);
+/// `--threads` in [1, 1024].
+pub const THREADS: (usize, usize) = (1, 1024);
+/// `accuracy --points` in [1, 10⁷].
+pub const POINTS: (usize, usize) = (1, 10_000_000);
+/// `cost --repeats` in [1, 10⁴].
+pub const REPEATS: (usize, usize) = (1, 10_000);
+
+/// `x` in its shorter form, plain or with an exponent (`1e-300`, `0.5`).
+fn short(x: f64) -> String {
+    let (plain, exp) = (format!("{x}"), format!("{x:e}"));
+    if exp.len() < plain.len() {
+        exp
+    } else {
+        plain
+    }
+}
+
+fn closed(text: &str, (lo, hi): (f64, f64)) -> Result<f64, String> {
+    let v: f64 = text.trim().parse().map_err(|_| format!("{text:?} is not a number"))?;
+    if (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{} is outside [{}, {}]", text.trim(), short(lo), short(hi)))
+    }
+}
+
+fn count(text: &str, (lo, hi): (usize, usize)) -> Result<usize, String> {
+    let v: usize = text.trim().parse().map_err(|_| format!("{text:?} is not an integer in [{lo}, {hi}]"))?;
+    if (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("{v} is outside [{lo}, {hi}]"))
+    }
+}
+
+/// `--rel-tol`.
+pub fn rel_tol(text: &str) -> Result<f64, String> {
+    closed(text, REL_TOL)
+}
+
+/// `--threads`.
+pub fn threads(text: &str) -> Result<usize, String> {
+    count(text, THREADS)
+}
+
+/// `accuracy --points`.
+pub fn points(text: &str) -> Result<usize, String> {
+    count(text, POINTS)
+}
+
+/// `cost --repeats`.
+pub fn repeats(text: &str) -> Result<usize, String> {
+    count(text, REPEATS)
+}
+
+/// `trace --radius`, `compare --radius`: finite and > 0 here; its bound in
+/// units of 1/σ_ext is the scene's (`estimator.radius`), checked with the scene.
+pub fn positive(text: &str) -> Result<f64, String> {
+    let v: f64 = text.trim().parse().map_err(|_| format!("{text:?} is not a number"))?;
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{} is outside (0, ∞): must be finite and > 0", text.trim()))
+    }
+}
+
+/// `kernel --theta` as a number (it is parsed again at the working
+/// precision): ϑ in (0, π]; the kernel needs sin ϑ > 0.
+pub fn check_theta(text: &str, theta: f64) -> Result<(), String> {
+    if theta > 0.0 && theta <= std::f64::consts::PI {
+        Ok(())
+    } else {
+        Err(format!("--theta: {} is outside (0, π] (radians; at ϑ = 0 the kernel has no edge)", text.trim()))
+    }
+}
+
+/// `kernel --radius` as a number (parsed again at the working precision).
+pub fn check_kernel_radius(text: &str, r: f64) -> Result<(), String> {
+    let (lo, hi) = KERNEL_RADIUS;
+    if (lo..=hi).contains(&r) {
+        Ok(())
+    } else {
+        Err(format!(
+            "--radius: {} is outside [{}, {}] (R in units of 1/σ_ext, the scene's bound)",
+            text.trim(),
+            short(lo),
+            short(hi)
+        ))
+    }
+}
