@@ -518,6 +518,8 @@ fn trace_checks_its_output_path_before_the_run_and_prints_the_result_if_writing_
         assert_ne!(code, Some(0), "{err}");
         assert!(text.contains("mean L") && err.contains("/dev/full"), "{text}{err}");
     }
+}
+
 #[test]
 fn every_numeric_flag_is_range_checked_exit_2_naming_flag_value_and_range() {
     let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
