@@ -65,7 +65,10 @@ fn l_is_scaled_exactly_by_powers_of_two_of_the_flux() {
     let one = Tracer::new(&common::scene("point-isotropic", &[("radius = 0.01", "radius = 0.2")])).unwrap();
     let base = run(&one, 0..3000).estimates();
     let (m, v) = (base.mean.unwrap(), base.variance.unwrap());
-    for k in [900, 300, -300, -1000] {
+    // Fluxes within the scene's bounds ([1e−10, 1e10], `mcrt_scene::limits`):
+    // the scaling is exact; beyond a double's range the sums give a reason
+    // instead (tests/moments.rs).
+    for k in [33, 17, -17, -33] {
         let mut scene = one.scene().clone();
         scene.lights[0] = mcrt_scene::Light::Point {
             position: glam::DVec3::new(1.0, 0.0, 1.0),
@@ -76,11 +79,8 @@ fn l_is_scaled_exactly_by_powers_of_two_of_the_flux() {
         let scale = |x: f64, n: i32| x * 2f64.powi(n / 2) * 2f64.powi(n - n / 2);
         let mean = e.mean.as_ref().unwrap_or_else(|why| panic!("2^{k}: {why}"));
         assert_eq!((mean.value, mean.se), (scale(m.value, k), scale(m.se, k)), "2^{k}");
-        match (&e.variance, k.abs() <= 300) {
-            (Ok(var), true) => assert_eq!((var.value, var.se), (scale(v.value, 2 * k), scale(v.se, 2 * k))),
-            (Err(why), false) => assert!(why.contains("outside the range of a double"), "{why}"),
-            (other, _) => panic!("2^{k}: {other:?}"),
-        }
+        let var = e.variance.as_ref().unwrap_or_else(|why| panic!("2^{k}: {why}"));
+        assert_eq!((var.value, var.se), (scale(v.value, 2 * k), scale(v.se, 2 * k)), "2^{k}");
     }
 }
 
