@@ -49,7 +49,7 @@ enum Command {
         /// Angle ϑ in radians, in (0, π] (decimal; parsed at the working precision).
         #[arg(long, allow_hyphen_values = true)]
         theta: String,
-        /// Sphere radius R in units of 1/σ_ext, in [1e-12, 1e3] (decimal).
+        /// Sphere radius R in units of 1/σ_ext, in [1e-200, 1e300] (decimal).
         #[arg(long, allow_hyphen_values = true)]
         radius: String,
         /// `f64` or a number of MPFR bits.

@@ -2,14 +2,12 @@
 //! a value outside its range with the value and the range named (clap adds
 //! the flag and exits 2). Ranges: `docs/scene-format.md`, "Command-line flags".
 
-use mcrt_noise::scene::limits::{MAX_OPTICAL_RADIUS, MIN_OPTICAL_RADIUS};
-
 /// `--rel-tol` in [1e-30, 0.1]: looser than 10 % is no error bar; 1e-30
 /// is about 100 bits of MPFR (a tolerance tighter than the working
 /// precision's rounding is attempted and reported as NOT CONVERGED).
 pub const REL_TOL: (f64, f64) = (1e-30, 0.1);
-/// `kernel --radius` (R in units of 1/σ_ext): the scene's bound on σ_ext·R.
-pub const KERNEL_RADIUS: (f64, f64) = (MIN_OPTICAL_RADIUS, MAX_OPTICAL_RADIUS);
+/// `kernel --radius` (R in units of 1/σ_ext): the kernel is computed at any R (its far edge by analysis, `kernel.rs`); below 1e-200 its value ~R falls under the engine's absolute floor.
+pub const KERNEL_RADIUS: (f64, f64) = (1e-200, 1e300);
 /// `--threads` in [1, 1024].
 pub const THREADS: (usize, usize) = (1, 1024);
 /// `accuracy --points` in [1, 10⁷].
@@ -93,7 +91,7 @@ pub fn check_kernel_radius(text: &str, r: f64) -> Result<(), String> {
         Ok(())
     } else {
         Err(format!(
-            "--radius: {} is outside [{}, {}] (R in units of 1/σ_ext, the scene's bound)",
+            "--radius: {} is outside [{}, {}] (R in units of 1/σ_ext; I(ϑ, R) ~ R as R → 0, and below 1e-200 it falls under the engine's absolute floor of ~3e-290)",
             text.trim(),
             short(lo),
             short(hi)
