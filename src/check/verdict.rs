@@ -198,7 +198,7 @@ pub const MIN_SAMPLES: u64 = 4;
 /// samples.extend(std::iter::repeat(prediction.mean.value).take(1000))?;
 /// let verdict = check(&prediction, &samples, &CheckOptions::default());
 /// assert!(!verdict.pass);
-/// assert!(verdict.reasons[0].contains("Var L"));
+/// assert!(verdict.reasons.iter().any(|r| r.contains("Var L") && r.contains("not resolved")));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions) -> Verdict {
