@@ -65,10 +65,10 @@ pub fn kernel_integral<T: CheckRule>(angle: &Angle<T>, r: &T, opts: &Options) ->
     // Near the poles or for large R the edge lies many decay lengths out
     // (T = 2·10⁹⁷ at ϑ = 10⁻¹⁰⁰, R = 10⁻³) and the content of [0, T] sits in
     // its first few 1/c; I tends to A(0)/c = π/(2c) as T → ∞. The inner
-    // integral then stops at L = 2·4^K/c (e^{−4^K} < eps², `quad::decay_lengths`:
-    // 512/c in f64, a domain as long as the acceptance case I(10⁻⁶, 10⁻³)
-    // has always had) and the rest is bounded, not sampled: since A ≤ π/2,
-    // e^{−s} ∫_L^T A(t/T) e^{−ct} dt ≤ e^{−s} (π/2) e^{−cL}/c ≤ e^{−s} eps⁴,
+    // integral then stops at L = 4·4^K/c (e^{−4^K} < eps², `quad::decay_lengths`:
+    // 1024/c in f64, 512 at the poles, shorter than the acceptance case
+    // I(10⁻⁶, 10⁻³)'s T = 2000) and the rest is bounded, not sampled: since
+    // A ≤ π/2, e^{−s} ∫_L^T A(t/T) e^{−ct} dt ≤ e^{−s} (π/2) e^{−cL}/c ≤ e^{−s} eps⁸,
     // added to the inner bar. (Sampling [0, T] itself printed I = 0 for
     // T = 10⁹⁷, and in MPFR e^{−ct} at t ~ T costs seconds.)
     let zero = r.lit(0.0);
