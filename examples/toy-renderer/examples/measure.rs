@@ -15,19 +15,7 @@ fn main() {
     // `mcrt-noise oracle /tmp/toy/scene.toml`, finite-sphere column.
     let oracle_mean: f64 = args.get(2).map_or(9.7594513594e-4, |a| a.parse().expect("ORACLE_MEAN"));
     let oracle_var: f64 = args.get(3).map_or(9.3288085230e-6, |a| a.parse().expect("ORACLE_VAR"));
-    let scene = ToyScene {
-        sigma_ext: 1.0,
-        albedo: 0.8,
-        g: 0.5,
-        light_position: [1.0, 0.0, 1.0],
-        flux: 1.0,
-        camera_origin: [0.0; 3],
-        camera_direction: [0.0, 0.0, 1.0],
-        radius: 0.2,
-        q: 0.5,
-        forward_rays: 20,
-        camera_rays: 4,
-    };
+    let scene = ToyScene::example();
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get() as u64);
     println!("M = {m}, seed {seed}, {threads} threads; oracle mean {oracle_mean:.6e}, Var L {oracle_var:.6e}");
     println!(

@@ -41,6 +41,29 @@ pub struct ToyScene {
     pub camera_rays: u32,
 }
 
+impl ToyScene {
+    /// The scene of the documented bug table (`docs/library.md`): σ_ext = 1,
+    /// albedo 0.8, Henyey–Greenstein g = 0.5 (the phase bug needs an
+    /// anisotropic medium), a point light at (1, 0, 1), the camera at the
+    /// origin along +z, R = 0.2, q = 0.5 (the q bugs need q < 1), N_F = 20,
+    /// N_B = 4 (the shared-spheres bug needs several camera rays).
+    pub fn example() -> ToyScene {
+        ToyScene {
+            sigma_ext: 1.0,
+            albedo: 0.8,
+            g: 0.5,
+            light_position: [1.0, 0.0, 1.0],
+            flux: 1.0,
+            camera_origin: [0.0; 3],
+            camera_direction: [0.0, 0.0, 1.0],
+            radius: 0.2,
+            q: 0.5,
+            forward_rays: 20,
+            camera_rays: 4,
+        }
+    }
+}
+
 /// A bug planted in the estimator, or none.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Bug {
@@ -185,19 +208,7 @@ mod tests {
     use super::*;
 
     fn scene() -> ToyScene {
-        ToyScene {
-            sigma_ext: 1.0,
-            albedo: 0.8,
-            g: 0.5,
-            light_position: [1.0, 0.0, 1.0],
-            flux: 1.0,
-            camera_origin: [0.0; 3],
-            camera_direction: [0.0, 0.0, 1.0],
-            radius: 0.2,
-            q: 0.5,
-            forward_rays: 20,
-            camera_rays: 4,
-        }
+        ToyScene::example()
     }
 
     #[test]

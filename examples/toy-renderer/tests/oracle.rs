@@ -12,23 +12,9 @@ const ITERATIONS: u64 = 200_000;
 /// Relative errors of the mean and of Var L these iterations must be able to detect.
 const TARGETS: (f64, f64) = (0.05, 0.10);
 
-/// Henyey–Greenstein g = 0.5 (the phase bug needs an anisotropic medium),
-/// q = 0.5 (the q bugs need q < 1), N_B = 4 (the shared-spheres bug needs
-/// several camera rays).
+/// The documented scene (`ToyScene::example`: g = 0.5, q = 0.5, N_B = 4, which the bugs need).
 fn toy_scene() -> ToyScene {
-    ToyScene {
-        sigma_ext: 1.0,
-        albedo: 0.8,
-        g: 0.5,
-        light_position: [1.0, 0.0, 1.0],
-        flux: 1.0,
-        camera_origin: [0.0, 0.0, 0.0],
-        camera_direction: [0.0, 0.0, 1.0],
-        radius: 0.2,
-        q: 0.5,
-        forward_rays: 20,
-        camera_rays: 4,
-    }
+    ToyScene::example()
 }
 
 /// The same scene for the oracle.
