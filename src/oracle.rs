@@ -302,12 +302,14 @@ pub fn run_with<T: CheckRule>(
         ));
     }
     let finite_field = FiniteField::from_scene(scene, &field);
+    // Every integral of the run, both models, charged to the one budget.
+    let opts = Options::rel(rel_tol).with_budget(budget.clone());
     if !field.lights_the_camera_ray() {
-        return Err(no_light_on_the_camera_ray(scene, finite_field.as_ref(), rel_tol));
+        return Err(no_light_on_the_camera_ray(scene, finite_field.as_ref(), &opts));
     }
     let (ints, finite) = rayon::join(
-        || Integrals::compute(&field, &r, &Options::rel(rel_tol).with_budget(budget.clone())),
-        || finite_field.as_ref().map(|ff| ff.integrals(&Options::rel(rel_tol).with_budget(budget.clone()))).transpose(),
+        || Integrals::compute(&field, &r, &opts),
+        || finite_field.as_ref().map(|ff| ff.integrals(&opts)).transpose(),
     );
     let (ints, finite) = (ints?, finite?);
     if ints.mean.value.is_zero() {
@@ -475,7 +477,7 @@ impl Report {
 /// of the report is undefined. Spheres of radius R grazing a beam still
 /// receive light (the tracer measures it): then the finite-sphere model's
 /// mean is computed and named, so the message does not claim a dark pixel.
-fn no_light_on_the_camera_ray<T: CheckRule>(scene: &Scene, ff: Option<&FiniteField<T>>, rel_tol: f64) -> OracleError {
+fn no_light_on_the_camera_ray<T: CheckRule>(scene: &Scene, ff: Option<&FiniteField<T>>, opts: &Options) -> OracleError {
     let r = scene.estimator.radius;
     // A sphere at x(s), s ≥ 0, receives a beam's rays when its centre is within
     // a_b + R of the axis, in front of the disk (a ray's closest point to the
@@ -489,9 +491,7 @@ fn no_light_on_the_camera_ray<T: CheckRule>(scene: &Scene, ff: Option<&FiniteFie
         }
         Light::Point { .. } => true,
     });
-    let grazing = ff
-        .filter(|_| reach)
-        .map(|ff| (ff.ray_total(Functional::Mean, &Options::rel(rel_tol)), (-ff.shift.clone()).exp()));
+    let grazing = ff.filter(|_| reach).map(|ff| (ff.ray_total(Functional::Mean, opts), (-ff.shift.clone()).exp()));
     let msg = match grazing {
         Some((Ok(m), k)) if !m.value.is_zero() => format!(
             "the camera ray passes outside every light (no beam crosses it in front of its disk), so the \
