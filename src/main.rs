@@ -58,7 +58,11 @@ enum Command {
         /// Relative tolerance, in [1e-30, 0.1] (default 1e-13 for f64, 2^-(bits-22) for MPFR).
         #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::rel_tol)]
         rel_tol: Option<f64>,
-        /// Integrate the bare integrand without telling the engine the kink.
+        /// The 2-D integral by the nested engine with the kink declared (the
+        /// engine's benchmark), instead of the series checked by 1-D quadrature.
+        #[arg(long, conflicts_with = "bare")]
+        nested: bool,
+        /// The bare 2-D integrand by the nested engine, without telling it the kink.
         #[arg(long)]
         bare: bool,
     },
@@ -181,6 +185,7 @@ struct TraceArgs {
 /// Exit codes: 0 done (or pass), 1 a verdict failed (`compare`, `check`), 2
 /// bad input or nothing could be computed (clap's usage errors are 2 too).
 fn main() -> ExitCode {
+    quiet_on_closed_pipe();
     let cli = Cli::parse();
     // Ok(true): done or pass; Ok(false): a verdict failed.
     let done = |r: Result<(), String>| r.map(|()| true);
@@ -189,10 +194,17 @@ fn main() -> ExitCode {
         Command::Oracle { scene, precision, rel_tol, max_evals, time_limit, json } => {
             done(budget_from_flags(max_evals, time_limit).and_then(|b| oracle(&scene, &precision, rel_tol, &b, json)))
         }
-        Command::Kernel { theta, radius, precision, rel_tol, bare } => done(
-            kernel_args(&theta, &radius)
-                .and_then(|()| reports::tables::kernel_cli(&theta, &radius, &precision, rel_tol, bare)),
-        ),
+        Command::Kernel { theta, radius, precision, rel_tol, nested, bare } => {
+            let path = match (nested, bare) {
+                (_, true) => reports::tables::KernelPath::Bare,
+                (true, false) => reports::tables::KernelPath::Nested,
+                (false, false) => reports::tables::KernelPath::Reduced,
+            };
+            done(
+                kernel_args(&theta, &radius)
+                    .and_then(|()| reports::tables::kernel_cli(&theta, &radius, &precision, rel_tol, path)),
+            )
+        }
         Command::Sweep { scene, radii, json } => done(sweep(&scene, &radii, json)),
         Command::Trace { run: a, out } => done(
             load_with_radius(&a.scene, a.radius)
@@ -233,6 +245,18 @@ fn main() -> ExitCode {
             eprintln!("error: {msg}");
             ExitCode::from(2)
         }
+    }
+}
+
+/// A closed pipe (`mcrt-noise oracle … | head -2`) ends the process quietly,
+/// as it does any Unix filter, instead of a panic in `println!` (Rust
+/// ignores SIGPIPE by default, so every write would fail with EPIPE).
+fn quiet_on_closed_pipe() {
+    #[cfg(unix)]
+    // SAFETY: restores the default disposition of one signal before any
+    // thread is started; no handler runs Rust code.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
 

@@ -614,3 +614,25 @@ fn oracle_names_the_light_grazing_spheres_receive_when_the_camera_ray_misses_eve
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("meets no light, nor do its spheres of radius R = 0.01"), "{err}");
 }
+
+/// `mcrt-noise oracle … | head -2` panicked in `println!` ("failed printing
+/// to stdout: Broken pipe") when the reader had gone. A closed pipe now ends
+/// the process quietly, as for any Unix filter: nothing on stderr.
+#[cfg(unix)]
+#[test]
+fn a_closed_pipe_ends_quietly_without_a_panic() {
+    use std::process::Stdio;
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml");
+    let mut child = bin()
+        .args(["oracle", scene])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    // Close the reading end before the oracle has printed anything.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("the binary ends");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(stderr.is_empty(), "{stderr}");
+}

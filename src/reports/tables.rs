@@ -2,7 +2,10 @@
 //! command and the kernel's acceptance rows.
 
 use super::cost::angle_f64;
-use crate::kernel::{kernel_integral, kernel_integral_bare, parse_decimal, Angle, ACCEPTANCE_CASES};
+use crate::kernel::{
+    kernel_integral, kernel_integral_bare, kernel_integral_reduced, parse_decimal, Angle, KernelMethod,
+    ACCEPTANCE_CASES,
+};
 use crate::prec::mpfr_default_tol;
 use crate::quad::{Options, Outcome};
 use std::fmt::Write;
@@ -13,6 +16,7 @@ fn print_outcome<T: crate::real::Real>(
     out: &Outcome<T>,
     show: impl Fn(&T) -> String,
     dt: Duration,
+    method: &str,
 ) -> Result<(), String> {
     match out {
         Ok(e) => {
@@ -25,48 +29,74 @@ fn print_outcome<T: crate::real::Real>(
                 e.found_breakpoints,
                 dt.as_secs_f64() * 1e3
             );
+            println!("  method      {method}");
             Ok(())
         }
         Err(f) => Err(format!("{label}: {f}")),
     }
 }
 
+/// Which computation of I(ϑ, R) the `kernel` command runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KernelPath {
+    /// [`kernel_integral_reduced`]: the series checked by 1-D quadrature (the default).
+    Reduced,
+    /// [`kernel_integral`]: the 2-D integral by the nested engine, kink declared.
+    Nested,
+    /// [`kernel_integral_bare`]: the 2-D integral, structure unknown.
+    Bare,
+}
+
 /// The `kernel` command.
-pub fn kernel_cli(theta: &str, radius: &str, precision: &str, rel_tol: Option<f64>, bare: bool) -> Result<(), String> {
+pub fn kernel_cli(
+    theta: &str,
+    radius: &str,
+    precision: &str,
+    rel_tol: Option<f64>,
+    path: KernelPath,
+) -> Result<(), String> {
     use crate::oracle::Precision;
     let label = format!("I({theta}, {radius})");
     match Precision::parse(precision)? {
         Precision::F64 => {
             let angle = Angle::from_theta(&parse_decimal(theta, 53)?.to_f64());
             let r = parse_decimal(radius, 53)?.to_f64();
-            let out = run_kernel(&angle, &r, rel_tol.unwrap_or(1e-13), bare)?;
-            print_outcome(&label, &out.0, |v| format!("{v:.17e}"), out.1)
+            let (out, dt, method) = run_kernel(&angle, &r, rel_tol.unwrap_or(1e-13), path)?;
+            print_outcome(&label, &out, |v| format!("{v:.17e}"), dt, &method)
         }
         Precision::Bits(bits) => {
             let angle = Angle::from_theta(&parse_decimal(theta, bits)?);
             let r = parse_decimal(radius, bits)?;
-            let out = run_kernel(&angle, &r, rel_tol.unwrap_or_else(|| mpfr_default_tol(bits)), bare)?;
+            let (out, dt, method) = run_kernel(&angle, &r, rel_tol.unwrap_or_else(|| mpfr_default_tol(bits)), path)?;
             let digits = (bits as f64 * std::f64::consts::LOG10_2) as usize;
-            print_outcome(&label, &out.0, |v| v.to_string_radix(10, Some(digits)), out.1)
+            print_outcome(&label, &out, |v| v.to_string_radix(10, Some(digits)), dt, &method)
         }
     }
 }
 
-/// I(ϑ, R), structure given or bare, with its wall time.
-fn run_kernel<T: crate::quad::CheckRule>(
+/// I(ϑ, R) by `path`, with its wall time and a line naming the method.
+pub fn run_kernel<T: crate::quad::CheckRule>(
     angle: &Angle<T>,
     r: &T,
     tol: f64,
-    bare: bool,
-) -> Result<(Outcome<T>, Duration), String> {
+    path: KernelPath,
+) -> Result<(Outcome<T>, Duration, String), String> {
     check_kernel_args(angle.sin.to_f64(), r.to_f64())?;
+    let opts = Options::rel(tol);
     let t0 = Instant::now();
-    let out = if bare {
-        kernel_integral_bare(angle, r, &Options::rel(tol))
-    } else {
-        kernel_integral(angle, r, &Options::rel(tol))
+    let (out, method) = match path {
+        KernelPath::Reduced => match kernel_integral_reduced(angle, r, &opts) {
+            Ok((e, m)) => (Ok(e), m.describe().to_string()),
+            Err(f) => (Err(f), KernelMethod::SeriesCheckedByQuadrature.describe().to_string()),
+        },
+        KernelPath::Nested => {
+            (kernel_integral(angle, r, &opts), "2-D nested quadrature, kink declared, cross-checked".into())
+        }
+        KernelPath::Bare => {
+            (kernel_integral_bare(angle, r, &opts), "2-D nested quadrature, structure scanned, cross-checked".into())
+        }
     };
-    Ok((out, t0.elapsed()))
+    Ok((out, t0.elapsed(), method))
 }
 
 fn check_kernel_args(sin_theta: f64, r: f64) -> Result<(), String> {
