@@ -151,9 +151,9 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
-    /// What accuracy costs in time: I(1, 1e-3) over tolerances and precisions.
+    /// What accuracy costs in time: the kernel, the oracle and the tracer, each row against its speed target (~10 min).
     Cost {
-        /// Write the Markdown report here (e.g. docs/accuracy-cost.md).
+        /// Write the Markdown report here (e.g. docs/accuracy-cost.md); its SVG figures go to figures/ beside it (./figures without --out).
         #[arg(long)]
         out: Option<PathBuf>,
         /// Repetitions per f64 row (the minimum time is reported), in [1, 10^4].
@@ -236,7 +236,10 @@ fn main() -> ExitCode {
             done(write_or_print(mcrt_noise::reports::tracer_checks::markdown(&scenes, &figures), Some(out)))
         }
         Command::Accuracy { points, out } => done(write_or_print(reports::accuracy::accuracy_markdown(points), out)),
-        Command::Cost { out, repeats } => done(write_or_print(reports::cost::cost_markdown(repeats), out)),
+        Command::Cost { out, repeats } => {
+            let figures = out.as_deref().and_then(|o| o.parent()).unwrap_or(std::path::Path::new(".")).join("figures");
+            done(write_or_print(reports::cost::cost_markdown(repeats, &figures), out))
+        }
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

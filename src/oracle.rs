@@ -41,6 +41,17 @@ impl Precision {
         }
     }
 
+    /// Default evaluation budget of a run: [`crate::quad::DEFAULT_EVALUATIONS`]
+    /// (2·10⁹, ~40 s) in f64, [`crate::quad::DEFAULT_EVALUATIONS_MPFR`]
+    /// (5·10⁷, a few minutes at 128 bits) in MPFR, whose evaluations cost
+    /// ~300 times more.
+    pub fn default_evaluations(self) -> u64 {
+        match self {
+            Precision::F64 => crate::quad::DEFAULT_EVALUATIONS,
+            Precision::Bits(_) => crate::quad::DEFAULT_EVALUATIONS_MPFR,
+        }
+    }
+
     /// Default relative tolerance: 1e-10 in f64, 2^{−(bits − 22)} in MPFR.
     pub fn default_tol(self) -> f64 {
         match self {
@@ -577,9 +588,9 @@ fn finite_report<T: CheckRule>(
 }
 
 /// Runs the oracle at `precision` with its default tolerance (or `rel_tol`)
-/// and the default evaluation budget ([`crate::quad::DEFAULT_EVALUATIONS`]).
+/// and the default evaluation budget ([`Precision::default_evaluations`]).
 pub fn run(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -> Result<Report, OracleError> {
-    run_within(scene, precision, rel_tol, &Budget::default())
+    run_within(scene, precision, rel_tol, &Budget::new(precision.default_evaluations()))
 }
 
 /// [`run`] with the evaluation budget (and deadline) `budget`, shared by

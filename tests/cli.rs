@@ -623,12 +623,8 @@ fn oracle_names_the_light_grazing_spheres_receive_when_the_camera_ray_misses_eve
 fn a_closed_pipe_ends_quietly_without_a_panic() {
     use std::process::Stdio;
     let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml");
-    let mut child = bin()
-        .args(["oracle", scene])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
+    let mut child =
+        bin().args(["oracle", scene]).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("the binary runs");
     // Close the reading end before the oracle has printed anything.
     drop(child.stdout.take());
     let out = child.wait_with_output().expect("the binary ends");

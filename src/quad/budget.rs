@@ -31,6 +31,14 @@ use std::time::{Duration, Instant};
 /// `point-isotropic-order1` at 10⁻⁶) takes 4.7·10⁸.
 pub const DEFAULT_EVALUATIONS: u64 = 2_000_000_000;
 
+/// Default number of integrand evaluations of one top-level computation in
+/// MPFR: ~3 min of 128-bit evaluations on two cores of the reference machine
+/// (~6 µs each, ~3·10⁵/s), where [`DEFAULT_EVALUATIONS`] would be hours. The
+/// heaviest bundled MPFR computation, the oracle of `point-isotropic` at 192
+/// bits (both models), takes 9.5·10⁶; an order-1 scene at 128 bits needs
+/// more and ends as `NOT CONVERGED` naming the budget (`docs/accuracy-cost.md`).
+pub const DEFAULT_EVALUATIONS_MPFR: u64 = 50_000_000;
+
 /// A shared evaluation budget: cheap to clone (clones share the count).
 ///
 /// ```

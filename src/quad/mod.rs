@@ -41,7 +41,7 @@ mod scan;
 mod tanh_sinh;
 
 use crate::real::Real;
-pub use budget::{Budget, DEFAULT_EVALUATIONS};
+pub use budget::{Budget, DEFAULT_EVALUATIONS, DEFAULT_EVALUATIONS_MPFR};
 pub use check::CheckRule;
 pub(crate) use mapped::{Mapped, Piece, TailMap};
 pub use nested::{integrate_nested, integrate_within_pass};
