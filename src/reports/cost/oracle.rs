@@ -53,7 +53,7 @@ pub(crate) fn order0_section(s: &mut String, ledger: &mut Ledger) -> Result<Vec<
         let (out, secs) = best_of(repeats, || crate::oracle::run(&scene, precision, tol));
         let tol_shown = tol.unwrap_or_else(|| precision.default_tol_for(&scene));
         let target = match (precision, tol) {
-            (Precision::F64, Some(t)) if t == 1e-10 => Target::AtMost { seconds: 0.05, source: "issue 3" },
+            (Precision::F64, Some(1e-10)) => Target::AtMost { seconds: 0.05, source: "issue 3" },
             (Precision::Bits(128), _) => Target::AtMost { seconds: 0.3, source: "issue 11" },
             _ => Target::None,
         };
