@@ -1,11 +1,12 @@
 //! `mcrt-noise` command-line interface.
 
 use clap::{Parser, Subcommand};
+use cli::CliError;
 use mcrt_noise::oracle::Precision;
 use mcrt_noise::quad::{Budget, DEFAULT_EVALUATIONS};
 use mcrt_noise::reports;
 use mcrt_noise::scene::Scene;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 mod cli;
@@ -14,7 +15,8 @@ mod cli;
 #[command(
     name = "mcrt-noise",
     version,
-    about = "Noise oracle for multiple-integration-sphere MCRT in scattering media"
+    about = "Noise oracle for multiple-integration-sphere MCRT in scattering media",
+    after_help = EXIT_CODES
 )]
 struct Cli {
     #[command(subcommand)]
@@ -182,17 +184,53 @@ struct TraceArgs {
     json: bool,
 }
 
-/// Exit codes: 0 done (or pass), 1 a verdict failed (`compare`, `check`), 2
-/// bad input or nothing could be computed (clap's usage errors are 2 too).
+/// The exit codes, as `--help` states them (the policy: [`main`]).
+const EXIT_CODES: &str = "\
+Exit codes:
+  0  done, or the verdict passed
+  1  a computed failure: a quadrature NOT CONVERGED, the evaluation budget or deadline spent, a result not
+     representable in f64, a verdict that failed or was not resolved (compare, check), a tracer run whose mean and
+     variance are not resolved (no hits); the reason on standard error, or with the verdict or the tracer's report
+     on standard output
+  2  usage or bad input: a bad flag, an unreadable or invalid scene file or shard, a value out of range, a scene the
+     model does not support, an output path that cannot be written; the message names the flag, field or line";
+
+/// Runs one command. Exit codes (stated here once; `--help` and README.md
+/// repeat them, [`cli::CliError`] carries the kind):
+/// - **0**: done, or the verdict passed;
+/// - **1**: a computed failure: the input was valid but gave no result the
+///   program can vouch for: a quadrature `NOT CONVERGED`, the evaluation
+///   budget or deadline spent, a result not representable in f64
+///   (`OracleError::NotRepresentable`), a verdict that failed or was not
+///   resolved (`compare`, `check`), a tracer run of 4 trials or more whose
+///   mean and variance are not resolved (no hits, no spread);
+/// - **2**: usage or bad input: a bad flag (clap's own errors exit 2 too), an
+///   unreadable or invalid scene file or shard, an invalid trial range, a
+///   value out of range, a scene the model does not support
+///   (`OracleError::Unsupported`), an output path that cannot be written.
+///
+/// Every message names the flag, field or line, the value and the range;
+/// it goes to standard error, except a verdict's or a tracer report's
+/// reason, printed once on standard output.
 fn main() -> ExitCode {
     quiet_on_closed_pipe();
     let cli = Cli::parse();
-    // Ok(true): done or pass; Ok(false): a verdict failed.
-    let done = |r: Result<(), String>| r.map(|()| true);
-    let result = match cli.command {
-        Command::Validate { scene } => done(validate(&scene)),
+    match run(cli.command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            if let Some(msg) = e.message() {
+                eprintln!("error: {msg}");
+            }
+            e.exit_code()
+        }
+    }
+}
+
+fn run(command: Command) -> Result<(), CliError> {
+    match command {
+        Command::Validate { scene } => validate(&scene),
         Command::Oracle { scene, precision, rel_tol, max_evals, time_limit, json } => {
-            done(budget_from_flags(max_evals, time_limit).and_then(|b| oracle(&scene, &precision, rel_tol, &b, json)))
+            oracle(&scene, &precision, rel_tol, &budget_from_flags(max_evals, time_limit)?, json)
         }
         Command::Kernel { theta, radius, precision, rel_tol, nested, bare } => {
             let path = match (nested, bare) {
@@ -200,19 +238,19 @@ fn main() -> ExitCode {
                 (true, false) => reports::tables::KernelPath::Nested,
                 (false, false) => reports::tables::KernelPath::Reduced,
             };
-            done(
-                kernel_args(&theta, &radius)
-                    .and_then(|()| reports::tables::kernel_cli(&theta, &radius, &precision, rel_tol, path)),
-            )
+            kernel_args(&theta, &radius)?;
+            Ok(reports::tables::kernel_cli(&theta, &radius, &precision, rel_tol, path)?)
         }
-        Command::Sweep { scene, radii, json } => done(sweep(&scene, &radii, json)),
-        Command::Trace { run: a, out } => done(
-            load_with_radius(&a.scene, a.radius)
-                .and_then(|s| cli::trace_cmd::trace_cmd(&s, &a.trials, a.seed, a.threads, a.json, out.as_deref())),
-        ),
-        Command::Merge { shards, json, out } => done(cli::trace_cmd::merge_cmd(&shards, json, out.as_deref())),
-        Command::Compare { run: a } => load_with_radius(&a.scene, a.radius)
-            .and_then(|s| cli::trace_cmd::compare_cmd(&s, &a.trials, a.seed, a.threads, a.json)),
+        Command::Sweep { scene, radii, json } => sweep(&scene, &radii, json),
+        Command::Trace { run: a, out } => {
+            let scene = load_with_radius(&a.scene, a.radius)?;
+            cli::trace_cmd::trace_cmd(&scene, &a.trials, a.seed, a.threads, a.json, out.as_deref())
+        }
+        Command::Merge { shards, json, out } => cli::trace_cmd::merge_cmd(&shards, json, out.as_deref()),
+        Command::Compare { run: a } => {
+            let scene = load_with_radius(&a.scene, a.radius)?;
+            cli::trace_cmd::compare_cmd(&scene, &a.trials, a.seed, a.threads, a.json)
+        }
         Command::Check { scene, values, false_alarm_rate, power, target_mean, target_variance, json } => {
             let args = cli::check_cmd::CheckArgs {
                 values: &values,
@@ -221,32 +259,26 @@ fn main() -> ExitCode {
                 targets: (target_mean, target_variance),
                 json,
             };
-            load(&scene).and_then(|s| cli::check_cmd::check_cmd(&s, &args))
+            cli::check_cmd::check_cmd(&load(&scene)?, &args)
         }
         Command::AsymptoticChecks { out, scenes } => {
-            let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
-            done(write_or_print(mcrt_noise::reports::sweep::asymptotic_checks_markdown(&scenes, &figures), Some(out)))
+            let figures = figures_beside(&out);
+            generate(Some(&scenes), Some(out), || {
+                mcrt_noise::reports::sweep::asymptotic_checks_markdown(&scenes, &figures)
+            })
         }
         Command::ModelError { out, scenes } => {
-            let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
-            done(write_or_print(mcrt_noise::reports::model_error::markdown(&scenes, &figures), Some(out)))
+            let figures = figures_beside(&out);
+            generate(Some(&scenes), Some(out), || mcrt_noise::reports::model_error::markdown(&scenes, &figures))
         }
         Command::TracerChecks { out, scenes } => {
-            let figures = out.parent().unwrap_or(std::path::Path::new(".")).join("figures");
-            done(write_or_print(mcrt_noise::reports::tracer_checks::markdown(&scenes, &figures), Some(out)))
+            let figures = figures_beside(&out);
+            generate(Some(&scenes), Some(out), || mcrt_noise::reports::tracer_checks::markdown(&scenes, &figures))
         }
-        Command::Accuracy { points, out } => done(write_or_print(reports::accuracy::accuracy_markdown(points), out)),
+        Command::Accuracy { points, out } => generate(None, out, || reports::accuracy::accuracy_markdown(points)),
         Command::Cost { out, repeats } => {
-            let figures = out.as_deref().and_then(|o| o.parent()).unwrap_or(std::path::Path::new(".")).join("figures");
-            done(write_or_print(reports::cost::cost_markdown(repeats, &figures), out))
-        }
-    };
-    match result {
-        Ok(true) => ExitCode::SUCCESS,
-        Ok(false) => ExitCode::from(1),
-        Err(msg) => {
-            eprintln!("error: {msg}");
-            ExitCode::from(2)
+            let figures = out.as_deref().and_then(|o| o.parent()).unwrap_or(Path::new(".")).join("figures");
+            generate(None, out, || reports::cost::cost_markdown(repeats, &figures))
         }
     }
 }
@@ -263,7 +295,7 @@ fn quiet_on_closed_pipe() {
     }
 }
 
-fn validate(path: &PathBuf) -> Result<(), String> {
+fn validate(path: &PathBuf) -> Result<(), CliError> {
     let scene = load(path)?;
     let text = scene.to_toml_string();
     print!("{text}");
@@ -273,78 +305,84 @@ fn validate(path: &PathBuf) -> Result<(), String> {
     Ok(())
 }
 
-fn load(path: &PathBuf) -> Result<Scene, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    Scene::from_toml_str(&text).map_err(|e| format!("{}: {e}", path.display()))
+/// The scene file, read and validated (exit 2 naming the file and every bad field).
+fn load(path: &PathBuf) -> Result<Scene, CliError> {
+    let text = std::fs::read_to_string(path).map_err(|e| CliError::usage(e).at(path.display()))?;
+    Scene::from_toml_str(&text).map_err(|e| CliError::usage(e).at(path.display()))
 }
 
 /// `kernel --theta`, `--radius`: in range as numbers (`cli::flags`).
-fn kernel_args(theta: &str, radius: &str) -> Result<(), String> {
+fn kernel_args(theta: &str, radius: &str) -> Result<(), CliError> {
     if let Ok(t) = theta.trim().parse::<f64>() {
-        cli::flags::check_theta(theta, t)?;
+        cli::flags::check_theta(theta, t).map_err(CliError::Usage)?;
     }
     if let Ok(r) = radius.trim().parse::<f64>() {
-        cli::flags::check_kernel_radius(radius, r)?;
+        cli::flags::check_kernel_radius(radius, r).map_err(CliError::Usage)?;
     }
     Ok(())
 }
 
 /// The scene with estimator.radius replaced, validated as in a scene file
 /// (its bound σ_ext·R is the scene's), an error naming `--radius`.
-fn load_with_radius(path: &PathBuf, radius: Option<f64>) -> Result<Scene, String> {
+fn load_with_radius(path: &PathBuf, radius: Option<f64>) -> Result<Scene, CliError> {
     let mut scene = load(path)?;
     if let Some(r) = radius {
         scene.estimator.radius = r;
-        scene = scene.validated().map_err(|e| match e {
-            mcrt_noise::scene::SceneError::Invalid(errors) => errors
-                .iter()
-                .map(|e| e.to_string().replace("estimator.radius", "--radius"))
-                .collect::<Vec<_>>()
-                .join("; "),
-            other => other.to_string(),
+        scene = scene.validated().map_err(|e| {
+            CliError::Usage(match e {
+                mcrt_noise::scene::SceneError::Invalid(errors) => errors
+                    .iter()
+                    .map(|e| e.to_string().replace("estimator.radius", "--radius"))
+                    .collect::<Vec<_>>()
+                    .join("; "),
+                other => other.to_string(),
+            })
         })?;
     }
     Ok(scene)
 }
 
 /// The run's evaluation budget from `--max-evals` and `--time-limit`.
-fn budget_from_flags(max_evals: Option<f64>, time_limit: Option<f64>) -> Result<Budget, String> {
+fn budget_from_flags(max_evals: Option<f64>, time_limit: Option<f64>) -> Result<Budget, CliError> {
     let limit = match max_evals {
         None => DEFAULT_EVALUATIONS,
         Some(n) if n.is_finite() && (1.0..=1e15).contains(&n) && n.fract() == 0.0 => n as u64,
-        Some(n) => return Err(format!("--max-evals: {n} is not a whole number in [1, 1e15]")),
+        Some(n) => return Err(CliError::usage(format!("--max-evals: {n} is not a whole number in [1, 1e15]"))),
     };
     match time_limit {
         None => Ok(Budget::new(limit)),
         Some(t) if t.is_finite() && t > 0.0 && t <= 1e6 => {
             Ok(Budget::with_deadline(limit, std::time::Duration::from_secs_f64(t)))
         }
-        Some(t) => Err(format!("--time-limit: {t} s is outside (0, 1e6] seconds")),
+        Some(t) => Err(CliError::usage(format!("--time-limit: {t} s is outside (0, 1e6] seconds"))),
     }
 }
 
-fn oracle(path: &PathBuf, precision: &str, rel_tol: Option<f64>, budget: &Budget, json: bool) -> Result<(), String> {
+/// `oracle`: an unsupported scene is input (exit 2); NOT CONVERGED, the
+/// budget spent or a result beyond f64 is computed (exit 1).
+fn oracle(path: &PathBuf, precision: &str, rel_tol: Option<f64>, budget: &Budget, json: bool) -> Result<(), CliError> {
     let scene = load(path)?;
-    let precision = Precision::parse(precision)?;
+    let precision = Precision::parse(precision).map_err(CliError::Usage)?;
     let report = mcrt_noise::oracle::run_within(&scene, precision, rel_tol, budget)
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+        .map_err(|e| CliError::from(e).at(path.display()))?;
     if json {
-        println!("{}", serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?);
+        println!("{}", cli::to_json(&report)?);
     } else {
         print!("{}", reports::tables::oracle_table(&report));
     }
     Ok(())
 }
 
-fn sweep(path: &PathBuf, radii: &[f64], json: bool) -> Result<(), String> {
+fn sweep(path: &PathBuf, radii: &[f64], json: bool) -> Result<(), CliError> {
     if let Some(bad) = radii.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
-        return Err(format!("--radii: {bad} is not a radius (finite and > 0)"));
+        return Err(CliError::usage(format!("--radii: {bad} is not a radius (finite and > 0)")));
     }
     let scene = load(path)?;
     for &r in radii {
         let mut s = scene.clone();
         s.estimator.radius = r;
-        s.validated().map_err(|e| format!("--radii: {}", e.to_string().replace("estimator.radius", "R")))?;
+        s.validated()
+            .map_err(|e| CliError::usage(format!("--radii: {}", e.to_string().replace("estimator.radius", "R"))))?;
     }
     let rows = mcrt_noise::reports::sweep::sweep(&scene, radii)?;
     if json {
@@ -358,7 +396,7 @@ fn sweep(path: &PathBuf, radii: &[f64], json: bool) -> Result<(), String> {
             "finite_order_mean": fit_finite_order(&rows, FiniteRatio::Mean),
             "finite_order_variance": fit_finite_order(&rows, FiniteRatio::Variance),
         });
-        println!("{}", serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?);
+        println!("{}", cli::to_json(&out)?);
     } else {
         print!("{}", mcrt_noise::reports::sweep::table(&rows));
         if rows.iter().any(|r| r.finite.is_some()) {
@@ -369,13 +407,52 @@ fn sweep(path: &PathBuf, radii: &[f64], json: bool) -> Result<(), String> {
     Ok(())
 }
 
-fn write_or_print(text: Result<String, String>, out: Option<PathBuf>) -> Result<(), String> {
-    let text = text?;
+/// `DIR/figures` for a document written to `DIR/NAME.md`.
+fn figures_beside(out: &Path) -> PathBuf {
+    out.parent().unwrap_or(Path::new(".")).join("figures")
+}
+
+/// A generated document or table: `--scenes` must be a directory and
+/// `--out` writable, both checked before the generation (which takes
+/// minutes; exit 2 naming the flag). A failure of the generation itself is
+/// computed (exit 1); the text goes to `--out`, or to standard output.
+fn generate(
+    scenes: Option<&Path>,
+    out: Option<PathBuf>,
+    text: impl FnOnce() -> Result<String, String>,
+) -> Result<(), CliError> {
+    if let Some(dir) = scenes {
+        if !dir.is_dir() {
+            return Err(CliError::usage(format!("--scenes {}: not a directory", dir.display())));
+        }
+    }
+    if let Some(path) = &out {
+        writable(path)?;
+    }
+    let text = text().map_err(CliError::Computed)?;
     match out {
-        Some(path) => std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display())),
+        Some(path) => std::fs::write(&path, text)
+            .map_err(|e| CliError::usage(format!("--out {}: cannot be written: {e}", path.display()))),
         None => {
             print!("{text}");
             Ok(())
         }
     }
+}
+
+/// `--out PATH` can be written: its directory exists, and an existing file
+/// opens for writing (opened to append, so nothing in it changes yet).
+fn writable(path: &Path) -> Result<(), CliError> {
+    let cannot = |why: String| CliError::usage(format!("--out {}: cannot be written: {why}", path.display()));
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(cannot(format!("{} is not a directory", dir.display())));
+    }
+    if path.exists() {
+        std::fs::OpenOptions::new().append(true).open(path).map_err(|e| cannot(e.to_string()))?;
+    }
+    Ok(())
 }

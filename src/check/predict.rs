@@ -90,8 +90,10 @@ pub struct Prediction {
 pub enum PredictError {
     /// The scene is invalid (every invalid value named).
     Scene(SceneError),
-    /// The oracle cannot compute this scene or did not converge.
-    Oracle(String),
+    /// The oracle cannot compute this scene ([`OracleError::Unsupported`]),
+    /// did not converge, or its result is beyond f64: the oracle's error,
+    /// its kind kept.
+    Oracle(OracleError),
     /// The scene is valid but outside what the oracle can vouch for.
     Unsupported(String),
 }
@@ -116,7 +118,7 @@ impl From<SceneError> for PredictError {
 
 impl From<OracleError> for PredictError {
     fn from(e: OracleError) -> Self {
-        PredictError::Oracle(e.to_string())
+        PredictError::Oracle(e)
     }
 }
 

@@ -1,6 +1,7 @@
 //! `mcrt-noise check SCENE --values FILE`: a renderer's per-iteration values
 //! (from any language) checked against the prediction.
 
+use super::{to_json, CliError};
 use mcrt_noise::{check, predict, CheckOptions, Samples, Scene};
 use serde::de::{DeserializeSeed, Deserializer, SeqAccess, Visitor};
 use serde::Deserialize;
@@ -32,18 +33,25 @@ struct SumsFile {
     sums_relative_error: Option<f64>,
 }
 
-/// Runs the check; `Ok(pass)`, or `Err` on bad input.
-pub fn check_cmd(scene: &Scene, args: &CheckArgs) -> Result<bool, String> {
-    let options = options(args)?;
-    let samples = read_samples(args.values)?;
-    let prediction = predict(scene).map_err(|e| e.to_string())?;
+/// Runs the check: `Ok` on pass; a failed verdict, printed on stdout, is
+/// [`CliError::Stated`] (exit 1); bad input is usage (exit 2), and so is a
+/// scene the prediction does not support; a prediction that did not
+/// converge is computed (exit 1).
+pub fn check_cmd(scene: &Scene, args: &CheckArgs) -> Result<(), CliError> {
+    let options = options(args).map_err(CliError::Usage)?;
+    let samples = read_samples(args.values).map_err(CliError::Usage)?;
+    let prediction = predict(scene)?;
     let verdict = check(&prediction, &samples, &options);
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&verdict).map_err(|e| e.to_string())?);
+        println!("{}", to_json(&verdict)?);
     } else {
         println!("{verdict}");
     }
-    Ok(verdict.pass)
+    if verdict.pass {
+        Ok(())
+    } else {
+        Err(CliError::Stated)
+    }
 }
 
 fn options(args: &CheckArgs) -> Result<CheckOptions, String> {

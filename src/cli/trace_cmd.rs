@@ -1,5 +1,6 @@
 //! The tracer's commands: `trace`, `merge`, `compare`.
 
+use super::{to_json, CliError};
 use indicatif::{ProgressBar, ProgressStyle};
 use mcrt_noise::oracle::Precision;
 use mcrt_noise::reports::compare::{Comparison, TraceReport};
@@ -11,8 +12,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// `--trials M` (0..M) or `--trials A..B`.
-pub fn parse_trials(text: &str) -> Result<Range<u64>, String> {
-    let bad = || format!("--trials: \"{text}\" is neither a count M >= 1 nor a range A..B with A < B");
+pub fn parse_trials(text: &str) -> Result<Range<u64>, CliError> {
+    let bad = || CliError::usage(format!("--trials: \"{text}\" is neither a count M >= 1 nor a range A..B with A < B"));
     let range = match text.split_once("..") {
         Some((a, b)) => a.trim().parse::<u64>().map_err(|_| bad())?..b.trim().parse::<u64>().map_err(|_| bad())?,
         None => 0..text.trim().parse::<u64>().map_err(|_| bad())?,
@@ -23,13 +24,17 @@ pub fn parse_trials(text: &str) -> Result<Range<u64>, String> {
     Ok(range)
 }
 
-/// Runs `f` on a pool of `threads` threads (all cores when `None`).
-fn with_threads<R: Send>(threads: Option<usize>, f: impl FnOnce() -> R + Send) -> Result<R, String> {
+/// Runs `f` on a pool of `threads` threads (all cores when `None`); a pool
+/// the system cannot start is a failure of the run (exit 1).
+fn with_threads<R: Send>(threads: Option<usize>, f: impl FnOnce() -> R + Send) -> Result<R, CliError> {
     match threads {
         None => Ok(f()),
-        Some(0) => Err("--threads: must be at least 1".into()),
+        Some(0) => Err(CliError::usage("--threads: must be at least 1")),
         Some(n) => {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(n).build().map_err(|e| e.to_string())?;
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| CliError::computed(format!("--threads {n}: the thread pool did not start: {e}")))?;
             Ok(pool.install(f))
         }
     }
@@ -37,21 +42,21 @@ fn with_threads<R: Send>(threads: Option<usize>, f: impl FnOnce() -> R + Send) -
 
 /// The tracer for the scene and the trial count, every bound checked
 /// before anything runs (exit 2 with the field or flag named).
-fn prepared(scene: &Scene, range: &Range<u64>) -> Result<Tracer, String> {
-    let tracer = Tracer::new(scene).map_err(|e| e.to_string())?;
-    tracer.check_trials(range.end - range.start).map_err(|e| e.to_string())?;
+fn prepared(scene: &Scene, range: &Range<u64>) -> Result<Tracer, CliError> {
+    let tracer = Tracer::new(scene)?;
+    tracer.check_trials(range.end - range.start)?;
     Ok(tracer)
 }
 
 /// Traces the range with a progress bar on a terminal for long runs
 /// (about a second of work or more).
-fn traced(tracer: &Tracer, seed: u64, range: Range<u64>, threads: Option<usize>) -> Result<(Run, f64), String> {
+fn traced(tracer: &Tracer, seed: u64, range: Range<u64>, threads: Option<usize>) -> Result<(Run, f64), CliError> {
     let total = range.end - range.start;
     let bar = if std::io::stderr().is_terminal() && total as f64 * tracer.work().total() >= 3e7 {
         let bar = ProgressBar::new(total);
         bar.set_style(
             ProgressStyle::with_template("{bar:40} {pos}/{len} trials  {per_sec}  eta {eta}")
-                .map_err(|e| e.to_string())?,
+                .map_err(CliError::computed)?,
         );
         bar
     } else {
@@ -70,44 +75,64 @@ pub fn trace_cmd(
     threads: Option<usize>,
     json: bool,
     out: Option<&Path>,
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     let range = parse_trials(trials)?;
     let tracer = prepared(scene, &range)?;
     let file = out.map(open_out).transpose()?;
     let (run, seconds) = traced(&tracer, seed, range, threads)?;
     let report = TraceReport::new(&run, seconds);
-    write_then_print(&run, file, out, &report, json)
+    write_then_print(&run, file, out, &report, json)?;
+    resolved(&run, &report)
 }
 
-pub fn merge_cmd(paths: &[PathBuf], json: bool, out: Option<&Path>) -> Result<(), String> {
+/// `merge`: every shard read and validated (exit 2 naming the file), then
+/// reported as `trace` reports a run.
+pub fn merge_cmd(paths: &[PathBuf], json: bool, out: Option<&Path>) -> Result<(), CliError> {
     let runs = paths
         .iter()
         .map(|p| {
-            let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
-            let shard: Shard = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?;
-            Run::from_shard(&shard).map_err(|e| format!("{}: {e}", p.display()))
+            let at = |e: String| CliError::Usage(format!("{}: {e}", p.display()));
+            let text = std::fs::read_to_string(p).map_err(|e| at(e.to_string()))?;
+            let shard: Shard = serde_json::from_str(&text).map_err(|e| at(e.to_string()))?;
+            Run::from_shard(&shard).map_err(at)
         })
         .collect::<Result<Vec<_>, _>>()?;
     let file = out.map(open_out).transpose()?;
-    let run = merge(&runs)?;
-    write_then_print(&run, file, out, &TraceReport::new(&run, 0.0), json)
+    let run = merge(&runs).map_err(CliError::Usage)?;
+    let report = TraceReport::new(&run, 0.0);
+    write_then_print(&run, file, out, &report, json)?;
+    resolved(&run, &report)
+}
+
+/// A run of 4 trials or more whose mean or variance is not resolved (no
+/// hits, no spread, beyond a double; the reason is in the report just
+/// printed) is a computed failure, exit 1. Below 4 trials the variance's
+/// error is not defined by construction: such a run is a shard to merge,
+/// exit 0.
+fn resolved(run: &Run, report: &TraceReport) -> Result<(), CliError> {
+    if report.not_resolved.is_some() && run.counters.trials >= 4 {
+        Err(CliError::Stated)
+    } else {
+        Ok(())
+    }
 }
 
 /// The `--out` file, created (or truncated) before the run, so that a path
 /// that cannot be written is refused before any work.
-fn open_out(path: &Path) -> Result<std::fs::File, String> {
-    std::fs::File::create(path).map_err(|e| format!("--out {}: cannot be written: {e}", path.display()))
+fn open_out(path: &Path) -> Result<std::fs::File, CliError> {
+    std::fs::File::create(path)
+        .map_err(|e| CliError::usage(format!("--out {}: cannot be written: {e}", path.display())))
 }
 
 /// Writes the shard (if asked), then prints the report; if writing fails,
-/// the report is printed first, then the error.
+/// the report is printed first, then the error (exit 2: the path).
 fn write_then_print(
     run: &Run,
     file: Option<std::fs::File>,
     path: Option<&Path>,
     report: &TraceReport,
     json: bool,
-) -> Result<(), String> {
+) -> Result<(), CliError> {
     let written = match (file, path) {
         (Some(file), Some(path)) => write_shard(run, file, path),
         _ => Ok(()),
@@ -117,39 +142,47 @@ fn write_then_print(
 }
 
 /// The run as a shard file for `merge`.
-fn write_shard(run: &Run, mut file: std::fs::File, path: &Path) -> Result<(), String> {
+fn write_shard(run: &Run, mut file: std::fs::File, path: &Path) -> Result<(), CliError> {
     use std::io::Write;
-    let text = serde_json::to_string_pretty(&run.to_shard()).map_err(|e| e.to_string())?;
+    let text = to_json(&run.to_shard())?;
     file.write_all(text.as_bytes()).and_then(|()| file.sync_all()).map_err(|e| {
-        format!("--out {}: writing the shard failed after the run (result printed above): {e}", path.display())
+        CliError::usage(format!(
+            "--out {}: writing the shard failed after the run (result printed above): {e}",
+            path.display()
+        ))
     })
 }
 
-fn print_report(report: &TraceReport, json: bool) -> Result<(), String> {
+fn print_report(report: &TraceReport, json: bool) -> Result<(), CliError> {
     if json {
-        println!("{}", serde_json::to_string_pretty(report).map_err(|e| e.to_string())?);
+        println!("{}", to_json(report)?);
     } else {
         print!("{}", report.table());
     }
     Ok(())
 }
 
-/// `compare`: prints the comparison (the verdict once, on stdout) and
-/// returns whether the two sides agree (`false` for DISAGREE and for NOT
-/// RESOLVED: exit 1).
-pub fn compare_cmd(scene: &Scene, trials: &str, seed: u64, threads: Option<usize>, json: bool) -> Result<bool, String> {
+/// `compare`: prints the comparison (the verdict once, on stdout); DISAGREE
+/// and NOT RESOLVED are [`CliError::Stated`] (exit 1).
+pub fn compare_cmd(scene: &Scene, trials: &str, seed: u64, threads: Option<usize>, json: bool) -> Result<(), CliError> {
     let range = parse_trials(trials)?;
     if range.end - range.start < 4 {
-        return Err(format!("--trials: \"{trials}\" is fewer than 4 trials; compare needs at least 4"));
+        return Err(CliError::usage(format!(
+            "--trials: \"{trials}\" is fewer than 4 trials; compare needs at least 4"
+        )));
     }
     let tracer = prepared(scene, &range)?;
-    let oracle = mcrt_noise::oracle::run(scene, Precision::F64, None).map_err(|e| e.to_string())?;
+    let oracle = mcrt_noise::oracle::run(scene, Precision::F64, None)?;
     let (run, _) = traced(&tracer, seed, range, threads)?;
     let cmp = Comparison::new(&oracle, &run.estimates(), run.counters.trials, seed);
     if json {
-        println!("{}", serde_json::to_string_pretty(&cmp).map_err(|e| e.to_string())?);
+        println!("{}", to_json(&cmp)?);
     } else {
         print!("{}", cmp.table());
     }
-    Ok(cmp.pass)
+    if cmp.pass {
+        Ok(())
+    } else {
+        Err(CliError::Stated)
+    }
 }

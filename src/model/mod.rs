@@ -21,7 +21,7 @@ use crate::quad::Failure;
 use std::fmt;
 
 /// Why the oracle cannot answer for a scene.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum OracleError {
     /// The scene asks for an effect the oracle does not model (the tracer may).
     Unsupported(String),

@@ -101,7 +101,7 @@ pub fn markdown(scenes_dir: &Path, figures_dir: &Path) -> Result<String, String>
     let mut orders = Vec::new();
     for (name, label) in MODEL_SCENES {
         let scene = bundled(scenes_dir, name)?;
-        let rows = sweep(&scene, &MODEL_RADII)?;
+        let rows = sweep(&scene, &MODEL_RADII).map_err(|e| e.to_string())?;
         if let (Some(m), Some(v)) =
             (fit_finite_order(&rows, FiniteRatio::Mean), fit_finite_order(&rows, FiniteRatio::Variance))
         {

@@ -3,6 +3,7 @@
 //! SVG figures.
 
 use crate::model::correlations::Which;
+use crate::model::OracleError;
 use crate::oracle::{run, Precision, ValueWithBar};
 use mcrt_scene::Scene;
 use std::fmt::Write;
@@ -76,15 +77,50 @@ pub struct Order {
     pub points: usize,
 }
 
+/// Why a sweep stopped: the radius, and the oracle's failure there or the
+/// missing R → 0 form.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SweepError {
+    /// The oracle failed at this radius (its kind kept: unsupported scene,
+    /// not converged, not representable).
+    Oracle {
+        /// The sphere radius R of the failed run.
+        radius: f64,
+        /// The oracle's error.
+        error: OracleError,
+    },
+    /// The scene has no R → 0 form of (23) or (24) (a light on the camera
+    /// line), so there is no ratio to sweep.
+    NoAsymptoticForm {
+        /// The sphere radius R of the run.
+        radius: f64,
+        /// `(23)` or `(24)`.
+        which: &'static str,
+    },
+}
+
+impl std::fmt::Display for SweepError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SweepError::Oracle { radius, error } => write!(f, "R = {radius:e}: {error}"),
+            SweepError::NoAsymptoticForm { radius, which } => {
+                write!(f, "R = {radius:e}: the R → 0 form of {which} does not exist for this scene")
+            }
+        }
+    }
+}
+
+impl std::error::Error for SweepError {}
+
 /// Runs the oracle at every radius.
-pub fn sweep(scene: &Scene, radii: &[f64]) -> Result<Vec<Row>, String> {
+pub fn sweep(scene: &Scene, radii: &[f64]) -> Result<Vec<Row>, SweepError> {
     radii
         .iter()
         .map(|&r| {
             let mut s = scene.clone();
             s.estimator.radius = r;
-            let rep = run(&s, Precision::F64, None).map_err(|e| format!("R = {r:e}: {e}"))?;
-            let missing = |what: &str| format!("R = {r:e}: the R → 0 form of {what} does not exist for this scene");
+            let rep = run(&s, Precision::F64, None).map_err(|error| SweepError::Oracle { radius: r, error })?;
+            let missing = |which| SweepError::NoAsymptoticForm { radius: r, which };
             let finite = rep.finite.as_ref().map(|f| FiniteColumns {
                 mean_ratio: f.mean_ratio,
                 variance_ratio: f.variance_ratio,

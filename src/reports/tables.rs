@@ -17,7 +17,7 @@ fn print_outcome<T: crate::real::Real>(
     show: impl Fn(&T) -> String,
     dt: Duration,
     method: &str,
-) -> Result<(), String> {
+) -> Result<(), KernelCliError> {
     match out {
         Ok(e) => {
             println!("{label} = {}", show(&e.value));
@@ -32,7 +32,7 @@ fn print_outcome<T: crate::real::Real>(
             println!("  method      {method}");
             Ok(())
         }
-        Err(f) => Err(format!("{label}: {f}")),
+        Err(f) => Err(KernelCliError::Failure(format!("{label}: {f}"))),
     }
 }
 
@@ -47,6 +47,27 @@ pub enum KernelPath {
     Bare,
 }
 
+/// Why the `kernel` command printed no value.
+#[derive(Debug, Clone, PartialEq)]
+pub enum KernelCliError {
+    /// A flag's value cannot be used (`--precision`, `--theta`, `--radius`):
+    /// the flag, the value and what is allowed are named. Usage (exit 2).
+    Flag(String),
+    /// The integral did not converge (`NOT CONVERGED: …` with the reason):
+    /// a computed failure (exit 1).
+    Failure(String),
+}
+
+impl std::fmt::Display for KernelCliError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            KernelCliError::Flag(m) | KernelCliError::Failure(m) => f.write_str(m),
+        }
+    }
+}
+
+impl std::error::Error for KernelCliError {}
+
 /// The `kernel` command.
 pub fn kernel_cli(
     theta: &str,
@@ -54,19 +75,20 @@ pub fn kernel_cli(
     precision: &str,
     rel_tol: Option<f64>,
     path: KernelPath,
-) -> Result<(), String> {
+) -> Result<(), KernelCliError> {
     use crate::oracle::Precision;
     let label = format!("I({theta}, {radius})");
-    match Precision::parse(precision)? {
+    let flag = |name: &'static str| move |e: String| KernelCliError::Flag(format!("--{name}: {e}"));
+    match Precision::parse(precision).map_err(KernelCliError::Flag)? {
         Precision::F64 => {
-            let angle = Angle::from_theta(&parse_decimal(theta, 53)?.to_f64());
-            let r = parse_decimal(radius, 53)?.to_f64();
+            let angle = Angle::from_theta(&parse_decimal(theta, 53).map_err(flag("theta"))?.to_f64());
+            let r = parse_decimal(radius, 53).map_err(flag("radius"))?.to_f64();
             let (out, dt, method) = run_kernel(&angle, &r, rel_tol.unwrap_or(1e-13), path)?;
             print_outcome(&label, &out, |v| format!("{v:.17e}"), dt, &method)
         }
         Precision::Bits(bits) => {
-            let angle = Angle::from_theta(&parse_decimal(theta, bits)?);
-            let r = parse_decimal(radius, bits)?;
+            let angle = Angle::from_theta(&parse_decimal(theta, bits).map_err(flag("theta"))?);
+            let r = parse_decimal(radius, bits).map_err(flag("radius"))?;
             let (out, dt, method) = run_kernel(&angle, &r, rel_tol.unwrap_or_else(|| mpfr_default_tol(bits)), path)?;
             let digits = (bits as f64 * std::f64::consts::LOG10_2) as usize;
             print_outcome(&label, &out, |v| v.to_string_radix(10, Some(digits)), dt, &method)
@@ -80,8 +102,8 @@ pub fn run_kernel<T: crate::quad::CheckRule>(
     r: &T,
     tol: f64,
     path: KernelPath,
-) -> Result<(Outcome<T>, Duration, String), String> {
-    check_kernel_args(angle.sin.to_f64(), r.to_f64())?;
+) -> Result<(Outcome<T>, Duration, String), KernelCliError> {
+    check_kernel_args(angle.sin.to_f64(), r.to_f64()).map_err(KernelCliError::Flag)?;
     let opts = Options::rel(tol);
     let t0 = Instant::now();
     let (out, method) = match path {
