@@ -448,17 +448,54 @@ impl Report {
         for (name, c) in [("(23)", &self.corr23), ("(24)", &self.corr24)] {
             out.push((format!("{name} exact"), c.exact.value));
             out.push((format!("{name} exact (bar)"), c.exact.error));
-            for (what, v) in [("ratio", c.ratio), ("ratio bar", c.ratio_error)] {
+            for (what, v) in [
+                ("R→0 form", c.asymptotic.value),
+                ("R→0 form bar", c.asymptotic.error),
+                ("exact/R→0 ratio", c.ratio),
+                ("exact/R→0 ratio bar", c.ratio_error),
+            ] {
                 if let Some(v) = v {
-                    out.push((format!("{name} exact/R→0 {what}"), v));
+                    out.push((format!("{name} {what}"), v));
                 }
+            }
+        }
+        for (what, v) in [
+            ("Var/L², §4.4 formula", self.variance.relative_asymptotic),
+            ("Var/L², §4.4 formula (bar)", self.variance.relative_asymptotic_error),
+        ] {
+            if let Some(v) = v {
+                out.push((what.into(), v));
+            }
+        }
+        for (what, d) in [("D", &self.d), ("D bar", &self.d_error)] {
+            for (k, v) in d.iter().flatten().enumerate() {
+                out.push((format!("{what} {}", k + 1), *v));
             }
         }
         out
     }
 
-    /// Fails when a printed number is not finite, or the mean is not
-    /// positive (the ratios and the relative noise divide by it).
+    /// The numbers that are positive for every lit scene (each an integral
+    /// of a positive integrand): printed as 0, they have underflowed.
+    fn positive_numbers(&self) -> Vec<(&'static str, ValueWithBar)> {
+        let int = |i: &Integral| ValueWithBar { value: i.value, error: i.error };
+        let mut out = vec![
+            ("mean luminance (small-sphere)", self.mean_luminance),
+            ("prediction: mean", self.prediction.mean),
+            ("Var L (small-sphere)", self.variance.exact),
+            ("prediction: Var L", self.prediction.variance),
+            ("(23) exact", int(&self.corr23.exact)),
+            ("(24) exact", int(&self.corr24.exact)),
+        ];
+        if let Some(f) = &self.finite {
+            out.push(("finite-sphere Var L", f.variance));
+        }
+        out
+    }
+
+    /// Fails when a printed number is not finite, or a quantity that is
+    /// positive for every lit scene (the mean, which the ratios and the
+    /// relative noise divide by; Var L; (23), (24)) has underflowed to 0.
     fn check_representable(&self, scene: &Scene) -> Result<(), OracleError> {
         let fluxes: Vec<String> = scene.lights.iter().map(|l| format!("{:e}", l.flux())).collect();
         let advice = format!(
@@ -466,9 +503,7 @@ impl Report {
              rescale the fluxes (or bring the lights nearer: e^(−σ_ext·distance) underflows beyond ~700)",
             fluxes.join(", ")
         );
-        for (name, v) in
-            [("mean luminance (small-sphere)", &self.mean_luminance), ("prediction: mean", &self.prediction.mean)]
-        {
+        for (name, v) in self.positive_numbers() {
             if !(v.value > 0.0) {
                 return Err(OracleError::NotRepresentable(format!(
                     "{name} is {:e} ± {:e}: it underflows f64; {advice}",

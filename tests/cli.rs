@@ -641,6 +641,27 @@ fn a_closed_pipe_ends_quietly_without_a_panic() {
     assert!(stderr.is_empty(), "{stderr}");
 }
 
+/// A scene inside every bound of validation whose Var L (≈ 7e-330) is
+/// below the smallest double: σ_ext = 1e-10, flux 1e-10, the light at an
+/// optical distance of 599 (the bound is 600), σ_ext·R = 0.01.
+const VAR_UNDERFLOWS: &str = r#"
+[medium]
+sigma_ext = 1e-10
+albedo = 0.8
+[[lights]]
+kind = "point"
+position = [5.99e12, 0.0, 5.99e10]
+flux = 1e-10
+[camera]
+origin = [0.0, 0.0, 0.0]
+direction = [0.0, 0.0, 1.0]
+[estimator]
+radius = 1e8
+q = 0.5
+forward_rays = 200
+camera_rays = 8
+"#;
+
 /// The exit-code policy of `main` (and `--help`, README.md), one case per
 /// class: 1 for a computed failure (NOT CONVERGED, the budget or deadline
 /// spent, a result not representable in f64), 2 for usage or bad input
@@ -656,6 +677,9 @@ fn exit_codes_follow_the_documented_policy() {
     let scene = scene.to_str().unwrap();
     let order1 = root.join("scenes/point-isotropic-order1.toml");
     let order1 = order1.to_str().unwrap();
+    let underflows = dir.join("var-underflows.toml");
+    std::fs::write(&underflows, VAR_UNDERFLOWS).unwrap();
+    let underflows = underflows.to_str().unwrap();
     let invalid = edited_scene("exit-invalid", &[("q = 0.5", "q = 1.5")]);
     let invalid = invalid.to_str().unwrap();
     let order2 = edited_scene("exit-order2", &[("scattering_orders = 0", "scattering_orders = 2")]);
@@ -667,6 +691,7 @@ fn exit_codes_follow_the_documented_policy() {
         // Computed failures: exit 1, the reason on stderr.
         (&["oracle", scene, "--max-evals", "1000"], 1, "NOT CONVERGED: the computation's evaluation budget of 1000"),
         (&["oracle", order1, "--time-limit", "0.01"], 1, "time limit"),
+        (&["oracle", underflows], 1, "not representable in f64: Var L (small-sphere) is 0e0"),
         (&["kernel", "--theta", "1", "--radius", "1e-3", "--rel-tol", "1e-30"], 1, "NOT CONVERGED"),
         // Usage or bad input: exit 2, the flag, file or field named.
         (&["oracle", scene, "--no-such-flag"], 2, "--no-such-flag"),

@@ -87,6 +87,27 @@ fn results_outside_f64_are_refused_not_printed() {
     }
 }
 
+/// A scene inside every bound (σ_ext = 1e-10, flux 1e-10, the light at
+/// optical distance 599 of the allowed 600) whose Var L, ≈ 7e-330, is below
+/// the smallest double. Printed `Var L 0 ± 0`, `(23) exact 0 ± 0`, the §4.4
+/// relative noise `± NaN` and `D4 0 ± NaN` with exit 0 until this test; now
+/// refused as not representable in f64, a computed failure: exit 1.
+#[test]
+fn a_variance_that_underflows_is_not_representable_exit_1() {
+    let text = include_str!("../scenes/point-isotropic.toml")
+        .replace("position = [1.0, 0.0, 1.0]", "position = [5.99e12, 0.0, 5.99e10]")
+        .replace("sigma_ext = 1.0", "sigma_ext = 1e-10")
+        .replace("flux = 1.0", "flux = 1e-10")
+        .replace("radius = 0.01", "radius = 1e8");
+    let path = std::env::temp_dir().join(format!("mcrt-noise-probe-underflow-{}.toml", std::process::id()));
+    std::fs::write(&path, text).unwrap();
+    let out = run(&["oracle", path.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{}{err}", stdout(&out));
+    assert!(out.stdout.is_empty(), "printed {}", stdout(&out));
+    assert!(err.contains("not representable in f64: Var L (small-sphere) is 0e0") && err.contains("flux"), "{err}");
+}
+
 /// A budget of 1000 evaluations: NOT CONVERGED naming the budget, a computed
 /// failure (exit 1; it was exit 2, the code of a typo); the budget's flags
 /// out of range are usage (exit 2).
