@@ -363,6 +363,11 @@ fn assert_finite_output(text: &str) {
     assert!(!lower.contains("nan") && !lower.contains("inf"), "inf or NaN printed:\n{text}");
 }
 
+/// The probe: `trace` panicked at `reference/src/moments.rs:56` ("fourth
+/// power is not finite") for `sigma_ext = 5e-324`, `flux = 1e300` and
+/// `radius = 1e-300`, all accepted by `validate`, and printed `± NaN` and
+/// `Var L -0.0` for `flux = 1e-300`. L is now scaled by a power of two
+/// (exact), and what no scaling saves is refused up front (exit 2).
 #[test]
 fn trace_scales_extreme_fluxes_exactly_and_refuses_degenerate_lengths() {
     let p = |tag, edits: &[(&str, &str)]| edited_scene(tag, edits).to_str().unwrap().to_string();
@@ -412,6 +417,15 @@ fn trace_scales_extreme_fluxes_exactly_and_refuses_degenerate_lengths() {
     }
 }
 
+/// The probe: `camera_rays = 2^40` and `--trials 18446744073709551615`
+/// aborted on a failed allocation (exit 134); `q = 1e-12` grew past 18 GB;
+/// `forward_rays = 2^40` and `scattering_orders = 1000000` with albedo 1 ran
+/// past 120 s with no progress. Each is now refused before any trial (exit
+/// 2) with the field or flag and its bound named: the scene's bounds
+/// (`forward_rays` ≤ 10⁸, `camera_rays` ≤ 10⁶, q ≥ 10⁻⁶) or the tracer's
+/// (`reference/src/limits.rs`: 2²⁴ forward segments per trial, 2⁶⁰ units of
+/// work per run, which bounds `--trials`). A million orders of a single
+/// forward ray fit the per-trial bound and run in about a second.
 #[test]
 fn trace_refuses_trials_beyond_its_memory_and_work_bounds_with_the_field_named() {
     let p = |tag, edits: &[(&str, &str)]| edited_scene(tag, edits).to_str().unwrap().to_string();
@@ -426,6 +440,7 @@ fn trace_refuses_trials_beyond_its_memory_and_work_bounds_with_the_field_named()
             "effects.scattering_orders",
         ),
         (scene.clone(), "18446744073709551615", "--trials"),
+        (scene.clone(), "0..18446744073709551615", "--trials"),
     ] {
         let (code, text, err) = ended(&["trace", &path, "--trials", trials]);
         assert_eq!(code, Some(2), "{needle}: {text}{err}");
@@ -433,9 +448,31 @@ fn trace_refuses_trials_beyond_its_memory_and_work_bounds_with_the_field_named()
             text.is_empty() && err.contains(needle) && (err.contains("at most") || err.contains("must be")),
             "{needle}: {err}"
         );
+        if needle == "--trials" {
+            assert!(err.contains("at most 2^60") && err.contains("trials per run or shard"), "{err}");
+        }
     }
+    let one_ray = p(
+        "orders1",
+        &[
+            ("scattering_orders = 0", "scattering_orders = 1000000"),
+            ("albedo = 0.8", "albedo = 1.0"),
+            ("forward_rays = 200", "forward_rays = 1"),
+        ],
+    );
+    let start = std::time::Instant::now();
+    let (code, text, err) = ended(&["trace", &one_ray, "--trials", "10"]);
+    assert!(start.elapsed().as_secs() < 30, "{:?}", start.elapsed());
+    // 10⁷ segments and no sphere met: not resolved, said in the report, exit 1.
+    assert_eq!(code, Some(1), "{text}{err}");
+    assert!(text.contains("segments 10000010") && text.contains("no hits in 10 trials"), "{text}");
 }
 
+/// The probe: `--trials 18446744073709550000..18446744073709551615 --out
+/// s.json` ran 0 trials and exited 0 while the shard claimed the range
+/// (`a + CHUNK` wrapped in `reference/src/run.rs`). The range is 1615
+/// trials, within every bound: traced in full (range arithmetic saturates),
+/// and its shard merges.
 #[test]
 fn trial_ranges_near_the_end_of_u64_are_traced_and_merged() {
     let dir = temp_dir("u64max");
@@ -455,6 +492,8 @@ fn trial_ranges_near_the_end_of_u64_are_traced_and_merged() {
     assert_eq!(merged["trials"][0][1].as_u64(), Some(u64::MAX));
 }
 
+/// The probe: with no hits the tracer reported `0 ± 0` (exit 0) and
+/// `compare` said DISAGREE with z = −7e10 on a valid scene.
 #[test]
 fn zero_hits_are_reported_as_not_resolved_by_trace_and_compare() {
     let far = edited_scene("far", &[("position = [1.0, 0.0, 1.0]", "position = [40.0, 0.0, 1.0]")]);
@@ -515,6 +554,8 @@ fn merge_validates_every_field_of_every_shard() {
     }
 }
 
+/// The probe: `trace … --out /nonexistent/x.json` failed only after the
+/// run, and printed nothing of it.
 #[test]
 fn trace_checks_its_output_path_before_the_run_and_prints_the_result_if_writing_fails() {
     let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");

