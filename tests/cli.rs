@@ -725,6 +725,11 @@ fn exit_codes_follow_the_documented_policy() {
     let invalid = invalid.to_str().unwrap();
     let order2 = edited_scene("exit-order2", &[("scattering_orders = 0", "scattering_orders = 2")]);
     let order2 = order2.to_str().unwrap();
+    let behind = edited_scene("exit-behind", &[("position = [1.0, 0.0, 1.0]", "position = [0.0, 0.0, -1.0]")]);
+    let behind = behind.to_str().unwrap();
+    let values = dir.join("values.txt");
+    std::fs::write(&values, "1e-3\n2e-3\n3e-3\n4e-3\n").unwrap();
+    let values = values.to_str().unwrap();
     let not_a_shard = dir.join("not-a-shard.json");
     std::fs::write(&not_a_shard, "{\"format\": 1}").unwrap();
     let not_a_shard = not_a_shard.to_str().unwrap();
@@ -741,6 +746,8 @@ fn exit_codes_follow_the_documented_policy() {
         (&["trace", "/nonexistent/scene.toml", "--trials", "10"], 2, "/nonexistent/scene.toml"),
         (&["oracle", invalid], 2, "estimator.q = 1.5"),
         (&["oracle", order2], 2, "unsupported"),
+        (&["check", order2, "--values", values], 2, "oracle: unsupported"),
+        (&["sweep", behind, "--radii", "1e-2,1e-3"], 2, "the R → 0 form of (23) does not exist for this scene"),
         (&["kernel", "--theta", "abc", "--radius", "1e-3"], 2, "--theta"),
         (&["merge", not_a_shard], 2, "not-a-shard.json"),
         (&["trace", scene, "--trials", "10", "--out", "/nonexistent/x.json"], 2, "--out /nonexistent/x.json"),

@@ -87,11 +87,10 @@ impl From<OracleError> for CliError {
 impl From<PredictError> for CliError {
     fn from(e: PredictError) -> CliError {
         match &e {
-            PredictError::Scene(_) | PredictError::Unsupported(_) => CliError::usage(e),
-            PredictError::Oracle(inner) => match CliError::from(inner.clone()) {
-                CliError::Usage(_) => CliError::usage(e),
-                _ => CliError::computed(e),
-            },
+            PredictError::Scene(_)
+            | PredictError::Unsupported(_)
+            | PredictError::Oracle(OracleError::Unsupported(_)) => CliError::usage(e),
+            PredictError::Oracle(_) => CliError::computed(e),
         }
     }
 }
@@ -111,11 +110,10 @@ impl From<KernelCliError> for CliError {
 impl From<SweepError> for CliError {
     fn from(e: SweepError) -> CliError {
         match &e {
-            SweepError::Oracle { error, .. } => match CliError::from(error.clone()) {
-                CliError::Usage(_) => CliError::usage(e),
-                _ => CliError::computed(e),
-            },
-            SweepError::NoAsymptoticForm { .. } => CliError::usage(e),
+            SweepError::Oracle { error: OracleError::Unsupported(_), .. } | SweepError::NoAsymptoticForm { .. } => {
+                CliError::usage(e)
+            }
+            SweepError::Oracle { .. } => CliError::computed(e),
         }
     }
 }
