@@ -3,7 +3,7 @@
 use clap::{Parser, Subcommand};
 use cli::CliError;
 use mcrt_noise::oracle::Precision;
-use mcrt_noise::quad::{Budget, DEFAULT_EVALUATIONS};
+use mcrt_noise::quad::Budget;
 use mcrt_noise::reports;
 use mcrt_noise::scene::Scene;
 use std::path::{Path, PathBuf};
@@ -36,7 +36,7 @@ enum Command {
         /// Relative tolerance of every integral, in [1e-30, 0.1] (default 1e-10 in f64, 2^-(bits-22) in MPFR).
         #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::rel_tol)]
         rel_tol: Option<f64>,
-        /// Integrand evaluations the whole run may spend, over every integral and level (default 2e9, ~40 s in f64).
+        /// Integrand evaluations the whole run may spend, over every integral and level (default 2e9 in f64, ~40 s; 5e7 in MPFR, a few minutes at 128 bits).
         #[arg(long)]
         max_evals: Option<f64>,
         /// Wall-time limit of the run in seconds (none by default; the result then depends on the machine's speed).
@@ -230,7 +230,8 @@ fn run(command: Command) -> Result<(), CliError> {
     match command {
         Command::Validate { scene } => validate(&scene),
         Command::Oracle { scene, precision, rel_tol, max_evals, time_limit, json } => {
-            oracle(&scene, &precision, rel_tol, &budget_from_flags(max_evals, time_limit)?, json)
+            let precision = Precision::parse(&precision).map_err(CliError::Usage)?;
+            oracle(&scene, precision, rel_tol, &budget_from_flags(precision, max_evals, time_limit)?, json)
         }
         Command::Kernel { theta, radius, precision, rel_tol, nested, bare } => {
             let path = match (nested, bare) {
@@ -342,10 +343,11 @@ fn load_with_radius(path: &PathBuf, radius: Option<f64>) -> Result<Scene, CliErr
     Ok(scene)
 }
 
-/// The run's evaluation budget from `--max-evals` and `--time-limit`.
-fn budget_from_flags(max_evals: Option<f64>, time_limit: Option<f64>) -> Result<Budget, CliError> {
+/// The run's evaluation budget from `--max-evals` (default: the
+/// precision's, `Precision::default_evaluations`) and `--time-limit`.
+fn budget_from_flags(precision: Precision, max_evals: Option<f64>, time_limit: Option<f64>) -> Result<Budget, CliError> {
     let limit = match max_evals {
-        None => DEFAULT_EVALUATIONS,
+        None => precision.default_evaluations(),
         Some(n) if n.is_finite() && (1.0..=1e15).contains(&n) && n.fract() == 0.0 => n as u64,
         Some(n) => return Err(CliError::usage(format!("--max-evals: {n} is not a whole number in [1, 1e15]"))),
     };
@@ -360,9 +362,8 @@ fn budget_from_flags(max_evals: Option<f64>, time_limit: Option<f64>) -> Result<
 
 /// `oracle`: an unsupported scene is input (exit 2); NOT CONVERGED, the
 /// budget spent or a result beyond f64 is computed (exit 1).
-fn oracle(path: &PathBuf, precision: &str, rel_tol: Option<f64>, budget: &Budget, json: bool) -> Result<(), CliError> {
+fn oracle(path: &PathBuf, precision: Precision, rel_tol: Option<f64>, budget: &Budget, json: bool) -> Result<(), CliError> {
     let scene = load(path)?;
-    let precision = Precision::parse(precision).map_err(CliError::Usage)?;
     let report = mcrt_noise::oracle::run_within(&scene, precision, rel_tol, budget)
         .map_err(|e| CliError::from(e).at(path.display()))?;
     if json {

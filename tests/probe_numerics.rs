@@ -194,7 +194,7 @@ fn fifty_point_lights_with_single_scattering_end_within_the_budget() {
     let scene = fifty_lights_order_one("limits");
     let scene = scene.to_str().unwrap();
     for (flags, limit) in
-        [(["--max-evals", "20000000"], "evaluation budget of 20000000"), (["--time-limit", "2"], "time limit of 2.0 s")]
+        [(["--max-evals", "20000000"], "evaluation budget of 20000000"), (["--time-limit", "2"], "time limit of 2 s")]
     {
         let (out, secs) = run_within(&[&["oracle", scene][..], &flags[..]].concat(), 60.0)
             .unwrap_or_else(|| panic!("{flags:?}: still running after 60 s"));

@@ -105,7 +105,7 @@ impl Budget {
         if let Some((at, time)) = self.0.deadline {
             if Instant::now() >= at {
                 self.0.spent.store(true, Ordering::Relaxed);
-                return Some(format!("the computation's time limit of {:.1} s is spent", time.as_secs_f64()));
+                return Some(format!("the computation's time limit of {} s is spent", time.as_secs_f64()));
             }
         }
         None
