@@ -23,6 +23,18 @@ struct Cli {
     command: Command,
 }
 
+/// The evaluation budget (and optional deadline) of one computation,
+/// shared by every integral and level of it.
+#[derive(clap::Args, Clone, Copy)]
+struct BudgetArgs {
+    /// Integrand evaluations the whole run may spend, over every integral and level, in [1, 1e15] (default 1e9 in f64, ~20 s; in MPFR 5e7 up to 128 bits, a few minutes, and 5e7·(128/bits)² above, as evaluations get dearer).
+    #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::max_evals)]
+    max_evals: Option<u64>,
+    /// Wall-time limit of the run in seconds, in (0, 1e6] (none by default; a run that meets it depends on the machine's speed).
+    #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::time_limit)]
+    time_limit: Option<f64>,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Parse and validate a scene; print it normalised (defaults filled in) or list its errors.
@@ -36,12 +48,8 @@ enum Command {
         /// Relative tolerance of every integral, in [1e-30, 0.1] (default 1e-10 in f64, 2^-(bits-22) in MPFR).
         #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::rel_tol)]
         rel_tol: Option<f64>,
-        /// Integrand evaluations the whole run may spend, over every integral and level (default 2e9 in f64, ~40 s; 5e7 in MPFR, a few minutes at 128 bits).
-        #[arg(long)]
-        max_evals: Option<f64>,
-        /// Wall-time limit of the run in seconds (none by default; the result then depends on the machine's speed).
-        #[arg(long)]
-        time_limit: Option<f64>,
+        #[command(flatten)]
+        budget: BudgetArgs,
         /// One JSON object instead of the table.
         #[arg(long)]
         json: bool,
@@ -67,6 +75,8 @@ enum Command {
         /// The bare 2-D integrand by the nested engine, without telling it the kink.
         #[arg(long)]
         bare: bool,
+        #[command(flatten)]
+        budget: BudgetArgs,
     },
     /// Exact/asymptotic ratios of (23), (24) as R → 0 with the fitted order, and the finite-sphere model against the small-sphere one.
     Sweep {
@@ -74,6 +84,9 @@ enum Command {
         /// Comma-separated radii, e.g. 1e-1,1e-2,1e-3.
         #[arg(long, value_delimiter = ',', default_values_t = mcrt_noise::reports::sweep::DOC_RADII)]
         radii: Vec<f64>,
+        /// One budget for the whole sweep, shared by its radii.
+        #[command(flatten)]
+        budget: BudgetArgs,
         /// One JSON object instead of the table.
         #[arg(long)]
         json: bool,
@@ -229,20 +242,24 @@ fn main() -> ExitCode {
 fn run(command: Command) -> Result<(), CliError> {
     match command {
         Command::Validate { scene } => validate(&scene),
-        Command::Oracle { scene, precision, rel_tol, max_evals, time_limit, json } => {
+        Command::Oracle { scene, precision, rel_tol, budget, json } => {
             let precision = Precision::parse(&precision).map_err(CliError::Usage)?;
-            oracle(&scene, precision, rel_tol, &budget_from_flags(precision, max_evals, time_limit)?, json)
+            oracle(&scene, precision, rel_tol, &budget_from_flags(precision, budget), json)
         }
-        Command::Kernel { theta, radius, precision, rel_tol, nested, bare } => {
+        Command::Kernel { theta, radius, precision, rel_tol, nested, bare, budget } => {
             let path = match (nested, bare) {
                 (_, true) => reports::tables::KernelPath::Bare,
                 (true, false) => reports::tables::KernelPath::Nested,
                 (false, false) => reports::tables::KernelPath::Reduced,
             };
             kernel_args(&theta, &radius)?;
-            Ok(reports::tables::kernel_cli(&theta, &radius, &precision, rel_tol, path)?)
+            let precision = Precision::parse(&precision).map_err(CliError::Usage)?;
+            let budget = budget_from_flags(precision, budget);
+            Ok(reports::tables::kernel_cli(&theta, &radius, precision, rel_tol, path, &budget)?)
         }
-        Command::Sweep { scene, radii, json } => sweep(&scene, &radii, json),
+        Command::Sweep { scene, radii, budget, json } => {
+            sweep(&scene, &radii, &budget_from_flags(Precision::F64, budget), json)
+        }
         Command::Trace { run: a, out } => {
             let scene = load_with_radius(&a.scene, a.radius)?;
             cli::trace_cmd::trace_cmd(&scene, &a.trials, a.seed, a.threads, a.json, out.as_deref())
@@ -344,25 +361,25 @@ fn load_with_radius(path: &PathBuf, radius: Option<f64>) -> Result<Scene, CliErr
 }
 
 /// The run's evaluation budget from `--max-evals` (default: the
-/// precision's, `Precision::default_evaluations`) and `--time-limit`.
-fn budget_from_flags(precision: Precision, max_evals: Option<f64>, time_limit: Option<f64>) -> Result<Budget, CliError> {
-    let limit = match max_evals {
-        None => precision.default_evaluations(),
-        Some(n) if n.is_finite() && (1.0..=1e15).contains(&n) && n.fract() == 0.0 => n as u64,
-        Some(n) => return Err(CliError::usage(format!("--max-evals: {n} is not a whole number in [1, 1e15]"))),
-    };
-    match time_limit {
-        None => Ok(Budget::new(limit)),
-        Some(t) if t.is_finite() && t > 0.0 && t <= 1e6 => {
-            Ok(Budget::with_deadline(limit, std::time::Duration::from_secs_f64(t)))
-        }
-        Some(t) => Err(CliError::usage(format!("--time-limit: {t} s is outside (0, 1e6] seconds"))),
+/// precision's, `Precision::default_evaluations`) and `--time-limit` (both
+/// range-checked by their value parsers).
+fn budget_from_flags(precision: Precision, flags: BudgetArgs) -> Budget {
+    let limit = flags.max_evals.unwrap_or_else(|| precision.default_evaluations());
+    match flags.time_limit {
+        None => Budget::new(limit),
+        Some(t) => Budget::with_deadline(limit, std::time::Duration::from_secs_f64(t)),
     }
 }
 
 /// `oracle`: an unsupported scene is input (exit 2); NOT CONVERGED, the
 /// budget spent or a result beyond f64 is computed (exit 1).
-fn oracle(path: &PathBuf, precision: Precision, rel_tol: Option<f64>, budget: &Budget, json: bool) -> Result<(), CliError> {
+fn oracle(
+    path: &PathBuf,
+    precision: Precision,
+    rel_tol: Option<f64>,
+    budget: &Budget,
+    json: bool,
+) -> Result<(), CliError> {
     let scene = load(path)?;
     let report = mcrt_noise::oracle::run_within(&scene, precision, rel_tol, budget)
         .map_err(|e| CliError::from(e).at(path.display()))?;
@@ -374,7 +391,7 @@ fn oracle(path: &PathBuf, precision: Precision, rel_tol: Option<f64>, budget: &B
     Ok(())
 }
 
-fn sweep(path: &PathBuf, radii: &[f64], json: bool) -> Result<(), CliError> {
+fn sweep(path: &PathBuf, radii: &[f64], budget: &Budget, json: bool) -> Result<(), CliError> {
     if let Some(bad) = radii.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
         return Err(CliError::usage(format!("--radii: {bad} is not a radius (finite and > 0)")));
     }
@@ -385,7 +402,7 @@ fn sweep(path: &PathBuf, radii: &[f64], json: bool) -> Result<(), CliError> {
         s.validated()
             .map_err(|e| CliError::usage(format!("--radii: {}", e.to_string().replace("estimator.radius", "R"))))?;
     }
-    let rows = mcrt_noise::reports::sweep::sweep(&scene, radii)?;
+    let rows = mcrt_noise::reports::sweep::sweep_within(&scene, radii, budget)?;
     if json {
         use mcrt_noise::model::correlations::Which;
         use mcrt_noise::reports::sweep::fit_order;

@@ -20,35 +20,58 @@ use mcrt_scene::{Light, Scene};
 use serde::Serialize;
 use std::time::Instant;
 
+/// The largest MPFR precision a run accepts: its default tolerance
+/// 2^{−(bits − 22)} is then 2^{−1002} ≈ 2.3·10⁻³⁰², still a normal double
+/// (tolerances are f64; past ~1044 bits the default underflowed to 0 and
+/// every integral was refused).
+pub const MAX_BITS: u32 = 1024;
+
+/// The most lights a scene may have for the oracle. Integrals that sum
+/// over the lights inside their integrand (P, Q and the finite-sphere
+/// model's) cost about the square of the light count, which no evaluation
+/// count bounds: 10 point lights take 0.3 s, 100 take 13 s and 1000 would
+/// take ~20 min (measured on two cores; 200 000 lights, which the tracer
+/// traces in a second, ran past their deadline by 40 s). Refused beyond,
+/// naming `lights`, before any work.
+pub const MAX_LIGHTS: usize = 100;
+
 /// Working precision of an oracle run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Precision {
     /// IEEE double precision.
     F64,
-    /// MPFR with this many bits of mantissa (32 to 4096).
+    /// MPFR with this many bits of mantissa (32 to [`MAX_BITS`]).
     Bits(u32),
 }
 
 impl Precision {
-    /// Parses `f64` or a number of bits in [32, 4096].
+    /// Parses `f64` or a number of bits in [32, [`MAX_BITS`]].
     pub fn parse(text: &str) -> Result<Precision, String> {
         if text == "f64" {
             return Ok(Precision::F64);
         }
         match text.parse::<u32>() {
-            Ok(b) if (32..=4096).contains(&b) => Ok(Precision::Bits(b)),
-            _ => Err(format!("--precision {text:?}: must be `f64` or a number of bits in [32, 4096]")),
+            Ok(b) if (32..=MAX_BITS).contains(&b) => Ok(Precision::Bits(b)),
+            _ => Err(format!(
+                "--precision {text:?}: must be `f64` or a number of bits in [32, {MAX_BITS}] (tolerances are \
+                 doubles, so the tightest is ~1e-300: more bits would only be guard digits)"
+            )),
         }
     }
 
     /// Default evaluation budget of a run: [`crate::quad::DEFAULT_EVALUATIONS`]
-    /// (2·10⁹, ~40 s) in f64, [`crate::quad::DEFAULT_EVALUATIONS_MPFR`]
-    /// (5·10⁷, a few minutes at 128 bits) in MPFR, whose evaluations cost
-    /// ~300 times more.
+    /// (10⁹, ~20 s) in f64; in MPFR, whose evaluations cost ~300 times
+    /// more at 128 bits and grow roughly with the square of the precision
+    /// beyond, [`crate::quad::DEFAULT_EVALUATIONS_MPFR`] (5·10⁷, a few
+    /// minutes) up to 128 bits and 5·10⁷·(128/bits)² above (7.8·10⁵ at 1024
+    /// bits), so that the default never means hours.
     pub fn default_evaluations(self) -> u64 {
         match self {
             Precision::F64 => crate::quad::DEFAULT_EVALUATIONS,
-            Precision::Bits(_) => crate::quad::DEFAULT_EVALUATIONS_MPFR,
+            Precision::Bits(b) => {
+                let scale = (128.0 / f64::from(b.max(128))).powi(2);
+                (crate::quad::DEFAULT_EVALUATIONS_MPFR as f64 * scale) as u64
+            }
         }
     }
 
@@ -140,6 +163,10 @@ pub struct Variance {
     pub exact: ValueWithBar,
     /// log₁₀ Var L (meaningful where `exact.value` underflows f64).
     pub log10: f64,
+    /// Its bar, −log₁₀(1 − bar/|Var L|) ≥ the distance to the exact log₁₀
+    /// (the relative bar carried through the logarithm; `None` when the bar
+    /// is not below the value).
+    pub log10_error: Option<f64>,
     /// Var L / ⟨⟨L⟩⟩².
     pub relative: f64,
     /// Its bar.
@@ -229,6 +256,8 @@ pub struct Report {
     pub mean_luminance: ValueWithBar,
     /// log₁₀ of the mean luminance (meaningful where `value` underflows f64).
     pub mean_luminance_log10: f64,
+    /// Its bar, as [`Variance::log10_error`].
+    pub mean_luminance_log10_error: Option<f64>,
     /// Integral (23), exact at R and its R → 0 form (small-sphere model).
     pub corr23: Correlation,
     /// Integral (24), likewise.
@@ -305,6 +334,13 @@ pub fn run_with<T: CheckRule>(
     budget: &Budget,
 ) -> Result<Report, OracleError> {
     let t0 = Instant::now();
+    if scene.lights.len() > MAX_LIGHTS {
+        return Err(OracleError::Unsupported(format!(
+            "lights: {} lights; the oracle takes at most {MAX_LIGHTS} (its cost grows as the square of the \
+             light count: 100 point lights take ~13 s on two cores); the tracer has no such bound",
+            scene.lights.len()
+        )));
+    }
     let field = Field::from_scene(scene, like)?;
     let r = like.lit(scene.estimator.radius);
     if field.albedo.is_zero() {
@@ -354,6 +390,11 @@ pub fn run_with<T: CheckRule>(
         + relative.abs() * like.lit(2.0) * mean.error.clone() / mean.value.abs();
     let d = d_constants(&ints, &r, &field.sigma_ext, &inv_k);
     let log10 = |v: &T| v.abs().ln().to_f64() / std::f64::consts::LN_10;
+    // |log₁₀(v ± e) − log₁₀ v| ≤ −log₁₀(1 − e/v) for e < v.
+    let log10_bar = |v: &T, e: &T| {
+        let rel = (e.clone() / v.abs()).to_f64();
+        (rel < 1.0).then(|| -(-rel).ln_1p() / std::f64::consts::LN_10)
+    };
     let shift_log10 = field.shift.to_f64() / std::f64::consts::LN_10;
     let relative_asymptotic = d.as_ref().map(|d| relative_from_d(d, &r, &field.sigma_ext, &counts).to_f64());
     let d_error = d.as_ref().and_then(|d| d_errors(&ints, d));
@@ -397,11 +438,13 @@ pub fn run_with<T: CheckRule>(
         camera_rays: scene.estimator.camera_rays,
         mean_luminance: small_mean,
         mean_luminance_log10: log10(&ints.mean.value) - shift_log10,
+        mean_luminance_log10_error: log10_bar(&ints.mean.value, &ints.mean.error),
         corr23: correlation(&ints.c23, &ints.c23_asym, &k),
         corr24: correlation(&ints.c24, &ints.c24_asym, &k),
         variance: Variance {
             exact: small_variance,
             log10: log10(&var.value) - shift_log10,
+            log10_error: log10_bar(&var.value, &var.error),
             relative: relative.to_f64(),
             relative_error: relative_error.to_f64(),
             relative_asymptotic,

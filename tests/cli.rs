@@ -131,7 +131,7 @@ fn sweep_prints_ratios_and_order() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let order = v.pointer("/order23/order").and_then(|x| x.as_f64()).unwrap();
-    let err = v.pointer("/order23/std_error").and_then(|x| x.as_f64()).unwrap();
+    let err = v.pointer("/order23/error").and_then(|x| x.as_f64()).unwrap();
     assert!((order - 1.0).abs() <= 0.01 && err < 0.01, "order {order} ± {err}");
     let bad = bin()
         .args(["sweep", "scenes/beam-isotropic.toml", "--radii", "1e-2,-1"])

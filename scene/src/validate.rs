@@ -277,8 +277,8 @@ fn medium(c: &mut Checker, m: &MediumFile) -> Medium {
             Phase::Isotropic
         }
         ("henyey-greenstein", Some(g)) => {
-            let g = c.range("medium.phase.g", g, (-1.0, false), (1.0, false), "in (-1, 1)");
-            if g.abs() < 1.0 && g.abs() > MAX_ABS_G {
+            // One message for every g outside the bound, NaN and ±1 included.
+            if g.is_nan() || g.abs() > MAX_ABS_G {
                 c.push(
                     "medium.phase.g",
                     g,
@@ -291,7 +291,11 @@ fn medium(c: &mut Checker, m: &MediumFile) -> Medium {
             Phase::HenyeyGreenstein { g }
         }
         ("henyey-greenstein", None) => {
-            c.push("medium.phase.g", "(missing)", "given, in (-1, 1), for kind = \"henyey-greenstein\"");
+            c.push(
+                "medium.phase.g",
+                "(missing)",
+                &format!("given, in [-{MAX_ABS_G}, {MAX_ABS_G}], for kind = \"henyey-greenstein\""),
+            );
             Phase::Isotropic
         }
         (kind, _) => {
@@ -455,7 +459,16 @@ fn check_light_off_camera_ray(c: &mut Checker, i: usize, light: &Light, camera: 
     if !position.is_finite() || !camera.origin.is_finite() || !camera.direction.is_finite() {
         return;
     }
+    // Scaled by its largest component, so that no square overflows (at
+    // |origin| = 1e155 the plain lengths were inf and inf ≤ inf put every
+    // light "on the camera ray"). The difference itself cannot overflow:
+    // coordinates beyond the bound are reported on their own.
     let rel = position - camera.origin;
+    let scale = rel.abs().max_element();
+    if !scale.is_finite() {
+        return;
+    }
+    let rel = if scale > 0.0 { rel / scale } else { rel };
     let along = rel.dot(camera.direction);
     let perp = rel.cross(camera.direction).length();
     if along >= 0.0 && perp <= ON_RAY_REL * rel.length() {

@@ -8,6 +8,10 @@
 pub const REL_TOL: (f64, f64) = (1e-30, 0.1);
 /// `kernel --radius` (R in units of 1/σ_ext): the kernel is computed at any R (its far edge by analysis, `kernel.rs`); below 1e-200 its value ~R falls under the engine's absolute floor.
 pub const KERNEL_RADIUS: (f64, f64) = (1e-200, 1e300);
+/// `--max-evals` in [1, 10¹⁵] (a whole number).
+pub const MAX_EVALS: (f64, f64) = (1.0, 1e15);
+/// `--time-limit` in (0, 10⁶] seconds.
+pub const TIME_LIMIT: (f64, f64) = (0.0, 1e6);
 /// `--threads` in [1, 1024].
 pub const THREADS: (usize, usize) = (1, 1024);
 /// `accuracy --points` in [1, 10⁷].
@@ -46,6 +50,26 @@ fn count(text: &str, (lo, hi): (usize, usize)) -> Result<usize, String> {
 /// `--rel-tol`.
 pub fn rel_tol(text: &str) -> Result<f64, String> {
     closed(text, REL_TOL)
+}
+
+/// `--max-evals`: a whole number of evaluations in [1, 1e15].
+pub fn max_evals(text: &str) -> Result<u64, String> {
+    let v = closed(text, MAX_EVALS)?;
+    if v.fract() != 0.0 {
+        return Err(format!("{} is not a whole number in [1, 1e15]", text.trim()));
+    }
+    Ok(v as u64)
+}
+
+/// `--time-limit`: seconds in (0, 1e6].
+pub fn time_limit(text: &str) -> Result<f64, String> {
+    match closed(text, TIME_LIMIT) {
+        Ok(v) if v > 0.0 => Ok(v),
+        Ok(_) | Err(_) if text.trim().parse::<f64>().is_ok() => {
+            Err(format!("{} is outside (0, 1e6] seconds", text.trim()))
+        }
+        other => other,
+    }
 }
 
 /// `--threads`.

@@ -37,15 +37,15 @@ pub(crate) struct TsNode<T> {
     pub weight: T,
 }
 
-/// Tanh–sinh nodes by level: level 0 holds t = 0, 1, 2, … (t = 0 first),
-/// level k ≥ 1 the odd multiples of 2^{−k}. Nodes stop where the weight
-/// falls below eps², beyond any contribution at this precision.
-pub(crate) struct TsTable<T> {
-    pub levels: Vec<Vec<TsNode<T>>>,
-}
-
-pub(crate) fn tanh_sinh<T: Real + 'static>(like: &T, max_level: usize) -> Arc<TsTable<T>> {
-    cached(0, like, max_level, || {
+/// The tanh–sinh nodes of one level: level 0 holds t = 0, 1, 2, … (t = 0
+/// first), level k ≥ 1 the odd multiples of 2^{−k}. Nodes stop where the
+/// weight falls below eps², beyond any contribution at this precision.
+/// Each level is built when a panel first needs it and cached per (type,
+/// precision, level): a level holds ~2^k·t_max nodes (t_max ≈ 3.5 in f64,
+/// ≈ 8 at 4096 bits), so building every level up to the cap in advance
+/// would cost seconds at high precision for integrals that stop at level 3.
+pub(crate) fn tanh_sinh_level<T: Real + 'static>(like: &T, level: usize) -> Arc<Vec<TsNode<T>>> {
+    cached(0, like, level, || {
         let eps = like.eps();
         let tiny = eps.clone() * eps;
         let half_pi = like.pi() / like.lit(2.0);
@@ -57,23 +57,19 @@ pub(crate) fn tanh_sinh<T: Real + 'static>(like: &T, max_level: usize) -> Arc<Ts
             let weight = half_pi.clone() * t.cosh() / (c.clone() * c);
             TsNode { comp, weight }
         };
-        let mut levels = Vec::with_capacity(max_level + 1);
-        for level in 0..=max_level {
-            let h = like.powi_like(-(level as i32));
-            let (start, step) = if level == 0 { (0usize, 1usize) } else { (1, 2) };
-            let mut nodes = Vec::new();
-            let mut m = start;
-            loop {
-                let n = node(h.clone() * like.lit(m as f64));
-                if n.weight < tiny && m > 0 {
-                    break;
-                }
-                nodes.push(n);
-                m += step;
+        let h = like.powi_like(-(level as i32));
+        let (start, step) = if level == 0 { (0usize, 1usize) } else { (1, 2) };
+        let mut nodes = Vec::new();
+        let mut m = start;
+        loop {
+            let n = node(h.clone() * like.lit(m as f64));
+            if n.weight < tiny && m > 0 {
+                break;
             }
-            levels.push(nodes);
+            nodes.push(n);
+            m += step;
         }
-        TsTable { levels }
+        nodes
     })
 }
 

@@ -2,7 +2,7 @@
 //! level on each piece, pieces bisected when the level cap is reached, under
 //! global error control.
 
-use super::nodes::{tanh_sinh, TsTable};
+use super::nodes::{tanh_sinh_level, TsNode};
 use super::{control, Failure, Mapped, Options, Piece, RuleResult};
 use crate::real::Real;
 use std::sync::Arc;
@@ -11,9 +11,38 @@ use std::sync::Arc;
 /// in f64): three levels give the two differences d₂, d₁ of the estimate.
 const START_LEVEL: usize = 2;
 
-/// Highest level before a panel is bisected instead (f64: h = 1/128).
+/// Highest level before a panel is bisected instead: h = 1/128 in f64.
+/// Tanh–sinh's error roughly squares per level, so each doubling of the
+/// precision needs about one more level: 8 + ⌈log₂(p/53)⌉, capped by the
+/// linear rule used up to 256 bits (7, 7, 8, 9, 11 at 64, 96, 128, 192,
+/// 256 bits; 12 at 512, 13 at 1000, 15 at 4096). The linear rule alone
+/// asked for level 26 at 1000 bits and 91 at 4096: 2^26 nodes per panel,
+/// a table that never finished building (`kernel --precision 1000` hung).
 fn max_level<T: Real>(like: &T) -> usize {
-    7 + (like.prec() as usize).saturating_sub(53) / 48
+    let p = like.prec() as usize;
+    let linear = 7 + p.saturating_sub(53) / 48;
+    let doublings = (p.max(53) as f64 / 53.0).log2().ceil() as usize;
+    linear.min(8 + doublings)
+}
+
+/// The levels of the node table a run has fetched so far (each level is
+/// built once per thread and precision, on first use).
+struct Levels<T> {
+    like: T,
+    levels: Vec<Arc<Vec<TsNode<T>>>>,
+}
+
+impl<T: Real + 'static> Levels<T> {
+    fn new(like: &T) -> Self {
+        Levels { like: like.clone(), levels: Vec::new() }
+    }
+    fn get(&mut self, level: usize) -> Arc<Vec<TsNode<T>>> {
+        while self.levels.len() <= level {
+            let next = tanh_sinh_level(&self.like, self.levels.len());
+            self.levels.push(next);
+        }
+        self.levels[level].clone()
+    }
 }
 
 /// One panel [a, b] integrated through `level`.
@@ -86,10 +115,10 @@ impl<T: Real> Panel<T> {
 }
 
 /// Adds the nodes of `level` (which must be `p.level + 1`, or 0 for a new panel).
-fn add_level<T: Real>(
+fn add_level<T: Real + 'static>(
     p: &mut Panel<T>,
     level: usize,
-    table: &TsTable<T>,
+    table: &mut Levels<T>,
     f: &mut Mapped<'_, '_, T>,
 ) -> Result<(), Failure<T>> {
     let half = p.half();
@@ -115,7 +144,8 @@ fn add_level<T: Real>(
         };
         Some(if toward_b { end.clone() + off } else { end.clone() - off })
     };
-    for (i, node) in table.levels[level].iter().enumerate() {
+    let nodes = table.get(level);
+    for (i, node) in nodes.iter().enumerate() {
         let centre = level == 0 && i == 0;
         let offset = half.clone() * node.comp.clone();
         let points = if centre {
@@ -143,7 +173,12 @@ fn add_level<T: Real>(
     Ok(())
 }
 
-fn new_panel<T: Real>(a: T, b: T, table: &TsTable<T>, f: &mut Mapped<'_, '_, T>) -> Result<Panel<T>, Failure<T>> {
+fn new_panel<T: Real + 'static>(
+    a: T,
+    b: T,
+    table: &mut Levels<T>,
+    f: &mut Mapped<'_, '_, T>,
+) -> Result<Panel<T>, Failure<T>> {
     let zero = a.lit(0.0);
     let mut p = Panel {
         level: 0,
@@ -171,21 +206,21 @@ pub(crate) fn integrate<T: Real + 'static>(
     opts: &Options,
 ) -> Result<RuleResult<T>, Failure<T>> {
     let like = pieces[0].a.clone();
-    let table: Arc<TsTable<T>> = tanh_sinh(&like, max_level(&like));
-    let top = table.levels.len() - 1;
+    let mut table = Levels::new(&like);
+    let top = max_level(&like);
     let mut panels = Vec::with_capacity(pieces.len());
     for piece in pieces {
-        panels.push(new_panel(piece.a.clone(), piece.b.clone(), &table, f)?);
+        panels.push(new_panel(piece.a.clone(), piece.b.clone(), &mut table, f)?);
     }
     while let Some(worst) = control::next_to_refine(&panels, &like, f, opts, "tanh-sinh")? {
         if panels[worst].level < top {
             let next = panels[worst].level + 1;
-            add_level(&mut panels[worst], next, &table, f)?;
+            add_level(&mut panels[worst], next, &mut table, f)?;
         } else {
             let mid = control::midpoint(&panels[worst].a, &panels[worst].b, &panels, f)?;
             let p = panels.swap_remove(worst);
-            panels.push(new_panel(p.a.clone(), mid.clone(), &table, f)?);
-            panels.push(new_panel(mid, p.b, &table, f)?);
+            panels.push(new_panel(p.a.clone(), mid.clone(), &mut table, f)?);
+            panels.push(new_panel(mid, p.b, &mut table, f)?);
         }
     }
     Ok(control::result(&panels, &like))

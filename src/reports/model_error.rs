@@ -107,7 +107,7 @@ pub fn markdown(scenes_dir: &Path, figures_dir: &Path) -> Result<String, String>
         {
             orders.push(format!(
                 "`{name}` {:.2} ± {:.0e} (mean), {:.2} ± {:.0e} (Var L)",
-                m.order, m.std_error, v.order, v.std_error
+                m.order, m.error, v.order, v.error
             ));
         }
         writeln!(s, "\n## `{name}`: {label}\n").unwrap();
@@ -124,6 +124,6 @@ pub fn markdown(scenes_dir: &Path, figures_dir: &Path) -> Result<String, String>
         writeln!(s, "\n![|finite/small − 1| against R, {name}](figures/model-error-{name}.svg)").unwrap();
     }
     writeln!(s, "\n## Summary\n").unwrap();
-    writeln!(s, "Fitted orders of |finite/small − 1| over the smallest resolved radii: {}. The small-sphere model becomes exact at second order in R: at R = 10⁻⁶ the two differ by less than 10⁻¹⁰ (`tests/finite.rs`).", orders.join("; ")).unwrap();
+    writeln!(s, "Observed orders of |finite/small − 1| (local slopes at the two smallest resolved radii, with how far they still moved over the previous decade): {}. The small-sphere model becomes exact at second order in R: at R = 10⁻⁶ the two differ by less than 10⁻¹⁰ (`tests/finite.rs`).", orders.join("; ")).unwrap();
     Ok(s)
 }

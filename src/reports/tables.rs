@@ -72,45 +72,43 @@ impl std::error::Error for KernelCliError {}
 pub fn kernel_cli(
     theta: &str,
     radius: &str,
-    precision: &str,
+    precision: crate::oracle::Precision,
     rel_tol: Option<f64>,
     path: KernelPath,
+    budget: &crate::quad::Budget,
 ) -> Result<(), KernelCliError> {
     use crate::oracle::Precision;
     let label = format!("I({theta}, {radius})");
     let flag = |name: &'static str| move |e: String| KernelCliError::Flag(format!("--{name}: {e}"));
-    match Precision::parse(precision).map_err(KernelCliError::Flag)? {
+    match precision {
         Precision::F64 => {
             let angle = Angle::from_theta(&parse_decimal(theta, 53).map_err(flag("theta"))?.to_f64());
             let r = parse_decimal(radius, 53).map_err(flag("radius"))?.to_f64();
-            let (out, dt, method) = run_kernel(&angle, &r, rel_tol.unwrap_or(1e-13), path)?;
+            let (out, dt, method) = run_kernel(&angle, &r, rel_tol.unwrap_or(1e-13), path, budget)?;
             print_outcome(&label, &out, |v| format!("{v:.17e}"), dt, &method)
         }
         Precision::Bits(bits) => {
             let angle = Angle::from_theta(&parse_decimal(theta, bits).map_err(flag("theta"))?);
             let r = parse_decimal(radius, bits).map_err(flag("radius"))?;
-            let (out, dt, method) = run_kernel(&angle, &r, rel_tol.unwrap_or_else(|| mpfr_default_tol(bits)), path)?;
+            let tol = rel_tol.unwrap_or_else(|| mpfr_default_tol(bits));
+            let (out, dt, method) = run_kernel(&angle, &r, tol, path, budget)?;
             let digits = (bits as f64 * std::f64::consts::LOG10_2) as usize;
             print_outcome(&label, &out, |v| v.to_string_radix(10, Some(digits)), dt, &method)
         }
     }
 }
 
-/// I(ϑ, R) by `path`, with its wall time and a line naming the method.
+/// I(ϑ, R) by `path` within `budget` (one for the run, as `oracle`'s), with
+/// its wall time and a line naming the method.
 pub fn run_kernel<T: crate::quad::CheckRule>(
     angle: &Angle<T>,
     r: &T,
     tol: f64,
     path: KernelPath,
+    budget: &crate::quad::Budget,
 ) -> Result<(Outcome<T>, Duration, String), KernelCliError> {
     check_kernel_args(angle.sin.to_f64(), r.to_f64()).map_err(KernelCliError::Flag)?;
-    // One budget per run, as `oracle`'s: MPFR evaluations cost ~300 times f64's.
-    let evaluations = if T::CAN_RAISE_PRECISION {
-        crate::quad::DEFAULT_EVALUATIONS_MPFR
-    } else {
-        crate::quad::DEFAULT_EVALUATIONS
-    };
-    let opts = Options::rel(tol).with_budget(crate::quad::Budget::new(evaluations));
+    let opts = Options::rel(tol).with_budget(budget.clone());
     let t0 = Instant::now();
     let (out, method) = match path {
         KernelPath::Reduced => match kernel_integral_reduced(angle, r, &opts) {
