@@ -70,6 +70,7 @@ pub mod quad;
 pub mod real;
 pub mod reports;
 pub mod special;
+pub mod tuning;
 
 pub use mcrt_reference as reference;
 pub use mcrt_scene as scene;

@@ -143,6 +143,49 @@ enum Command {
         #[arg(long, default_value = "scenes")]
         scenes: PathBuf,
     },
+    /// Choose q, R, N_F, N_B for the least predicted RMSE (bias and noise) after a time budget, beside q = 1, the cylinder limit, the scene's own parameters, the asymptotic rule's R and N_B = 1.
+    Optimize {
+        scene: PathBuf,
+        /// Wall-time budget T in seconds of one core, in (0, 1e9].
+        #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::budget_seconds)]
+        budget: f64,
+        /// Per-operation costs: a file with a [cost] table (`calibrate --out` writes one); default the scene's [cost], else the reference machine's.
+        #[arg(long)]
+        costs: Option<PathBuf>,
+        /// At most this many spheres per iteration (memory), in [1, 1e7].
+        #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::max_spheres)]
+        max_spheres: Option<f64>,
+        /// Radii searched, LO,HI (default σ_ext·R in [1e-3, 0.5]; scenes with scattered light keep their R).
+        #[arg(long, value_delimiter = ',', num_args = 2, allow_negative_numbers = true)]
+        radius_range: Option<Vec<f64>>,
+        /// Write SVG maps of the predicted RMSE over (q, R) and (q, N_B/N_F) into this directory.
+        #[arg(long)]
+        maps: Option<PathBuf>,
+        /// One JSON object instead of the text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Fit this machine's per-operation costs from timed tracer runs (one thread) and validate the cost model on other parameter sets.
+    Calibrate {
+        /// Seconds of timing per parameter set, in [0.05, 600].
+        #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+        seconds: f64,
+        /// Write the fitted [cost] table to this file (for `optimize --costs`, or to paste into a scene).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[arg(long, default_value = "scenes")]
+        scenes: PathBuf,
+        /// One JSON object instead of the tables.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Regenerate docs/choosing-parameters.md: calibrate, validate the cost model, optimise two scenes and check the predicted RMSE with the tracer (~7 min).
+    ChoosingParameters {
+        #[arg(long, default_value = "docs/choosing-parameters.md")]
+        out: PathBuf,
+        #[arg(long, default_value = "scenes")]
+        scenes: PathBuf,
+    },
     /// Regenerate docs/model-error.md: the finite-sphere model against the small-sphere one, R = 1 … 1e-4.
     ModelError {
         #[arg(long, default_value = "docs/model-error.md")]
@@ -269,6 +312,30 @@ fn run(command: Command) -> Result<(), CliError> {
             let scene = load_with_radius(&a.scene, a.radius)?;
             cli::trace_cmd::compare_cmd(&scene, &a.trials, a.seed, a.threads, a.json)
         }
+        Command::Optimize { scene, budget, costs, max_spheres, radius_range, maps, json } => {
+            let radius_range = match radius_range.as_deref() {
+                None => None,
+                Some([lo, hi]) if lo.is_finite() && hi.is_finite() && *lo > 0.0 && lo < hi => Some((*lo, *hi)),
+                Some(v) => {
+                    return Err(CliError::usage(format!(
+                        "--radius-range {v:?}: must be LO,HI with 0 < LO < HI, both finite"
+                    )))
+                }
+            };
+            let args = cli::tuning_cmd::OptimizeArgs {
+                scene: &scene,
+                budget,
+                costs: costs.as_deref(),
+                max_spheres,
+                radius_range,
+                maps: maps.as_deref(),
+                json,
+            };
+            cli::tuning_cmd::optimize_cmd(&args, load)
+        }
+        Command::Calibrate { seconds, out, scenes, json } => {
+            cli::tuning_cmd::calibrate_cmd(&scenes, seconds, out.as_deref(), json)
+        }
         Command::Check { scene, values, false_alarm_rate, power, target_mean, target_variance, json } => {
             let args = cli::check_cmd::CheckArgs {
                 values: &values,
@@ -284,6 +351,10 @@ fn run(command: Command) -> Result<(), CliError> {
             generate(Some(&scenes), Some(out), || {
                 mcrt_noise::reports::sweep::asymptotic_checks_markdown(&scenes, &figures)
             })
+        }
+        Command::ChoosingParameters { out, scenes } => {
+            let figures = figures_beside(&out);
+            generate(Some(&scenes), Some(out), || mcrt_noise::reports::choosing::markdown(&scenes, &figures))
         }
         Command::ModelError { out, scenes } => {
             let figures = figures_beside(&out);

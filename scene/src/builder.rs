@@ -2,7 +2,7 @@
 
 use crate::error::{FieldError, SceneError};
 use crate::file::*;
-use crate::model::{ScatteringOrders, Scene};
+use crate::model::{Cost, ScatteringOrders, Scene};
 use crate::phase::Phase;
 
 /// Builds a [`Scene`] in code. [`SceneBuilder::build`] applies the scene
@@ -44,6 +44,7 @@ pub struct SceneBuilder {
     camera: Option<([f64; 3], [f64; 3])>,
     estimator: Option<(f64, f64, u64, u64)>,
     orders: Option<ScatteringOrders>,
+    cost: Option<Cost>,
 }
 
 impl Scene {
@@ -134,6 +135,23 @@ impl SceneBuilder {
         self
     }
 
+    /// The renderer's per-operation costs (the `[cost]` table), used only
+    /// to choose parameters.
+    ///
+    /// ```
+    /// use mcrt_scene::{Cost, Scene};
+    /// let cost = Cost { trial_ns: 900.0, ray_ns: 40.0, segment_ns: 30.0, sphere_ns: 8.0,
+    ///                   sort_ns: 1.5, search_ns: 2.0, hit_ns: 4.0, hg_ns: 9.0, std_errors: [0.0; 8] };
+    /// let scene = Scene::builder().medium(1.0, 0.8).point_light([1.0, 0.0, 1.0], 1.0)
+    ///     .estimator(0.05, 0.5, 200, 8).cost(cost).build()?;
+    /// assert_eq!(scene.cost, Some(cost));
+    /// # Ok::<(), mcrt_scene::SceneError>(())
+    /// ```
+    pub fn cost(mut self, cost: Cost) -> Self {
+        self.cost = Some(cost);
+        self
+    }
+
     /// The validated scene, or every invalid or missing value.
     pub fn build(self) -> Result<Scene, SceneError> {
         let mut missing = Vec::new();
@@ -186,6 +204,7 @@ impl SceneBuilder {
             camera: CameraFile { origin: origin.into(), direction: direction.into() },
             estimator,
             effects: EffectsFile { scattering_orders },
+            cost: self.cost.map(CostFile::from),
         };
         match Scene::from_file(file) {
             Ok(scene) if missing.is_empty() => Ok(scene),

@@ -17,6 +17,31 @@ pub(crate) struct SceneFile {
     pub estimator: EstimatorFile,
     #[serde(default)]
     pub effects: EffectsFile,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cost: Option<CostFile>,
+}
+
+/// A file holding a `[cost]` table alone (`Cost::from_toml_str`).
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct CostOnlyFile {
+    pub cost: CostFile,
+}
+
+/// `[cost]`: a renderer's per-operation costs in nanoseconds (`Cost`).
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct CostFile {
+    pub trial_ns: f64,
+    pub ray_ns: f64,
+    pub segment_ns: f64,
+    pub sphere_ns: f64,
+    pub sort_ns: f64,
+    pub search_ns: f64,
+    pub hit_ns: f64,
+    pub hg_ns: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub std_errors: Option<[f64; 8]>,
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]

@@ -18,6 +18,37 @@ pub struct Scene {
     pub estimator: Estimator,
     /// Which effects are simulated.
     pub effects: Effects,
+    /// A renderer's per-operation costs (`[cost]`), for choosing parameters
+    /// (`mcrt-noise optimize`); the oracle and the tracer ignore them.
+    pub cost: Option<Cost>,
+}
+
+/// Per-operation costs of one iteration in nanoseconds (`[cost]`, every
+/// key required; `mcrt-noise calibrate` prints such a table): the fixed
+/// cost of an iteration, per forward ray, per forward segment, per sphere,
+/// per unit of S log₂ S for sorting the S spheres, per searching segment
+/// and unit of log₂(1 + S), per hit, per Henyey–Greenstein evaluation.
+/// Each finite, in [0, 1e12].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cost {
+    /// Fixed cost of an iteration.
+    pub trial_ns: f64,
+    /// Per forward ray.
+    pub ray_ns: f64,
+    /// Per forward segment.
+    pub segment_ns: f64,
+    /// Per integration sphere.
+    pub sphere_ns: f64,
+    /// Per unit of S log₂ S (sorting).
+    pub sort_ns: f64,
+    /// Per searching segment and unit of log₂(1 + S).
+    pub search_ns: f64,
+    /// Per hit.
+    pub hit_ns: f64,
+    /// Per Henyey–Greenstein evaluation.
+    pub hg_ns: f64,
+    /// The eight costs' standard errors, in the order above (zeros: given by hand).
+    pub std_errors: [f64; 8],
 }
 
 /// Homogeneous medium. Units: 1/length for the coefficients.

@@ -203,8 +203,9 @@ impl Scene {
         }
         let estimator = estimator(&mut c, &file.estimator);
         let effects = Effects { scattering_orders: orders(&mut c, &file.effects.scattering_orders) };
+        let cost = file.cost.map(|k| cost(&mut c, &k));
         if c.errors.is_empty() {
-            Ok(Scene { medium, lights, camera, estimator, effects })
+            Ok(Scene { medium, lights, camera, estimator, effects, cost })
         } else {
             Err(SceneError::Invalid(c.errors))
         }
@@ -255,6 +256,7 @@ impl Scene {
                 camera_rays: self.estimator.camera_rays as i64,
             },
             effects: EffectsFile { scattering_orders: orders },
+            cost: self.cost.map(CostFile::from),
         }
     }
 }
@@ -477,6 +479,65 @@ fn check_light_off_camera_ray(c: &mut Checker, i: usize, light: &Light, camera: 
             format!("{:?}", position.to_array()),
             "off the camera ray in front of the camera (a point light on it makes the mean luminance infinite)",
         );
+    }
+}
+
+impl Cost {
+    /// A file holding only a `[cost]` table (as `mcrt-noise calibrate --out`
+    /// writes it), with the checks of a scene's `[cost]` table.
+    ///
+    /// ```
+    /// let k = mcrt_scene::Cost::from_toml_str("[cost]\ntrial_ns = 900\nray_ns = 40\nsegment_ns = 30\n\
+    ///     sphere_ns = 8\nsort_ns = 1.5\nsearch_ns = 2\nhit_ns = 4\nhg_ns = 9\n")?;
+    /// assert_eq!(k.segment_ns, 30.0);
+    /// assert!(mcrt_scene::Cost::from_toml_str("[cost]\ntrial_ns = -1").is_err());
+    /// # Ok::<(), mcrt_scene::SceneError>(())
+    /// ```
+    pub fn from_toml_str(text: &str) -> Result<Cost, SceneError> {
+        let file: CostOnlyFile = toml::from_str(text).map_err(|e| SceneError::Parse(e.to_string()))?;
+        let mut c = Checker::default();
+        let k = cost(&mut c, &file.cost);
+        if c.errors.is_empty() {
+            Ok(k)
+        } else {
+            Err(SceneError::Invalid(c.errors))
+        }
+    }
+}
+
+impl From<Cost> for CostFile {
+    fn from(k: Cost) -> CostFile {
+        CostFile {
+            trial_ns: k.trial_ns,
+            ray_ns: k.ray_ns,
+            segment_ns: k.segment_ns,
+            sphere_ns: k.sphere_ns,
+            sort_ns: k.sort_ns,
+            search_ns: k.search_ns,
+            hit_ns: k.hit_ns,
+            hg_ns: k.hg_ns,
+            std_errors: (k.std_errors != [0.0; 8]).then_some(k.std_errors),
+        }
+    }
+}
+
+/// `[cost]`: every cost a time in nanoseconds in [0, 1e12].
+fn cost(c: &mut Checker, k: &CostFile) -> Cost {
+    let mut ns = |field: &str, v: f64| {
+        c.range(&format!("cost.{field}"), v, (0.0, true), (1e12, true), "in [0, 1e12] (nanoseconds)")
+    };
+    Cost {
+        trial_ns: ns("trial_ns", k.trial_ns),
+        ray_ns: ns("ray_ns", k.ray_ns),
+        segment_ns: ns("segment_ns", k.segment_ns),
+        sphere_ns: ns("sphere_ns", k.sphere_ns),
+        sort_ns: ns("sort_ns", k.sort_ns),
+        search_ns: ns("search_ns", k.search_ns),
+        hit_ns: ns("hit_ns", k.hit_ns),
+        hg_ns: ns("hg_ns", k.hg_ns),
+        std_errors: k.std_errors.map_or([0.0; 8], |e| {
+            e.map(|v| c.range("cost.std_errors", v, (0.0, true), (1e12, true), "8 numbers in [0, 1e12] (nanoseconds)"))
+        }),
     }
 }
 

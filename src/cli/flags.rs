@@ -72,6 +72,20 @@ pub fn time_limit(text: &str) -> Result<f64, String> {
     }
 }
 
+/// `optimize --budget`: seconds in (0, 1e9].
+pub fn budget_seconds(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(v) if v > 0.0 && v <= 1e9 => Ok(v),
+        Ok(_) => Err(format!("{} is outside (0, 1e9] seconds", text.trim())),
+        Err(_) => Err(format!("{text:?} is not a number of seconds")),
+    }
+}
+
+/// `optimize --max-spheres`: a count in [1, 1e7] (the scene's bound on N_B/q).
+pub fn max_spheres(text: &str) -> Result<f64, String> {
+    closed(text, (1.0, mcrt_scene::limits::MAX_SPHERES_PER_ITERATION))
+}
+
 /// `--threads`.
 pub fn threads(text: &str) -> Result<usize, String> {
     count(text, THREADS)

@@ -4,6 +4,7 @@
 pub mod check_cmd;
 pub mod flags;
 pub mod trace_cmd;
+pub mod tuning_cmd;
 
 use mcrt_noise::model::OracleError;
 use mcrt_noise::reports::sweep::SweepError;

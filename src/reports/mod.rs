@@ -3,9 +3,13 @@
 //! (oracle, model, quadrature, tracer) and nothing in the library uses it.
 
 pub mod accuracy;
+pub mod calibrate;
+pub mod choosing;
 pub mod compare;
 pub mod cost;
+pub mod heatmap;
 pub mod model_error;
+pub mod optimum;
 pub mod sweep;
 pub mod tables;
 pub mod tracer_checks;

@@ -1,0 +1,91 @@
+//! The text of `mcrt-noise optimize`: the best parameters with the bias and
+//! noise parts of their RMSE, the alternatives beside them, the gain over
+//! q = 1, and the sensitivity of the optimum.
+
+use crate::tuning::search::Scored;
+use crate::tuning::sensitivity::Range;
+use crate::tuning::Optimum;
+use std::fmt::Write;
+
+/// A parameter set and its predicted error on one line (`q` shown as
+/// `q_shown` when given: the cylinder limit has no finite q).
+fn line(s: &Scored, q_shown: Option<&str>) -> String {
+    let p = s.parameters;
+    let r = s.rmse;
+    let q = q_shown.map_or_else(|| fmt_q(p.q), str::to_string);
+    format!(
+        "q = {:<9} R = {:<10} N_F = {:<9} N_B = {:<7} rel. RMSE {:.4e} ± {:.1e} (bias {:.3e}, noise {:.3e}; M = {:.4e} iterations of {:.4e} s)",
+        q,
+        format!("{:.4e}", p.radius),
+        p.forward_rays,
+        p.camera_rays,
+        r.relative,
+        r.error,
+        r.relative_bias,
+        r.relative_noise,
+        r.iterations,
+        r.seconds_per_iteration
+    )
+}
+
+fn fmt_q(q: f64) -> String {
+    if q == 1.0 {
+        "1".into()
+    } else {
+        format!("{q:.4}")
+    }
+}
+
+fn range(name: &str, r: &Range, integer: bool) -> String {
+    let v = |x: f64| if integer { format!("{x:.0}") } else { format!("{x:.4e}") };
+    let lo = if r.lo_at_bound { format!("{} (the bound)", v(r.lo)) } else { v(r.lo) };
+    let hi = if r.hi_at_bound { format!("{} (the bound)", v(r.hi)) } else { v(r.hi) };
+    format!("  {name:<4} [{lo}, {hi}]")
+}
+
+/// The report of an optimisation of `scene_label`.
+pub fn text(scene_label: &str, o: &Optimum) -> String {
+    let mut s = String::new();
+    let memory = o.max_spheres.map_or(String::new(), |m| format!(", at most {m} spheres per iteration"));
+    writeln!(s, "{scene_label}: budget {} s of one core{memory}", o.budget).unwrap();
+    writeln!(s, "costs: {}", o.costs.source).unwrap();
+    if o.bias_predicted {
+        writeln!(s, "model: finite-sphere (exact at every R for uncollided light): bias b(R) predicted; R searched over [{:.3e}, {:.3e}]", o.radius_range.0, o.radius_range.1).unwrap();
+    } else {
+        writeln!(s, "model: small-sphere (the scene has scattered light, which the finite-sphere model does not cover): the bias is NOT predicted, so R is held at the scene's {} and only q, N_F, N_B are chosen, for the noise alone", o.radius_range.0).unwrap();
+    }
+    writeln!(s, "RMSE = √(bias² + Var L/M)/μ(0), M = T/τ; the bars are the quadrature's and the cost fit's standard errors (the cost model's own accuracy: docs/choosing-parameters.md)").unwrap();
+    writeln!(s).unwrap();
+    writeln!(s, "best: {}", line(&o.best, None)).unwrap();
+    writeln!(s).unwrap();
+    writeln!(s, "beside it (ratio: its RMSE over the best's):").unwrap();
+    for a in &o.alternatives {
+        match &a.scored {
+            Ok(x) => {
+                let ratio = x.rmse.relative / o.best.rmse.relative;
+                let shown = line(x, a.name.starts_with("q → 0").then_some("→ 0"));
+                writeln!(s, "  {}  (ratio {ratio:.3})\n    {shown}\n    {}", a.name, a.note).unwrap();
+            }
+            Err(why) => writeln!(s, "  {}: {why}", a.name).unwrap(),
+        }
+    }
+    if let Some(Ok(q1)) = o.alternatives.iter().find(|a| a.name.starts_with("q = 1")).map(|a| a.scored.as_ref()) {
+        writeln!(
+            s,
+            "\ngain over q = 1: its RMSE is {:.3}× the best's{}",
+            q1.rmse.relative / o.best.rmse.relative,
+            if o.best.parameters.q == 1.0 { " (the optimum is q = 1 itself)" } else { "" }
+        )
+        .unwrap();
+    }
+    writeln!(s, "\nsensitivity: each parameter's range with RMSE within 10 % of the best, the others at the optimum:")
+        .unwrap();
+    writeln!(s, "{}", range("q", &o.sensitivity.q, false)).unwrap();
+    match &o.sensitivity.radius {
+        Some(r) => writeln!(s, "{}", range("R", r, false)).unwrap(),
+        None => writeln!(s, "  R    held at the scene's (bias not predicted)").unwrap(),
+    }
+    writeln!(s, "{}", range("N_F", &o.sensitivity.forward_rays, true)).unwrap();
+    writeln!(s, "{}", range("N_B", &o.sensitivity.camera_rays, true)).unwrap();
+    s
+}

@@ -1,0 +1,176 @@
+//! Per-operation costs fitted from timed runs: each run gives its wall time
+//! per iteration and its counters; the costs are the weighted least-squares
+//! solution of time/iteration = Σ cost_i × count_i/iteration (relative
+//! residuals, so that fast and slow runs count alike), with standard errors
+//! from the residuals (σ̂² (AᵀA)⁻¹). A cost the data cannot make positive
+//! (negative in the fit) is held at 0 and the rest refitted, one at a time
+//! (non-negative least squares by elimination); the fit says which.
+
+use super::cost::{expected_s_log2_s, CostTable};
+use mcrt_reference::Counters;
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
+
+/// The reference machine's costs, fitted by `mcrt-noise calibrate` there
+/// (2 cores; one thread timed; 2026-12-01). Used when no `[cost]` table or
+/// `--costs` file is given.
+pub const REFERENCE_COSTS: CostTable = CostTable {
+    trial_ns: 1400.0,
+    ray_ns: 60.0,
+    segment_ns: 45.0,
+    sphere_ns: 12.0,
+    sort_ns: 2.0,
+    search_ns: 3.0,
+    hit_ns: 5.0,
+    hg_ns: 10.0,
+    std_errors: [0.0; 8],
+    source: String::new(),
+};
+
+/// One timed run.
+#[derive(Debug, Clone, Serialize)]
+pub struct Measurement {
+    /// What was run (scene and parameters), for reports.
+    pub label: String,
+    /// N_B of the run.
+    pub camera_rays: u64,
+    /// q of the run.
+    pub q: f64,
+    /// What the run did (its counters, summed over its trials).
+    pub counters: Counters,
+    /// Wall time of the run in seconds (one thread).
+    pub seconds: f64,
+    /// Whether the scene's medium is Henyey–Greenstein.
+    pub hg: bool,
+}
+
+impl Measurement {
+    /// Seconds per iteration.
+    pub fn seconds_per_iteration(&self) -> f64 {
+        self.seconds / self.counters.trials as f64
+    }
+
+    /// The measured counts per iteration, in [`CostTable::as_array`]'s
+    /// order (sorting and searching from the sphere count, as the model has them).
+    pub fn counts_per_iteration(&self) -> [f64; 8] {
+        let c = &self.counters;
+        let t = c.trials as f64;
+        let spheres = c.sphere_placements as f64 / t;
+        [
+            1.0,
+            c.forward_rays as f64 / t,
+            c.forward_segments as f64 / t,
+            spheres,
+            expected_s_log2_s(self.camera_rays as f64, self.q),
+            c.candidate_tests as f64 / t * (1.0 + self.camera_rays as f64 / self.q).log2(),
+            c.hits as f64 / t,
+            c.hg_evaluations as f64 / t,
+        ]
+    }
+}
+
+/// The fitted costs and how well they fit.
+#[derive(Debug, Clone, Serialize)]
+pub struct Fit {
+    /// The costs with their standard errors.
+    pub costs: CostTable,
+    /// Costs held at 0 because the fit made them negative (by name).
+    pub held_at_zero: Vec<&'static str>,
+    /// RMS of the relative residuals.
+    pub rms_relative_residual: f64,
+    /// Largest |relative residual|.
+    pub max_relative_residual: f64,
+}
+
+const NAMES: [&str; 8] = ["trial_ns", "ray_ns", "segment_ns", "sphere_ns", "sort_ns", "search_ns", "hit_ns", "hg_ns"];
+
+/// Fits the eight costs to `runs`; `source` names the machine and date.
+/// Needs more runs than free costs.
+pub fn fit(runs: &[Measurement], source: String) -> Result<Fit, String> {
+    let mut active: Vec<usize> = (0..8).filter(|&j| runs.iter().any(|r| r.counts_per_iteration()[j] > 0.0)).collect();
+    let mut held: Vec<&'static str> = (0..8).filter(|j| !active.contains(j)).map(|j| NAMES[j]).collect();
+    loop {
+        let (n, p) = (runs.len(), active.len());
+        if n <= p {
+            return Err(format!("{n} runs cannot fit {p} costs: time more parameter sets"));
+        }
+        // Rows scaled by 1/time: relative residuals.
+        let a = DMatrix::from_fn(n, p, |i, k| {
+            runs[i].counts_per_iteration()[active[k]] / (runs[i].seconds_per_iteration() * 1e9)
+        });
+        let b = DVector::from_element(n, 1.0);
+        let svd = a.clone().svd(true, true);
+        let x = svd.solve(&b, 1e-12).map_err(|e| format!("least squares: {e}"))?;
+        if let Some((k, _)) = x.iter().enumerate().filter(|(_, v)| **v < 0.0).min_by(|a, b| a.1.total_cmp(b.1)) {
+            held.push(NAMES[active[k]]);
+            active.remove(k);
+            continue;
+        }
+        let resid = &a * &x - &b;
+        let dof = (n - p) as f64;
+        let s2 = resid.norm_squared() / dof;
+        let cov = (a.transpose() * &a).try_inverse().ok_or("the timed runs do not separate the costs")? * s2;
+        let mut c = [0.0; 8];
+        let mut e = [0.0; 8];
+        for (k, &j) in active.iter().enumerate() {
+            c[j] = x[k];
+            e[j] = cov[(k, k)].max(0.0).sqrt();
+        }
+        let max = resid.iter().fold(0.0f64, |m, r| m.max(r.abs()));
+        return Ok(Fit {
+            costs: CostTable::from_array(c, e, source),
+            held_at_zero: held,
+            rms_relative_residual: (resid.norm_squared() / n as f64).sqrt(),
+            max_relative_residual: max,
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(q: f64, n_b: u64, n_f: u64, seg: f64, hits: u64, cand: u64, secs_ns: [f64; 8]) -> Measurement {
+        let trials = 1000u64;
+        let counters = Counters {
+            trials,
+            forward_rays: n_f * trials,
+            forward_segments: (n_f as f64 * seg) as u64 * trials,
+            sphere_placements: (n_b as f64 / q) as u64 * trials,
+            candidate_tests: cand * trials,
+            hits: hits * trials,
+            hg_evaluations: 0,
+            ..Counters::default()
+        };
+        let mut m = Measurement { label: String::new(), camera_rays: n_b, q, counters, seconds: 0.0, hg: false };
+        let per: f64 = m.counts_per_iteration().iter().zip(secs_ns).map(|(n, c)| n * c).sum();
+        m.seconds = per * 1e-9 * trials as f64;
+        m
+    }
+
+    #[test]
+    fn exact_timings_give_back_their_costs_and_an_unused_cost_is_held_at_zero() {
+        let truth = [1500.0, 50.0, 40.0, 10.0, 2.0, 3.0, 6.0, 0.0];
+        let runs: Vec<Measurement> = [
+            (1.0, 1, 10, 1.0, 0, 1),
+            (0.5, 8, 200, 1.0, 3, 20),
+            (0.1, 8, 50, 1.8, 40, 9),
+            (0.02, 64, 20, 1.8, 200, 5),
+            (1.0, 64, 1000, 1.0, 10, 100),
+            (0.2, 1, 400, 2.5, 2, 60),
+            (0.5, 256, 5, 1.0, 30, 2),
+            (0.05, 16, 100, 1.0, 50, 30),
+            (1.0, 8, 3000, 1.8, 1, 400),
+            (0.01, 4, 30, 1.0, 25, 7),
+        ]
+        .iter()
+        .map(|&(q, nb, nf, seg, hits, cand)| run(q, nb, nf, seg, hits, cand, truth))
+        .collect();
+        let f = fit(&runs, "test".into()).unwrap();
+        for (got, want) in f.costs.as_array().iter().zip(truth) {
+            assert!((got - want).abs() <= 1e-6 * want.max(1.0), "{:?}", f.costs);
+        }
+        assert_eq!(f.held_at_zero, vec!["hg_ns"]);
+        assert!(f.max_relative_residual < 1e-9);
+    }
+}

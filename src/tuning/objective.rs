@@ -1,0 +1,151 @@
+//! The objective of parameter choice: the relative RMSE of the pixel after
+//! a wall-time budget T, bias included,
+//!
+//! ```text
+//! RMSE/μ(0) = √(b(R)² + Var L(q, R, N_F, N_B)/M) / μ(0),   M = T/τ(q, R, N_F, N_B),
+//! ```
+//!
+//! with M iterations (each with fresh forward and camera rays, paper §4:
+//! the variance of the average of M iterations is Var L/M), b(R) = μ(R) −
+//! μ(0) the bias of the finite spheres and τ the time of one iteration
+//! (`cost`). For a fixed R the integrals do not depend on q, N_F, N_B, and
+//! Var L is explicit in them ((7)–(9) with (14)–(17)):
+//!
+//! ```text
+//! Var L = [q M₂ + 2(1−q) C₂₃]/(N_F N_B) + (1/N_B − 1/(N_F N_B)) [q P + 2(1−q) Q]
+//!       + (1/N_F − 1/(N_F N_B)) C₂₄ + (1/(N_F N_B) − 1/N_B − 1/N_F) μ²
+//! ```
+//!
+//! (the same combination as `model::noise::variance`, here in f64 on the
+//! report's unshifted integrals, so that a search costs nothing per point).
+
+use crate::oracle::{Report, ValueWithBar};
+use serde::Serialize;
+
+/// What the noise model gives at one radius, in absolute f64 values.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct ModelAtRadius {
+    /// The radius R.
+    pub radius: f64,
+    /// `"finite-sphere"` (exact at R, bias predicted) or `"small-sphere"`
+    /// (R → 0 model; bias not predicted).
+    pub model: &'static str,
+    /// μ(R) = ⟨⟨L⟩⟩ at R.
+    pub mean: ValueWithBar,
+    /// μ(0), the luminance the estimator converges to as R → 0.
+    pub mean_at_zero: ValueWithBar,
+    /// b(R) = μ(R) − μ(0); `None` where the model does not predict it.
+    pub bias: Option<ValueWithBar>,
+    /// M₂ of (16).
+    pub m2: ValueWithBar,
+    /// (23) (C₂₃).
+    pub c23: ValueWithBar,
+    /// P of (17).
+    pub p: ValueWithBar,
+    /// Q of (17).
+    pub q_pair: ValueWithBar,
+    /// (24) (C₂₄).
+    pub c24: ValueWithBar,
+    /// The small-sphere model's M₂ at R (∝ 1/R², for the asymptotic rule).
+    pub small_sphere_m2: ValueWithBar,
+}
+
+impl ModelAtRadius {
+    /// The prediction's integrals from an oracle report: the finite-sphere
+    /// model's where it exists, else the small-sphere model's.
+    pub fn from_report(r: &Report) -> ModelAtRadius {
+        let vb = |i: crate::oracle::Integral| ValueWithBar::from(i);
+        match &r.finite {
+            Some(f) => ModelAtRadius {
+                radius: r.radius,
+                model: "finite-sphere",
+                mean: f.mean,
+                mean_at_zero: r.mean_luminance,
+                bias: Some(f.bias),
+                m2: vb(f.integral_m2),
+                c23: vb(f.corr23),
+                p: vb(f.integral_p),
+                q_pair: vb(f.integral_q),
+                c24: vb(f.corr24),
+                small_sphere_m2: vb(r.integral_m2),
+            },
+            None => ModelAtRadius {
+                radius: r.radius,
+                model: "small-sphere",
+                mean: r.mean_luminance,
+                mean_at_zero: r.mean_luminance,
+                bias: None,
+                m2: vb(r.integral_m2),
+                c23: vb(r.corr23.exact),
+                p: vb(r.integral_p),
+                q_pair: vb(r.integral_q),
+                c24: vb(r.corr24.exact),
+                small_sphere_m2: vb(r.integral_m2),
+            },
+        }
+    }
+
+    /// Var L of one iteration with (q, N_F, N_B) (continuous counts
+    /// allowed) and its bar, linear in the integrals' bars.
+    pub fn variance(&self, q: f64, n_f: f64, n_b: f64) -> ValueWithBar {
+        let nfnb = n_f * n_b;
+        let w_a = 1.0 / nfnb;
+        let w_b = 1.0 / n_b - 1.0 / nfnb;
+        let w_c = 1.0 / n_f - 1.0 / nfnb;
+        let w_mu2 = 1.0 / nfnb - 1.0 / n_b - 1.0 / n_f;
+        let (m, a, b, c) = (self.mean, self.m2, self.c23, self.c24);
+        let value = w_a * (q * a.value + 2.0 * (1.0 - q) * b.value)
+            + w_b * (q * self.p.value + 2.0 * (1.0 - q) * self.q_pair.value)
+            + w_c * c.value
+            + w_mu2 * m.value * m.value;
+        let error = w_a * (q * a.error + 2.0 * (1.0 - q) * b.error)
+            + w_b.abs() * (q * self.p.error + 2.0 * (1.0 - q) * self.q_pair.error)
+            + w_c.abs() * c.error
+            + w_mu2.abs() * 2.0 * m.value.abs() * m.error;
+        ValueWithBar { value, error }
+    }
+}
+
+/// The predicted error after the budget, split into bias and noise.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Rmse {
+    /// √(b² + Var/M)/μ(0), the relative RMSE.
+    pub relative: f64,
+    /// Its bar: the integrals' bars and the cost model's standard error
+    /// carried through (the cost model's own error, validated in
+    /// docs/choosing-parameters.md, is not in it).
+    pub error: f64,
+    /// |b(R)|/μ(0) (0 where the bias is not predicted).
+    pub relative_bias: f64,
+    /// √(Var L/M)/μ(0).
+    pub relative_noise: f64,
+    /// M = T/τ, iterations in the budget.
+    pub iterations: f64,
+    /// τ, predicted seconds per iteration.
+    pub seconds_per_iteration: f64,
+}
+
+impl Rmse {
+    /// The RMSE of `model` with Var L = `variance` after `budget` seconds at
+    /// `tau` = (seconds per iteration, its standard error).
+    pub fn of(model: &ModelAtRadius, variance: ValueWithBar, tau: (f64, f64), budget: f64) -> Rmse {
+        let mu0 = model.mean_at_zero.value;
+        let m = budget / tau.0;
+        let b = model.bias.map_or(0.0, |b| b.value);
+        let noise2 = variance.value / m;
+        let total = (b * b + noise2).max(0.0).sqrt();
+        // d(total²) = 2b db + dVar/M + Var dτ/T.
+        let d_total2 =
+            2.0 * b.abs() * model.bias.map_or(0.0, |b| b.error) + variance.error / m + variance.value * tau.1 / budget;
+        let error = if total > 0.0 { d_total2 / (2.0 * total) } else { f64::INFINITY };
+        let rel_mu = model.mean_at_zero.error / mu0;
+        Rmse {
+            relative: total / mu0,
+            error: error / mu0 + total / mu0 * rel_mu,
+            relative_bias: b.abs() / mu0,
+            relative_noise: noise2.max(0.0).sqrt() / mu0,
+            iterations: m,
+            seconds_per_iteration: tau.0,
+        }
+    }
+}
