@@ -143,7 +143,7 @@ impl SceneBuilder {
     /// let cost = Cost { trial_ns: 900.0, ray_ns: 40.0, segment_ns: 30.0, sphere_ns: 8.0,
     ///                   sort_ns: 1.5, search_ns: 2.0, hit_ns: 4.0, hg_ns: 9.0, std_errors: [0.0; 8] };
     /// let scene = Scene::builder().medium(1.0, 0.8).point_light([1.0, 0.0, 1.0], 1.0)
-    ///     .estimator(0.05, 0.5, 200, 8).cost(cost).build()?;
+    ///     .camera([0.0; 3], [0.0, 0.0, 1.0]).estimator(0.05, 0.5, 200, 8).cost(cost).build()?;
     /// assert_eq!(scene.cost, Some(cost));
     /// # Ok::<(), mcrt_scene::SceneError>(())
     /// ```

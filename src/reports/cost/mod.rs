@@ -77,6 +77,8 @@ pub fn cost_markdown(repeats: usize, figures_dir: &Path) -> Result<String, Strin
     writeln!(body).unwrap();
     finite_section(&mut body, &mut ledger)?;
     writeln!(body).unwrap();
+    optimize_section(&mut body, &mut ledger)?;
+    writeln!(body).unwrap();
     profile::section(&mut body)?;
     writeln!(body).unwrap();
     let (by_trials, by_time) = tracer::section(&mut body, &mut ledger)?;
@@ -104,6 +106,36 @@ pub fn cost_markdown(repeats: usize, figures_dir: &Path) -> Result<String, Strin
     writeln!(s).unwrap();
     s.push_str(&body);
     Ok(s)
+}
+
+/// `mcrt-noise optimize` on the bundled isotropic scene (issue 12's
+/// benchmark line: under 30 s), with the reference machine's costs.
+fn optimize_section(s: &mut String, ledger: &mut Ledger) -> Result<(), String> {
+    use crate::tuning::{cost::CostTable, optimize, Options};
+    let scene = bundled_scene("point-isotropic")?;
+    writeln!(s, "## `mcrt-noise optimize scenes/point-isotropic.toml --budget 1`").unwrap();
+    writeln!(s).unwrap();
+    writeln!(s, "The whole optimisation (every radius's oracle run and pilot walk, the search, the five alternatives, the sensitivity; `tuning::optimize`), the reference machine's costs. Target of issue 12: under 30 s.").unwrap();
+    writeln!(s).unwrap();
+    writeln!(s, "| radii evaluated | best rel. RMSE | wall time | target | met |").unwrap();
+    writeln!(s, "|---:|---|---:|---|---|").unwrap();
+    let target = Target::AtMost { seconds: 30.0, source: "issue 12" };
+    let (out, secs) = best_of(1, || optimize(&scene, &Options::new(1.0, CostTable::reference_machine())));
+    let met = ledger.judge("optimize, point-isotropic", target, out.is_ok().then_some(secs));
+    match out {
+        Ok(o) => writeln!(
+            s,
+            "| {} | {:.4e} ± {:.1e} | {} | {} | {met} |",
+            o.radii.len(),
+            o.best.rmse.relative,
+            o.best.rmse.error,
+            duration(secs),
+            target.cell()
+        )
+        .unwrap(),
+        Err(e) => writeln!(s, "| — | **{e}** | {} | {} | {met} |", duration(secs), target.cell()).unwrap(),
+    }
+    Ok(())
 }
 
 /// The finite-sphere model on the isotropic point-light scene at R = 0.05,

@@ -1,0 +1,100 @@
+//! `mcrt-noise optimize` and `mcrt-noise calibrate` through the CLI: the
+//! text and JSON, the exit codes (2 for a bad flag or costs file naming
+//! it), a calibration's costs file read back by `optimize --costs`.
+
+use std::process::{Command, Output};
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_mcrt-noise"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the binary runs")
+}
+
+fn text(o: &Output) -> (String, String) {
+    (String::from_utf8_lossy(&o.stdout).into_owned(), String::from_utf8_lossy(&o.stderr).into_owned())
+}
+
+#[test]
+fn optimize_prints_the_best_the_alternatives_and_the_sensitivity() {
+    let dir = std::env::temp_dir().join(format!("mcrt-noise-maps-{}", std::process::id()));
+    let out = run(&["optimize", "scenes/point-isotropic.toml", "--budget", "0.5", "--maps", dir.to_str().unwrap()]);
+    let (t, e) = text(&out);
+    assert!(out.status.success(), "{e}");
+    for needle in [
+        "best: q = ",
+        "bias b(R) predicted",
+        "q = 1 (one sphere",
+        "q → 0 (the cylinder limit)",
+        "asymptotic rule",
+        "scene's own",
+        "sensitivity",
+        "N_B  [",
+    ] {
+        assert!(t.contains(needle), "{needle:?} not in\n{t}");
+    }
+    assert!(!t.contains("NaN") && !t.contains("inf"), "{t}");
+    for f in ["rmse-q-radius.svg", "rmse-q-ray-ratio.svg"] {
+        let svg = std::fs::read_to_string(dir.join(f)).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("<circle"), "{f}");
+    }
+    let out = run(&["optimize", "scenes/point-isotropic.toml", "--budget", "0.5", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rmse = v.pointer("/best/rmse/relative").and_then(|x| x.as_f64()).unwrap();
+    let bar = v.pointer("/best/rmse/error").and_then(|x| x.as_f64()).unwrap();
+    assert!(rmse > 0.0 && rmse.is_finite() && bar.is_finite() && bar < rmse, "{rmse} ± {bar}");
+    assert_eq!(v.pointer("/bias_predicted").and_then(|x| x.as_bool()), Some(true));
+}
+
+#[test]
+fn optimize_with_scattered_light_says_the_bias_is_not_predicted() {
+    let out = run(&["optimize", "scenes/point-isotropic-order1.toml", "--budget", "1"]);
+    let (t, e) = text(&out);
+    assert!(out.status.success(), "{e}");
+    assert!(t.contains("the bias is NOT predicted") && t.contains("held at the scene's"), "{t}");
+}
+
+#[test]
+fn bad_optimize_flags_and_costs_name_themselves() {
+    for (args, needle) in [
+        (&["--budget", "0"][..], "--budget"),
+        (&["--budget", "-1"], "--budget"),
+        (&["--budget", "1", "--max-spheres", "0"], "--max-spheres"),
+        (&["--budget", "1", "--radius-range", "0.1,0.01"], "--radius-range"),
+        (&["--budget", "1", "--costs", "/nonexistent/costs.toml"], "--costs"),
+    ] {
+        let out = run(&[&["optimize", "scenes/point-isotropic.toml"][..], args].concat());
+        let (t, e) = text(&out);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {t}{e}");
+        assert!(t.is_empty() && e.contains(needle), "{args:?}: {e}");
+    }
+    let bad = std::env::temp_dir().join(format!("mcrt-noise-bad-costs-{}.toml", std::process::id()));
+    std::fs::write(&bad, "[cost]\ntrial_ns = 1\nray_ns = 1\nsegment_ns = -3\nsphere_ns = 1\nsort_ns = 1\nsearch_ns = 1\nhit_ns = 1\nhg_ns = 1\n").unwrap();
+    let out = run(&["optimize", "scenes/point-isotropic.toml", "--budget", "1", "--costs", bad.to_str().unwrap()]);
+    let (_, e) = text(&out);
+    assert_eq!(out.status.code(), Some(2), "{e}");
+    assert!(e.contains("cost.segment_ns") && e.contains("[0, 1e12]"), "{e}");
+}
+
+/// A short calibration (timings are this machine's; only the file's form
+/// and its use are checked): the `[cost]` table it writes is read back by
+/// `optimize --costs` and, pasted into a scene, by the scene's validation.
+#[test]
+fn a_calibration_writes_costs_that_optimize_reads() {
+    let path = std::env::temp_dir().join(format!("mcrt-noise-costs-{}.toml", std::process::id()));
+    let out = run(&["calibrate", "--seconds", "0.05", "--out", path.to_str().unwrap()]);
+    let (t, e) = text(&out);
+    assert!(out.status.success(), "{e}");
+    assert!(t.contains("validation case") && t.contains("[cost]"), "{t}");
+    let costs = std::fs::read_to_string(&path).unwrap();
+    assert!(costs.contains("segment_ns = ") && costs.contains("std_errors = ["), "{costs}");
+    let out = run(&["optimize", "scenes/point-isotropic.toml", "--budget", "1", "--costs", path.to_str().unwrap()]);
+    let (t, e) = text(&out);
+    assert!(out.status.success(), "{e}");
+    assert!(t.contains("costs: the --costs file"), "{t}");
+    let scene = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml")).unwrap();
+    mcrt_noise::Scene::from_toml_str(&format!("{scene}\n{costs}")).unwrap();
+    let out = run(&["calibrate", "--seconds", "0"]);
+    assert_eq!(out.status.code(), Some(2));
+}
