@@ -154,11 +154,21 @@ fn shards_traced_by_separate_processes_merge_into_the_single_run() {
     let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-hg-forward.toml");
     let scene = scene.to_str().unwrap();
     let whole = trace_json(&["trace", scene, "--trials", "9000", "--seed", "4", "--threads", "1", "--json"]);
+    assert!(whole["counters"]["nonzero_trials"].as_u64().unwrap() >= 100, "{whole}");
     let mut shards = Vec::new();
     for (k, range) in ["0..2500", "2500..8999", "8999..9000"].iter().enumerate() {
         let path = dir.join(format!("shard{k}.json"));
         let p = path.to_str().unwrap().to_string();
-        trace_json(&["trace", scene, "--trials", range, "--seed", "4", "--threads", "2", "--json", "--out", &p]);
+        let args = ["trace", scene, "--trials", range, "--seed", "4", "--threads", "2", "--json", "--out", &p];
+        let out = bin().args(args).output().unwrap();
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        // 0..2500 has fewer than 100 trials with hits (41): not resolved, exit 1, but its
+        // shard is written and merges; 8999..9000 is below 4 trials: exit 0.
+        let nonzero = json["counters"]["nonzero_trials"].as_u64().unwrap();
+        let trials = json["trial_count"].as_u64().unwrap();
+        let expected = if trials >= 4 && nonzero < 100 { 1 } else { 0 };
+        assert_eq!(out.status.code(), Some(expected), "{range}: {json}");
+        assert_eq!(json["mean"].is_null(), trials < 4 || nonzero < 100, "{range}: {json}");
         shards.push(p);
     }
     let mut args = vec!["merge", "--json"];
@@ -480,12 +490,23 @@ fn trial_ranges_near_the_end_of_u64_are_traced_and_merged() {
     let scene = scene.to_str().unwrap();
     let (a, b) = (dir.join("a.json"), dir.join("b.json"));
     let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
-    let json =
-        trace_json(&["trace", scene, "--trials", "18446744073709550000..18446744073709551615", "--json", "--out", a]);
+    // R = 0.05: enough trials with hits (≥ 100) to resolve the mean.
+    let json = trace_json(&[
+        "trace",
+        scene,
+        "--radius",
+        "0.05",
+        "--trials",
+        "18446744073709550000..18446744073709551615",
+        "--json",
+        "--out",
+        a,
+    ]);
     assert_eq!(json["trial_count"], 1615, "{json}");
     assert_eq!(json["counters"]["trials"], 1615);
     assert!(json["mean"]["se"].as_f64().unwrap() > 0.0);
-    trace_json(&["trace", scene, "--trials", "18446744073709549000..18446744073709550000", "--json", "--out", b]);
+    let args = ["trace", scene, "--radius", "0.05", "--trials", "18446744073709549000..18446744073709550000"];
+    trace_json(&[&args[..], &["--json", "--out", b]].concat());
     let merged = trace_json(&["merge", a, b, "--json"]);
     assert_eq!(merged["trial_count"], 2615);
     assert_eq!(merged["trials"][0][0].as_u64(), Some(18446744073709549000));
@@ -526,10 +547,8 @@ fn zero_hits_are_reported_as_not_resolved_by_trace_and_compare() {
 #[test]
 fn merge_validates_every_field_of_every_shard() {
     let dir = temp_dir("badshards");
-    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
-    let good = dir.join("good.json");
-    trace_json(&["trace", scene.to_str().unwrap(), "--trials", "100", "--json", "--out", good.to_str().unwrap()]);
-    let shard: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&good).unwrap()).unwrap();
+    let shard = resolved_shard(&dir.join("good.json"), "2000");
+    let (trials, hits) = (shard["counters"]["trials"].as_u64().unwrap(), shard["counters"]["hits"].as_u64().unwrap());
     let edit = |f: &dyn Fn(&mut serde_json::Value)| {
         let mut s = shard.clone();
         f(&mut s);
@@ -545,6 +564,15 @@ fn merge_validates_every_field_of_every_shard() {
         ("order", edit(&|s| s["ranges"] = serde_json::json!([[50, 100], [0, 50]])), "ranges"),
         ("overlap", edit(&|s| s["ranges"] = serde_json::json!([[0, 60], [40, 80]])), "ranges"),
         ("negative", edit(&|s| s["sums"][1] = "-1.0".into()), "sums"),
+        ("nztrials", edit(&|s| s["counters"]["nonzero_trials"] = (trials + 1).into()), "counters.nonzero_trials"),
+        ("nzhits", edit(&|s| s["counters"]["nonzero_trials"] = (hits + 1).into()), "counters.nonzero_trials"),
+        ("nzzero", edit(&|s| s["counters"]["nonzero_trials"] = 0.into()), "counters.nonzero_trials"),
+        (
+            "nzmissing",
+            edit(&|s| s["counters"].as_object_mut().unwrap().retain(|k, _| k != "nonzero_trials")),
+            "nonzero_trials",
+        ),
+        ("format1", edit(&|s| s["format"] = "mcrt-noise trace shard 1".into()), "format"),
     ] {
         let path = dir.join(format!("{tag}.json"));
         std::fs::write(&path, serde_json::to_string(&bad).unwrap()).unwrap();
@@ -772,4 +800,62 @@ fn help_states_the_exit_codes() {
     for needle in ["Exit codes:", "0  done", "1  a computed failure", "2  usage or bad input"] {
         assert!(text.contains(needle), "{needle:?} not in {text}");
     }
+}
+
+// ---- Adversarial probe of trace, merge, compare (branch fix-tracer-robustness) ----
+
+/// A bundled scene's path.
+fn bundled(name: &str) -> String {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name).to_str().unwrap().to_string()
+}
+
+/// The probe: `compare scenes/point-hg-forward.toml --trials 300 --seed 36`
+/// said DISAGREE with z = −160 for Var L from a run with a single hit (11
+/// of seeds 1–40 said DISAGREE). Standard errors from a handful of nonzero
+/// trials are meaningless: below 100 trials with hits the run is not
+/// resolved (exit 1), and `compare` says NOT RESOLVED, never a z-score.
+#[test]
+fn barely_hit_runs_are_not_resolved_and_never_disagree() {
+    let scene = bundled("point-hg-forward.toml");
+    let (code, text, err) = ended(&["compare", &scene, "--trials", "300", "--seed", "36"]);
+    assert_eq!(code, Some(1), "{text}{err}");
+    assert!(err.is_empty(), "{err}");
+    assert!(text.contains("NOT RESOLVED: only 1 of 300 trials had hits"), "{text}");
+    assert!(text.contains("at least 100") && !text.contains("DISAGREE") && !text.contains("z ="), "{text}");
+    let (code, json, _) = ended(&["compare", &scene, "--trials", "300", "--seed", "36", "--json"]);
+    assert_eq!(code, Some(1));
+    let json: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert!(json["mean"].is_null() && json["variance"].is_null() && json["pass"] == false, "{json}");
+    // `trace` of the same run: the reason instead of mean ± s.e., exit 1.
+    let (code, text, _) = ended(&["trace", &scene, "--trials", "300", "--seed", "36"]);
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("only 1 of 300 trials had hits") && !text.contains(" ± "), "{text}");
+    // Every seed of the probe: not resolved (exit 1), the count of trials with hits stated.
+    for seed in 1..=40 {
+        let seed = seed.to_string();
+        let (code, json, err) = ended(&["trace", &scene, "--trials", "300", "--seed", &seed, "--json"]);
+        assert_eq!(code, Some(1), "seed {seed}: {json}{err}");
+        let json: serde_json::Value = serde_json::from_str(&json).unwrap();
+        let k = json["counters"]["nonzero_trials"].as_u64().unwrap_or_else(|| panic!("seed {seed}: {json}"));
+        let why = json["not_resolved"].as_str().unwrap();
+        let hits = json["counters"]["hits"].as_u64().unwrap();
+        assert!(k <= hits && (k == 0) == (hits == 0), "seed {seed}: {json}");
+        if k == 0 {
+            assert!(why.starts_with("no hits in 300 trials"), "seed {seed}: {why}");
+        } else {
+            assert!(why.starts_with(&format!("only {k} of 300 trials had hits")), "seed {seed}: {why}");
+        }
+        assert!(json["mean"].is_null() && json["variance"].is_null(), "seed {seed}: {json}");
+    }
+}
+
+/// A shard of `point-isotropic` with R = 0.05, 2000 trials, seed 5
+/// (resolved: several hundred trials with hits), written to `path`.
+fn resolved_shard(path: &std::path::Path, range: &str) -> serde_json::Value {
+    let scene = bundled("point-isotropic.toml");
+    let p = path.to_str().unwrap();
+    let json =
+        trace_json(&["trace", &scene, "--radius", "0.05", "--trials", range, "--seed", "5", "--json", "--out", p]);
+    assert!(json["mean"]["se"].as_f64().is_some_and(|se| se > 0.0), "{json}");
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }

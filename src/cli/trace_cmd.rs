@@ -104,11 +104,11 @@ pub fn merge_cmd(paths: &[PathBuf], json: bool, out: Option<&Path>) -> Result<()
     resolved(&run, &report)
 }
 
-/// A run of 4 trials or more whose mean or variance is not resolved (no
-/// hits, no spread, beyond a double; the reason is in the report just
-/// printed) is a computed failure, exit 1. Below 4 trials the variance's
-/// error is not defined by construction: such a run is a shard to merge,
-/// exit 0.
+/// A run of 4 trials or more whose mean or variance is not resolved (fewer
+/// than `mcrt_reference::MIN_NONZERO_TRIALS` trials with hits, no spread,
+/// beyond a double; the reason is in the report just printed) is a computed
+/// failure, exit 1. Below 4 trials the variance's error is not defined by
+/// construction: such a run is a shard to merge, exit 0.
 fn resolved(run: &Run, report: &TraceReport) -> Result<(), CliError> {
     if report.not_resolved.is_some() && run.counters.trials >= 4 {
         Err(CliError::Stated)

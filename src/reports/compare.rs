@@ -26,7 +26,8 @@ pub struct TraceReport {
     /// Sample mean of L with its standard error; `None` (JSON null) when not
     /// resolved, the reason in `not_resolved` (below 4 trials, where the
     /// variance's error is not defined, a small shard is still written and
-    /// merges normally; no hits; no spread; beyond the range of a double).
+    /// merges normally; fewer than 100 trials with hits, `Run::estimates`;
+    /// no spread; beyond the range of a double).
     pub mean: Option<WithError>,
     /// Unbiased sample variance of L with its standard error (from the 4th moment); `None` likewise.
     pub variance: Option<WithError>,
@@ -184,8 +185,9 @@ pub struct Comparison {
     /// Both resolved and |z| ≤ `z_limit`.
     pub pass: bool,
     /// One line: AGREE or DISAGREE with both z, the limit and the model
-    /// compared against; or NOT RESOLVED with the reason (no hits, no spread,
-    /// a value beyond a double, or a z that would not be finite).
+    /// compared against; or NOT RESOLVED with the reason (fewer than 100
+    /// trials with hits, no spread, a value beyond a double, or a z that would
+    /// not be finite).
     pub verdict: String,
 }
 
