@@ -859,3 +859,41 @@ fn resolved_shard(path: &std::path::Path, range: &str) -> serde_json::Value {
     assert!(json["mean"]["se"].as_f64().is_some_and(|se| se > 0.0), "{json}");
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
+
+/// Exact sums as a shard stores them (canonical hexadecimal).
+fn hex_sums(count: u64, sums: [f64; 4]) -> [String; 4] {
+    mcrt_noise::reference::moments::PowerSums::from_f64_sums(count, sums).unwrap().to_hex()
+}
+
+/// The probe: `merge` accepted a shard with Σ L = −1 (every L is a sum of
+/// non-negative contributions), and sums no non-negative numbers have.
+#[test]
+fn merge_refuses_sums_no_non_negative_luminances_have() {
+    let dir = temp_dir("negsums");
+    let good_path = dir.join("good.json");
+    let good = resolved_shard(&good_path, "2000");
+    let n = good["counters"]["trials"].as_u64().unwrap();
+    let negated = |k: usize| {
+        let mut sums: Vec<String> = (0..4).map(|j| good["sums"][j].as_str().unwrap().to_string()).collect();
+        assert!(!sums[k].starts_with('-'));
+        sums[k] = format!("-{}", sums[k]);
+        sums
+    };
+    for (tag, sums, needle) in [
+        // Σ L < 0 and Σ L³ < 0, the rest unchanged (each passes the real-number checks).
+        ("negsum1", negated(0), "sums[0]"),
+        ("negsum3", negated(2), "sums[2]"),
+        // (Σ L²)² > Σ L · Σ L³, and (Σ L³)² > Σ L² · Σ L⁴: real, but not non-negative numbers.
+        ("cs1", hex_sums(n, [1.0, 2.0, 1.0, 16.0]).to_vec(), "sums"),
+        ("cs2", hex_sums(n, [1.0, 1.0, 2.0, 1.0]).to_vec(), "sums"),
+    ] {
+        let mut shard = good.clone();
+        shard["sums"] = serde_json::json!(sums);
+        let path = dir.join(format!("{tag}.json"));
+        std::fs::write(&path, serde_json::to_string(&shard).unwrap()).unwrap();
+        let (code, text, err) = ended(&["merge", path.to_str().unwrap()]);
+        assert_eq!(code, Some(2), "{tag}: {text}{err}");
+        assert!(text.is_empty() && err.contains(&format!("{tag}.json")) && err.contains(needle), "{tag}: {err}");
+        assert!(err.contains("non-negative"), "{tag}: {err}");
+    }
+}

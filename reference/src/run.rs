@@ -190,6 +190,7 @@ impl Run {
             return Err("sums: must be 0 when counters.hits = 0 (no trial hit a sphere)".into());
         }
         check_nonzero_trials(&shard.counters, &sums, &tracer)?;
+        sums.check_non_negative(shard.counters.nonzero_trials)?;
         Ok(Run { scene: scene.to_toml_string(), seed: shard.seed, ranges, counters: shard.counters, sums })
     }
 }

@@ -5,6 +5,7 @@
 
 mod common;
 
+use mcrt_reference::moments::PowerSums;
 use mcrt_reference::{merge, trace, HitMethod, Run, Tracer, MIN_NONZERO_TRIALS};
 
 fn run(tracer: &Tracer, seed: u64, range: std::ops::Range<u64>) -> Run {
@@ -96,6 +97,36 @@ fn hits_that_add_no_light_are_not_resolved_either() {
     let why = r.estimates().mean.unwrap_err();
     assert!(why.starts_with("L = 0 in all 500 trials") && why.contains("albedo = 0"), "{why}");
     assert!(Run::from_shard(&r.to_shard()).is_ok());
+}
+
+/// A shard's sums must be those of non-negative values, `nonzero_trials` of
+/// them > 0: checked exactly, the sum or counter named.
+#[test]
+fn shards_with_sums_no_non_negative_values_have_are_refused() {
+    let tracer = Tracer::new(&common::scene("point-isotropic", &[("radius = 0.01", "radius = 0.05")])).unwrap();
+    let good = run(&tracer, 2, 0..2000).to_shard();
+    assert!(Run::from_shard(&good).is_ok());
+    let k = good.counters.nonzero_trials;
+    let hex = |sums: [f64; 4]| PowerSums::from_f64_sums(2000, sums).unwrap().to_hex();
+    let check = |edit: &dyn Fn(&mut mcrt_reference::Shard), needle: &str| {
+        let mut shard = good.clone();
+        edit(&mut shard);
+        let err = Run::from_shard(&shard).unwrap_err();
+        assert!(err.contains(needle), "{needle}: {err}");
+    };
+    check(&|s| s.sums[0] = format!("-{}", s.sums[0]), "sums[0] (Σ L)");
+    check(&|s| s.sums[2] = format!("-{}", s.sums[2]), "sums[2] (Σ L³)");
+    check(&|s| s.sums = hex([1.0, 2.0, 1.0, 16.0]), "(Σ L²)² <= Σ L · Σ L³");
+    check(&|s| s.sums = hex([1.0, 1.0, 2.0, 1.0]), "(Σ L³)² <= Σ L² · Σ L⁴");
+    check(&|s| s.sums = hex([0.0, 0.0, 0.0, 1.0]), "all 0 or all > 0");
+    // k values > 0 bound the sums too, (Σ L)² ≤ k Σ L²: k + 1 values of 1 are more than k.
+    let kf = k as f64;
+    assert!(k < 1999, "{k}");
+    check(&|s| s.sums = hex([kf + 1.0; 4]), "(Σ L)² <= k Σ L²");
+    // k values of 1: accepted.
+    let mut equal = good.clone();
+    equal.sums = hex([kf, kf, kf, kf]);
+    assert!(Run::from_shard(&equal).is_ok());
 }
 
 /// `counters.nonzero_trials` against the trials, the hits and the sums; a
