@@ -897,3 +897,25 @@ fn merge_refuses_sums_no_non_negative_luminances_have() {
         assert!(err.contains("non-negative"), "{tag}: {err}");
     }
 }
+
+/// The probe: `merge` printed `time 0.0 ms (0.000e0 trials/s, …)`, a zero
+/// standing in for a time nobody measured. Merged shards say so instead.
+#[test]
+fn merge_says_the_time_of_merged_shards_is_not_measured() {
+    let dir = temp_dir("mergetime");
+    let (a, b) = (dir.join("a.json"), dir.join("b.json"));
+    resolved_shard(&a, "0..1000");
+    resolved_shard(&b, "1000..2000");
+    let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
+    let (code, text, err) = ended(&["merge", a, b]);
+    assert_eq!(code, Some(0), "{text}{err}");
+    assert!(text.contains("time not measured") && !text.contains("0.0 ms") && !text.contains("0.000e0"), "{text}");
+    let json = trace_json(&["merge", a, b, "--json"]);
+    for key in ["wall_time_ms", "trials_per_second", "forward_segments_per_second"] {
+        assert!(json[key].is_null(), "{key}: {json}");
+    }
+    assert!(json["time_not_measured"].as_str().unwrap().contains("merged"), "{json}");
+    // `trace` measures its time: numbers, no reason.
+    let json = trace_json(&["trace", &bundled("point-isotropic.toml"), "--trials", "20000", "--json"]);
+    assert!(json["wall_time_ms"].as_f64().is_some_and(|t| t > 0.0) && json["time_not_measured"].is_null(), "{json}");
+}

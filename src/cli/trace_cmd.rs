@@ -3,7 +3,7 @@
 use super::{to_json, CliError};
 use indicatif::{ProgressBar, ProgressStyle};
 use mcrt_noise::oracle::Precision;
-use mcrt_noise::reports::compare::{Comparison, TraceReport};
+use mcrt_noise::reports::compare::{Comparison, TraceReport, MERGED_TIME};
 use mcrt_noise::scene::Scene;
 use mcrt_reference::{merge, trace, HitMethod, Run, Shard, Tracer};
 use std::io::IsTerminal;
@@ -80,7 +80,7 @@ pub fn trace_cmd(
     let tracer = prepared(scene, &range)?;
     let file = out.map(open_out).transpose()?;
     let (run, seconds) = traced(&tracer, seed, range, threads)?;
-    let report = TraceReport::new(&run, seconds);
+    let report = TraceReport::new(&run, Ok(seconds));
     write_then_print(&run, file, out, &report, json)?;
     resolved(&run, &report)
 }
@@ -99,7 +99,7 @@ pub fn merge_cmd(paths: &[PathBuf], json: bool, out: Option<&Path>) -> Result<()
         .collect::<Result<Vec<_>, _>>()?;
     let file = out.map(open_out).transpose()?;
     let run = merge(&runs).map_err(CliError::Usage)?;
-    let report = TraceReport::new(&run, 0.0);
+    let report = TraceReport::new(&run, Err(MERGED_TIME.to_string()));
     write_then_print(&run, file, out, &report, json)?;
     resolved(&run, &report)
 }

@@ -36,17 +36,25 @@ pub struct TraceReport {
     pub not_resolved: Option<String>,
     /// What the run did, summed over its trials.
     pub counters: Counters,
-    /// Wall time of the run (ms; 0 for merged shards).
-    pub wall_time_ms: f64,
-    /// Trials per second of wall time (0 when the time is 0).
-    pub trials_per_second: f64,
-    /// Forward segments traced per second of wall time (0 when the time is 0).
-    pub forward_segments_per_second: f64,
+    /// Wall time of the run (ms); `None` (JSON null) when not measured, the
+    /// reason in `time_not_measured` (merged shards).
+    pub wall_time_ms: Option<f64>,
+    /// Trials per second of wall time; `None` likewise.
+    pub trials_per_second: Option<f64>,
+    /// Forward segments traced per second of wall time; `None` likewise.
+    pub forward_segments_per_second: Option<f64>,
+    /// Why the time and the rates are not given (absent when they are).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_not_measured: Option<String>,
 }
 
+/// The reason `merge` gives no time (its shards were traced elsewhere).
+pub const MERGED_TIME: &str = "time not measured: merged from shards (each shard's trace reported its own time)";
+
 impl TraceReport {
-    /// The report of a run that took `wall_seconds` (0 for merged shards).
-    pub fn new(run: &Run, wall_seconds: f64) -> TraceReport {
+    /// The report of a run that took `wall_seconds`, or `Err(reason)` when
+    /// its time was not measured (merged shards: [`MERGED_TIME`]).
+    pub fn new(run: &Run, wall_seconds: Result<f64, String>) -> TraceReport {
         let estimates = run.estimates();
         let reasons: Vec<&String> =
             [&estimates.mean, &estimates.variance].into_iter().filter_map(|e| e.as_ref().err()).collect();
@@ -57,7 +65,15 @@ impl TraceReport {
             [a, b] => Some(format!("{a}; {b}")),
             _ => unreachable!("two estimates"),
         };
-        let per_second = |n: u64| if wall_seconds > 0.0 { n as f64 / wall_seconds } else { 0.0 };
+        // A time of 0 is below the clock's resolution, not a time: no rate from it.
+        let seconds = wall_seconds.and_then(|t| {
+            if t > 0.0 {
+                Ok(t)
+            } else {
+                Err("time not measured: the run took less than the clock's resolution".to_string())
+            }
+        });
+        let per_second = |n: u64| seconds.as_ref().ok().map(|t| n as f64 / t);
         TraceReport {
             seed: run.seed,
             trials: run.ranges.iter().map(|r| [r.start, r.end]).collect(),
@@ -66,9 +82,10 @@ impl TraceReport {
             variance: estimates.variance.ok(),
             not_resolved,
             counters: run.counters,
-            wall_time_ms: wall_seconds * 1e3,
+            wall_time_ms: seconds.as_ref().ok().map(|t| t * 1e3),
             trials_per_second: per_second(run.counters.trials),
             forward_segments_per_second: per_second(run.counters.forward_segments),
+            time_not_measured: seconds.err(),
         }
     }
 
@@ -77,6 +94,13 @@ impl TraceReport {
         let c = &self.counters;
         let d = &c.draws;
         let why = self.not_resolved.as_deref().unwrap_or("");
+        let time = match (self.wall_time_ms, self.trials_per_second, self.forward_segments_per_second) {
+            (Some(ms), Some(trials), Some(segments)) => format!(
+                "time {} ms, one measurement  ({trials:.3e} trials/s, {segments:.3e} segments/s)",
+                three_digits(ms)
+            ),
+            _ => self.time_not_measured.clone().unwrap_or_else(|| "time not measured".into()),
+        };
         let stats = match (&self.mean, &self.variance) {
             (Some(m), Some(v)) => format!(
                 "mean L          {:.10e} ± {:.2e} (s.e.)\nVar L           {:.10e} ± {:.2e} (s.e., from the 4th \
@@ -96,7 +120,7 @@ impl TraceReport {
              forward rays {}  segments {}  spheres {}  candidate tests {}  hits {}  HG evaluations {}\n\
              draws: sub-step {}  extinction {}  light {}  emission dir {}  emission pos {}  free path {}  \
              roulette {}  phase {}\n\
-             time {:.1} ms  ({:.3e} trials/s, {:.3e} segments/s)\n",
+             {time}\n",
             self.trial_count,
             self.seed,
             c.forward_rays,
@@ -113,11 +137,15 @@ impl TraceReport {
             d.free_path,
             d.roulette,
             d.phase,
-            self.wall_time_ms,
-            self.trials_per_second,
-            self.forward_segments_per_second,
         )
     }
+}
+
+/// `x` (> 0) to three significant digits, without an exponent for the
+/// times a run takes (0.0123, 1.23, 123, 12345): never rounded to 0.
+fn three_digits(x: f64) -> String {
+    let decimals = (2 - x.log10().floor() as i32).clamp(0, 20) as usize;
+    format!("{x:.decimals$}")
 }
 
 /// One quantity, oracle beside tracer.
