@@ -245,7 +245,7 @@ fn run(command: Command) -> Result<(), CliError> {
         Command::Sweep { scene, radii, json } => sweep(&scene, &radii, json),
         Command::Trace { run: a, out } => {
             let scene = load_with_radius(&a.scene, a.radius)?;
-            cli::trace_cmd::trace_cmd(&scene, &a.trials, a.seed, a.threads, a.json, out.as_deref())
+            cli::trace_cmd::trace_cmd(&scene, &a.scene, &a.trials, a.seed, a.threads, a.json, out.as_deref())
         }
         Command::Merge { shards, json, out } => cli::trace_cmd::merge_cmd(&shards, json, out.as_deref()),
         Command::Compare { run: a } => {

@@ -919,3 +919,44 @@ fn merge_says_the_time_of_merged_shards_is_not_measured() {
     let json = trace_json(&["trace", &bundled("point-isotropic.toml"), "--trials", "20000", "--json"]);
     assert!(json["wall_time_ms"].as_f64().is_some_and(|t| t > 0.0) && json["time_not_measured"].is_null(), "{json}");
 }
+
+/// The probe: `trace self.toml --trials 100 --out self.toml` exited 0 and
+/// replaced the scene file with the shard; `merge a.json b.json --out
+/// a.json` replaced a shard. An output that is one of the inputs is refused
+/// before the run (exit 2), however the path is spelled, and the input is
+/// left as it was.
+#[test]
+fn an_output_path_that_is_an_input_is_refused_before_the_run() {
+    let dir = temp_dir("outisinput");
+    let scene = dir.join("self.toml");
+    std::fs::copy(bundled("point-isotropic.toml"), &scene).unwrap();
+    let original = std::fs::read(&scene).unwrap();
+    let s = scene.to_str().unwrap();
+    let spelled_otherwise = dir.join("sub/../self.toml");
+    std::fs::create_dir_all(dir.join("sub")).unwrap();
+    let link = dir.join("link.toml");
+    std::fs::remove_file(&link).ok();
+    std::fs::hard_link(&scene, &link).unwrap();
+    for out in [s, spelled_otherwise.to_str().unwrap(), link.to_str().unwrap()] {
+        // A billion trials would take hours: refused before the run.
+        let (code, text, err) = ended(&["trace", s, "--trials", "1000000000", "--out", out]);
+        assert_eq!(code, Some(2), "{out}: {text}{err}");
+        assert!(text.is_empty() && err.contains(&format!("--out {out}")) && err.contains("scene file"), "{err}");
+        assert_eq!(std::fs::read(&scene).unwrap(), original, "{out}: the scene file was changed");
+    }
+    let (a, b) = (dir.join("a.json"), dir.join("b.json"));
+    resolved_shard(&a, "0..1000");
+    resolved_shard(&b, "1000..2000");
+    let shard_a = std::fs::read(&a).unwrap();
+    let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
+    let (code, text, err) = ended(&["merge", a, b, "--out", a]);
+    assert_eq!(code, Some(2), "{text}{err}");
+    assert!(text.is_empty() && err.contains(&format!("--out {a}")) && err.contains("shard"), "{err}");
+    assert_eq!(std::fs::read(a).unwrap(), shard_a, "the shard was changed");
+    // A new path is written as before.
+    let merged = dir.join("merged.json");
+    std::fs::remove_file(&merged).ok();
+    let (code, _, err) = ended(&["merge", a, b, "--out", merged.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(merged.exists());
+}

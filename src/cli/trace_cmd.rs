@@ -68,8 +68,11 @@ fn traced(tracer: &Tracer, seed: u64, range: Range<u64>, threads: Option<usize>)
     Ok((run, start.elapsed().as_secs_f64()))
 }
 
+/// `trace`; `scene_path` is the scene file the scene was read from (an
+/// `--out` naming it is refused).
 pub fn trace_cmd(
     scene: &Scene,
+    scene_path: &Path,
     trials: &str,
     seed: u64,
     threads: Option<usize>,
@@ -78,6 +81,9 @@ pub fn trace_cmd(
 ) -> Result<(), CliError> {
     let range = parse_trials(trials)?;
     let tracer = prepared(scene, &range)?;
+    if let Some(out) = out {
+        not_an_input(out, "the scene file", scene_path)?;
+    }
     let file = out.map(open_out).transpose()?;
     let (run, seconds) = traced(&tracer, seed, range, threads)?;
     let report = TraceReport::new(&run, Ok(seconds));
@@ -97,6 +103,11 @@ pub fn merge_cmd(paths: &[PathBuf], json: bool, out: Option<&Path>) -> Result<()
             Run::from_shard(&shard).map_err(at)
         })
         .collect::<Result<Vec<_>, _>>()?;
+    if let Some(out) = out {
+        for p in paths {
+            not_an_input(out, "the shard", p)?;
+        }
+    }
     let file = out.map(open_out).transpose()?;
     let run = merge(&runs).map_err(CliError::Usage)?;
     let report = TraceReport::new(&run, Err(MERGED_TIME.to_string()));
@@ -114,6 +125,38 @@ fn resolved(run: &Run, report: &TraceReport) -> Result<(), CliError> {
         Err(CliError::Stated)
     } else {
         Ok(())
+    }
+}
+
+/// Refuses an `--out` path that is the same file as an input (exit 2,
+/// before the run): creating it would truncate the input, and the shard
+/// would replace it. Same file: same device and inode (Unix; hard links and
+/// symbolic links included), else the same canonical path. A path that does
+/// not exist yet is no input.
+fn not_an_input(out: &Path, what: &str, input: &Path) -> Result<(), CliError> {
+    if same_file(out, input) {
+        return Err(CliError::usage(format!(
+            "--out {}: is {what} {} (an input of this command); writing there would replace it: give another path",
+            out.display(),
+            input.display()
+        )));
+    }
+    Ok(())
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) else {
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        ma.dev() == mb.dev() && ma.ino() == mb.ino()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (ma, mb);
+        matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
     }
 }
 
