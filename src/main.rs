@@ -37,10 +37,10 @@ enum Command {
         #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::rel_tol)]
         rel_tol: Option<f64>,
         /// Integrand evaluations the whole run may spend, over every integral and level (default 2e9 in f64, ~40 s; 5e7 in MPFR, a few minutes at 128 bits).
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         max_evals: Option<f64>,
         /// Wall-time limit of the run in seconds (none by default; the result then depends on the machine's speed).
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         time_limit: Option<f64>,
         /// One JSON object instead of the table.
         #[arg(long)]
@@ -72,7 +72,12 @@ enum Command {
     Sweep {
         scene: PathBuf,
         /// Comma-separated radii, e.g. 1e-1,1e-2,1e-3.
-        #[arg(long, value_delimiter = ',', default_values_t = mcrt_noise::reports::sweep::DOC_RADII)]
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            default_values_t = mcrt_noise::reports::sweep::DOC_RADII
+        )]
         radii: Vec<f64>,
         /// One JSON object instead of the table.
         #[arg(long)]
@@ -168,10 +173,11 @@ enum Command {
 #[derive(clap::Args)]
 struct TraceArgs {
     scene: PathBuf,
-    /// A count M (trials 0..M) or a range A..B of trial indices.
-    #[arg(long)]
+    /// A count M (trials 0..M) or a range A..B of trial indices, within [0, 2^64 − 1].
+    #[arg(long, allow_hyphen_values = true)]
     trials: String,
-    #[arg(long, default_value_t = 1)]
+    /// The run's seed, an integer in [0, 2^64 − 1].
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = cli::flags::seed)]
     seed: u64,
     /// Worker threads, in [1, 1024] (default: all cores). The numbers do not depend on it.
     #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::threads)]

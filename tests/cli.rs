@@ -960,3 +960,34 @@ fn an_output_path_that_is_an_input_is_refused_before_the_run() {
     assert_eq!(code, Some(0), "{err}");
     assert!(merged.exists());
 }
+
+/// The probe: `trace --trials -5` and `--seed -1` got clap's "unexpected
+/// argument '-5' found", naming neither the flag nor its range. Every
+/// numeric flag of trace, compare (and oracle, sweep) names itself, the
+/// value and the range (exit 2).
+#[test]
+fn negative_numbers_for_numeric_flags_name_the_flag_the_value_and_the_range() {
+    let scene = bundled("point-isotropic.toml");
+    let s = scene.as_str();
+    let cases: &[(&[&str], &[&str])] = &[
+        (&["trace", s, "--trials", "-5"], &["--trials", "\"-5\"", "[1, 18446744073709551615]"]),
+        (&["trace", s, "--trials", "-5..10"], &["--trials", "\"-5..10\"", "A..B"]),
+        (&["compare", s, "--trials", "-5"], &["--trials", "\"-5\"", "[1, 18446744073709551615]"]),
+        (&["trace", s, "--trials", "10", "--seed", "-1"], &["--seed", "-1", "[0, 18446744073709551615]"]),
+        (&["compare", s, "--trials", "10", "--seed", "-1"], &["--seed", "-1", "[0, 18446744073709551615]"]),
+        (&["trace", s, "--trials", "10", "--seed", "1.5"], &["--seed", "1.5", "[0, 18446744073709551615]"]),
+        (&["trace", s, "--trials", "10", "--threads", "-1"], &["--threads", "-1", "[1, 1024]"]),
+        (&["oracle", s, "--max-evals", "-5"], &["--max-evals", "-5", "[1, 1e15]"]),
+        (&["oracle", s, "--time-limit", "-1"], &["--time-limit", "-1", "(0, 1e6]"]),
+        (&["sweep", s, "--radii", "-1,2"], &["--radii", "-1", "finite and > 0"]),
+    ];
+    for (args, needles) in cases {
+        let (code, text, err) = ended(args);
+        assert_eq!(code, Some(2), "{args:?}: {text}{err}");
+        assert!(text.is_empty(), "{args:?}: {text}");
+        assert!(!err.contains("unexpected argument"), "{args:?}: {err}");
+        for needle in *needles {
+            assert!(err.contains(needle), "{args:?}: {needle:?} not in {err}");
+        }
+    }
+}

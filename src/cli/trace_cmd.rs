@@ -13,7 +13,13 @@ use std::time::Instant;
 
 /// `--trials M` (0..M) or `--trials A..B`.
 pub fn parse_trials(text: &str) -> Result<Range<u64>, CliError> {
-    let bad = || CliError::usage(format!("--trials: \"{text}\" is neither a count M >= 1 nor a range A..B with A < B"));
+    let bad = || {
+        CliError::usage(format!(
+            "--trials: \"{text}\" is neither a count M in [1, {max}] nor a range A..B of trial indices with \
+             0 <= A < B <= {max}",
+            max = u64::MAX
+        ))
+    };
     let range = match text.split_once("..") {
         Some((a, b)) => a.trim().parse::<u64>().map_err(|_| bad())?..b.trim().parse::<u64>().map_err(|_| bad())?,
         None => 0..text.trim().parse::<u64>().map_err(|_| bad())?,
