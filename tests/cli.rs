@@ -203,7 +203,7 @@ fn compare_prints_both_sides_and_a_verdict() {
     let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
     let json = trace_json(&["compare", scene.to_str().unwrap(), "--trials", "200000", "--seed", "3", "--json"]);
     for side in ["mean", "variance"] {
-        for key in ["oracle", "oracle_error", "tracer", "tracer_se", "ratio", "z"] {
+        for key in ["oracle", "oracle_error", "tracer", "tracer_se", "ratio", "ratio_error", "z"] {
             assert!(json[side][key].is_f64(), "{side}.{key}");
         }
     }
@@ -989,5 +989,27 @@ fn negative_numbers_for_numeric_flags_name_the_flag_the_value_and_the_range() {
         for needle in *needles {
             assert!(err.contains(needle), "{args:?}: {needle:?} not in {err}");
         }
+    }
+}
+
+/// The probe: `compare` printed `ratio 0.68368` with no bar. The ratio
+/// carries the tracer's standard error and the oracle's bar, propagated.
+#[test]
+fn compare_gives_the_ratio_its_bar() {
+    let scene = bundled("point-isotropic.toml");
+    let json = trace_json(&["compare", &scene, "--trials", "20000", "--seed", "3", "--json"]);
+    for side in ["mean", "variance"] {
+        let f = |k: &str| json[side][k].as_f64().unwrap_or_else(|| panic!("{side}.{k}: {json}"));
+        let (o, bar, t, se, r, dr) =
+            (f("oracle"), f("oracle_error"), f("tracer"), f("tracer_se"), f("ratio"), f("ratio_error"));
+        let want = r * ((se / t).powi(2) + (bar / o).powi(2)).sqrt();
+        assert!(dr > 0.0 && ((dr - want) / want).abs() < 1e-12, "{side}: ratio {r} ± {dr}, want ± {want}");
+    }
+    let (code, text, err) = ended(&["compare", &scene, "--trials", "20000", "--seed", "3"]);
+    assert_eq!(code, Some(0), "{text}{err}");
+    for line in text.lines().filter(|l| l.starts_with("mean L") || l.starts_with("Var L")) {
+        let ratio = line.split("ratio ").nth(1).unwrap_or_else(|| panic!("{line}"));
+        let bar = ratio.split_whitespace().collect::<Vec<_>>();
+        assert!(bar.len() >= 3 && bar[1] == "±" && bar[2].parse::<f64>().is_ok_and(|x| x > 0.0), "{line}");
     }
 }

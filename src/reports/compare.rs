@@ -161,6 +161,10 @@ pub struct Side {
     pub tracer_se: f64,
     /// tracer/oracle.
     pub ratio: f64,
+    /// The ratio's error bar: the tracer's standard error and the oracle's
+    /// bar propagated, √(se² + ratio²·bar²)/|oracle| (independent errors,
+    /// to first order).
+    pub ratio_error: f64,
     /// (tracer − oracle)/√(se² + bar²).
     pub z: f64,
 }
@@ -171,12 +175,16 @@ impl Side {
     /// s.e. > 0), or z is infinite; [`Side::finite`] says whether it is.
     pub fn new(oracle: f64, oracle_error: f64, tracer: WithError) -> Side {
         let z = (tracer.value - oracle) / (tracer.se * tracer.se + oracle_error * oracle_error).sqrt();
-        Side { oracle, oracle_error, tracer: tracer.value, tracer_se: tracer.se, ratio: tracer.value / oracle, z }
+        let ratio = tracer.value / oracle;
+        let ratio_error = tracer.se.hypot(ratio * oracle_error) / oracle.abs();
+        Side { oracle, oracle_error, tracer: tracer.value, tracer_se: tracer.se, ratio, ratio_error, z }
     }
 
     /// Every number of the side finite (no inf or NaN ratio or z).
     pub fn finite(&self) -> bool {
-        [self.oracle, self.oracle_error, self.tracer, self.tracer_se, self.ratio, self.z].iter().all(|x| x.is_finite())
+        [self.oracle, self.oracle_error, self.tracer, self.tracer_se, self.ratio, self.ratio_error, self.z]
+            .iter()
+            .all(|x| x.is_finite())
     }
 }
 
@@ -269,8 +277,8 @@ impl Comparison {
     pub fn table(&self) -> String {
         let row = |name: &str, s: &Option<Side>| match s {
             Some(s) => format!(
-                "{name:<9} oracle {:.8e} ± {:.1e}   tracer {:.8e} ± {:.1e}   ratio {:.5}   z {:+.2}\n",
-                s.oracle, s.oracle_error, s.tracer, s.tracer_se, s.ratio, s.z
+                "{name:<9} oracle {:.8e} ± {:.1e}   tracer {:.8e} ± {:.1e}   ratio {:.5} ± {:.1e}   z {:+.2}\n",
+                s.oracle, s.oracle_error, s.tracer, s.tracer_se, s.ratio, s.ratio_error, s.z
             ),
             None => format!("{name:<9} not resolved (below)\n"),
         };
