@@ -196,10 +196,11 @@ Exit codes:
   0  done, or the verdict passed
   1  a computed failure: a quadrature NOT CONVERGED, the evaluation budget or deadline spent, a result not
      representable in f64, a verdict that failed or was not resolved (compare, check), a tracer run whose mean and
-     variance are not resolved (no hits); the reason on standard error, or with the verdict or the tracer's report
-     on standard output
+     variance are not resolved (fewer than 100 trials with hits); the reason on standard error, or with the verdict
+     or the tracer's report on standard output
   2  usage or bad input: a bad flag, an unreadable or invalid scene file or shard, a value out of range, a scene the
-     model does not support, an output path that cannot be written; the message names the flag, field or line";
+     model does not support, an output path that cannot be written or is an input; the message names the flag,
+     field or line";
 
 /// Runs one command. Exit codes (stated here once; `--help` and README.md
 /// repeat them, [`cli::CliError`] carries the kind):
@@ -209,11 +210,13 @@ Exit codes:
 ///   budget or deadline spent, a result not representable in f64
 ///   (`OracleError::NotRepresentable`), a verdict that failed or was not
 ///   resolved (`compare`, `check`), a tracer run of 4 trials or more whose
-///   mean and variance are not resolved (no hits, no spread);
+///   mean and variance are not resolved (fewer than
+///   `mcrt_reference::MIN_NONZERO_TRIALS` trials with hits, no spread);
 /// - **2**: usage or bad input: a bad flag (clap's own errors exit 2 too), an
 ///   unreadable or invalid scene file or shard, an invalid trial range, a
 ///   value out of range, a scene the model does not support
-///   (`OracleError::Unsupported`), an output path that cannot be written.
+///   (`OracleError::Unsupported`), an output path that cannot be written
+///   or is one of the command's inputs.
 ///
 /// Every message names the flag, field or line, the value and the range;
 /// it goes to standard error, except a verdict's or a tracer report's
