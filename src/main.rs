@@ -82,7 +82,12 @@ enum Command {
     Sweep {
         scene: PathBuf,
         /// Comma-separated radii, e.g. 1e-1,1e-2,1e-3.
-        #[arg(long, value_delimiter = ',', default_values_t = mcrt_noise::reports::sweep::DOC_RADII)]
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            default_values_t = mcrt_noise::reports::sweep::DOC_RADII
+        )]
         radii: Vec<f64>,
         /// One budget for the whole sweep, shared by its radii.
         #[command(flatten)]
@@ -224,10 +229,11 @@ enum Command {
 #[derive(clap::Args)]
 struct TraceArgs {
     scene: PathBuf,
-    /// A count M (trials 0..M) or a range A..B of trial indices.
-    #[arg(long)]
+    /// A count M (trials 0..M) or a range A..B of trial indices, within [0, 2^64 − 1].
+    #[arg(long, allow_hyphen_values = true)]
     trials: String,
-    #[arg(long, default_value_t = 1)]
+    /// The run's seed, an integer in [0, 2^64 − 1].
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = cli::flags::seed)]
     seed: u64,
     /// Worker threads, in [1, 1024] (default: all cores). The numbers do not depend on it.
     #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::threads)]
@@ -246,10 +252,11 @@ Exit codes:
   0  done, or the verdict passed
   1  a computed failure: a quadrature NOT CONVERGED, the evaluation budget or deadline spent, a result not
      representable in f64, a verdict that failed or was not resolved (compare, check), a tracer run whose mean and
-     variance are not resolved (no hits); the reason on standard error, or with the verdict or the tracer's report
-     on standard output
+     variance are not resolved (fewer than 100 trials with hits); the reason on standard error, or with the verdict
+     or the tracer's report on standard output
   2  usage or bad input: a bad flag, an unreadable or invalid scene file or shard, a value out of range, a scene the
-     model does not support, an output path that cannot be written; the message names the flag, field or line";
+     model does not support, an output path that cannot be written or is an input; the message names the flag,
+     field or line";
 
 /// Runs one command. Exit codes (stated here once; `--help` and README.md
 /// repeat them, [`cli::CliError`] carries the kind):
@@ -259,11 +266,13 @@ Exit codes:
 ///   budget or deadline spent, a result not representable in f64
 ///   (`OracleError::NotRepresentable`), a verdict that failed or was not
 ///   resolved (`compare`, `check`), a tracer run of 4 trials or more whose
-///   mean and variance are not resolved (no hits, no spread);
+///   mean and variance are not resolved (fewer than
+///   `mcrt_reference::MIN_NONZERO_TRIALS` trials with hits, no spread);
 /// - **2**: usage or bad input: a bad flag (clap's own errors exit 2 too), an
 ///   unreadable or invalid scene file or shard, an invalid trial range, a
 ///   value out of range, a scene the model does not support
-///   (`OracleError::Unsupported`), an output path that cannot be written.
+///   (`OracleError::Unsupported`), an output path that cannot be written
+///   or is one of the command's inputs.
 ///
 /// Every message names the flag, field or line, the value and the range;
 /// it goes to standard error, except a verdict's or a tracer report's
@@ -305,7 +314,7 @@ fn run(command: Command) -> Result<(), CliError> {
         }
         Command::Trace { run: a, out } => {
             let scene = load_with_radius(&a.scene, a.radius)?;
-            cli::trace_cmd::trace_cmd(&scene, &a.trials, a.seed, a.threads, a.json, out.as_deref())
+            cli::trace_cmd::trace_cmd(&scene, &a.scene, &a.trials, a.seed, a.threads, a.json, out.as_deref())
         }
         Command::Merge { shards, json, out } => cli::trace_cmd::merge_cmd(&shards, json, out.as_deref()),
         Command::Compare { run: a } => {

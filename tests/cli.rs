@@ -154,11 +154,21 @@ fn shards_traced_by_separate_processes_merge_into_the_single_run() {
     let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-hg-forward.toml");
     let scene = scene.to_str().unwrap();
     let whole = trace_json(&["trace", scene, "--trials", "9000", "--seed", "4", "--threads", "1", "--json"]);
+    assert!(whole["counters"]["nonzero_trials"].as_u64().unwrap() >= 100, "{whole}");
     let mut shards = Vec::new();
     for (k, range) in ["0..2500", "2500..8999", "8999..9000"].iter().enumerate() {
         let path = dir.join(format!("shard{k}.json"));
         let p = path.to_str().unwrap().to_string();
-        trace_json(&["trace", scene, "--trials", range, "--seed", "4", "--threads", "2", "--json", "--out", &p]);
+        let args = ["trace", scene, "--trials", range, "--seed", "4", "--threads", "2", "--json", "--out", &p];
+        let out = bin().args(args).output().unwrap();
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        // 0..2500 has fewer than 100 trials with hits (41): not resolved, exit 1, but its
+        // shard is written and merges; 8999..9000 is below 4 trials: exit 0.
+        let nonzero = json["counters"]["nonzero_trials"].as_u64().unwrap();
+        let trials = json["trial_count"].as_u64().unwrap();
+        let expected = if trials >= 4 && nonzero < 100 { 1 } else { 0 };
+        assert_eq!(out.status.code(), Some(expected), "{range}: {json}");
+        assert_eq!(json["mean"].is_null(), trials < 4 || nonzero < 100, "{range}: {json}");
         shards.push(p);
     }
     let mut args = vec!["merge", "--json"];
@@ -193,7 +203,7 @@ fn compare_prints_both_sides_and_a_verdict() {
     let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
     let json = trace_json(&["compare", scene.to_str().unwrap(), "--trials", "200000", "--seed", "3", "--json"]);
     for side in ["mean", "variance"] {
-        for key in ["oracle", "oracle_error", "tracer", "tracer_se", "ratio", "z"] {
+        for key in ["oracle", "oracle_error", "tracer", "tracer_se", "ratio", "ratio_error", "z"] {
             assert!(json[side][key].is_f64(), "{side}.{key}");
         }
     }
@@ -480,12 +490,23 @@ fn trial_ranges_near_the_end_of_u64_are_traced_and_merged() {
     let scene = scene.to_str().unwrap();
     let (a, b) = (dir.join("a.json"), dir.join("b.json"));
     let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
-    let json =
-        trace_json(&["trace", scene, "--trials", "18446744073709550000..18446744073709551615", "--json", "--out", a]);
+    // R = 0.05: enough trials with hits (≥ 100) to resolve the mean.
+    let json = trace_json(&[
+        "trace",
+        scene,
+        "--radius",
+        "0.05",
+        "--trials",
+        "18446744073709550000..18446744073709551615",
+        "--json",
+        "--out",
+        a,
+    ]);
     assert_eq!(json["trial_count"], 1615, "{json}");
     assert_eq!(json["counters"]["trials"], 1615);
     assert!(json["mean"]["se"].as_f64().unwrap() > 0.0);
-    trace_json(&["trace", scene, "--trials", "18446744073709549000..18446744073709550000", "--json", "--out", b]);
+    let args = ["trace", scene, "--radius", "0.05", "--trials", "18446744073709549000..18446744073709550000"];
+    trace_json(&[&args[..], &["--json", "--out", b]].concat());
     let merged = trace_json(&["merge", a, b, "--json"]);
     assert_eq!(merged["trial_count"], 2615);
     assert_eq!(merged["trials"][0][0].as_u64(), Some(18446744073709549000));
@@ -526,10 +547,8 @@ fn zero_hits_are_reported_as_not_resolved_by_trace_and_compare() {
 #[test]
 fn merge_validates_every_field_of_every_shard() {
     let dir = temp_dir("badshards");
-    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic.toml");
-    let good = dir.join("good.json");
-    trace_json(&["trace", scene.to_str().unwrap(), "--trials", "100", "--json", "--out", good.to_str().unwrap()]);
-    let shard: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&good).unwrap()).unwrap();
+    let shard = resolved_shard(&dir.join("good.json"), "2000");
+    let (trials, hits) = (shard["counters"]["trials"].as_u64().unwrap(), shard["counters"]["hits"].as_u64().unwrap());
     let edit = |f: &dyn Fn(&mut serde_json::Value)| {
         let mut s = shard.clone();
         f(&mut s);
@@ -545,6 +564,15 @@ fn merge_validates_every_field_of_every_shard() {
         ("order", edit(&|s| s["ranges"] = serde_json::json!([[50, 100], [0, 50]])), "ranges"),
         ("overlap", edit(&|s| s["ranges"] = serde_json::json!([[0, 60], [40, 80]])), "ranges"),
         ("negative", edit(&|s| s["sums"][1] = "-1.0".into()), "sums"),
+        ("nztrials", edit(&|s| s["counters"]["nonzero_trials"] = (trials + 1).into()), "counters.nonzero_trials"),
+        ("nzhits", edit(&|s| s["counters"]["nonzero_trials"] = (hits + 1).into()), "counters.nonzero_trials"),
+        ("nzzero", edit(&|s| s["counters"]["nonzero_trials"] = 0.into()), "counters.nonzero_trials"),
+        (
+            "nzmissing",
+            edit(&|s| s["counters"].as_object_mut().unwrap().retain(|k, _| k != "nonzero_trials")),
+            "nonzero_trials",
+        ),
+        ("format1", edit(&|s| s["format"] = "mcrt-noise trace shard 1".into()), "format"),
     ] {
         let path = dir.join(format!("{tag}.json"));
         std::fs::write(&path, serde_json::to_string(&bad).unwrap()).unwrap();
@@ -771,5 +799,217 @@ fn help_states_the_exit_codes() {
     assert!(out.status.success());
     for needle in ["Exit codes:", "0  done", "1  a computed failure", "2  usage or bad input"] {
         assert!(text.contains(needle), "{needle:?} not in {text}");
+    }
+}
+
+// ---- Adversarial probe of trace, merge, compare (branch fix-tracer-robustness) ----
+
+/// A bundled scene's path.
+fn bundled(name: &str) -> String {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name).to_str().unwrap().to_string()
+}
+
+/// The probe: `compare scenes/point-hg-forward.toml --trials 300 --seed 36`
+/// said DISAGREE with z = −160 for Var L from a run with a single hit (11
+/// of seeds 1–40 said DISAGREE). Standard errors from a handful of nonzero
+/// trials are meaningless: below 100 trials with hits the run is not
+/// resolved (exit 1), and `compare` says NOT RESOLVED, never a z-score.
+#[test]
+fn barely_hit_runs_are_not_resolved_and_never_disagree() {
+    let scene = bundled("point-hg-forward.toml");
+    let (code, text, err) = ended(&["compare", &scene, "--trials", "300", "--seed", "36"]);
+    assert_eq!(code, Some(1), "{text}{err}");
+    assert!(err.is_empty(), "{err}");
+    assert!(text.contains("NOT RESOLVED: only 1 of 300 trials had hits"), "{text}");
+    assert!(text.contains("at least 100") && !text.contains("DISAGREE") && !text.contains("z ="), "{text}");
+    let (code, json, _) = ended(&["compare", &scene, "--trials", "300", "--seed", "36", "--json"]);
+    assert_eq!(code, Some(1));
+    let json: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert!(json["mean"].is_null() && json["variance"].is_null() && json["pass"] == false, "{json}");
+    // `trace` of the same run: the reason instead of mean ± s.e., exit 1.
+    let (code, text, _) = ended(&["trace", &scene, "--trials", "300", "--seed", "36"]);
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("only 1 of 300 trials had hits") && !text.contains(" ± "), "{text}");
+    // Every seed of the probe: not resolved (exit 1), the count of trials with hits stated.
+    for seed in 1..=40 {
+        let seed = seed.to_string();
+        let (code, json, err) = ended(&["trace", &scene, "--trials", "300", "--seed", &seed, "--json"]);
+        assert_eq!(code, Some(1), "seed {seed}: {json}{err}");
+        let json: serde_json::Value = serde_json::from_str(&json).unwrap();
+        let k = json["counters"]["nonzero_trials"].as_u64().unwrap_or_else(|| panic!("seed {seed}: {json}"));
+        let why = json["not_resolved"].as_str().unwrap();
+        let hits = json["counters"]["hits"].as_u64().unwrap();
+        assert!(k <= hits && (k == 0) == (hits == 0), "seed {seed}: {json}");
+        if k == 0 {
+            assert!(why.starts_with("no hits in 300 trials"), "seed {seed}: {why}");
+        } else {
+            assert!(why.starts_with(&format!("only {k} of 300 trials had hits")), "seed {seed}: {why}");
+        }
+        assert!(json["mean"].is_null() && json["variance"].is_null(), "seed {seed}: {json}");
+    }
+}
+
+/// A shard of `point-isotropic` with R = 0.05, 2000 trials, seed 5
+/// (resolved: several hundred trials with hits), written to `path`.
+fn resolved_shard(path: &std::path::Path, range: &str) -> serde_json::Value {
+    let scene = bundled("point-isotropic.toml");
+    let p = path.to_str().unwrap();
+    let json =
+        trace_json(&["trace", &scene, "--radius", "0.05", "--trials", range, "--seed", "5", "--json", "--out", p]);
+    assert!(json["mean"]["se"].as_f64().is_some_and(|se| se > 0.0), "{json}");
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// Exact sums as a shard stores them (canonical hexadecimal).
+fn hex_sums(count: u64, sums: [f64; 4]) -> [String; 4] {
+    mcrt_noise::reference::moments::PowerSums::from_f64_sums(count, sums).unwrap().to_hex()
+}
+
+/// The probe: `merge` accepted a shard with Σ L = −1 (every L is a sum of
+/// non-negative contributions), and sums no non-negative numbers have.
+#[test]
+fn merge_refuses_sums_no_non_negative_luminances_have() {
+    let dir = temp_dir("negsums");
+    let good_path = dir.join("good.json");
+    let good = resolved_shard(&good_path, "2000");
+    let n = good["counters"]["trials"].as_u64().unwrap();
+    let negated = |k: usize| {
+        let mut sums: Vec<String> = (0..4).map(|j| good["sums"][j].as_str().unwrap().to_string()).collect();
+        assert!(!sums[k].starts_with('-'));
+        sums[k] = format!("-{}", sums[k]);
+        sums
+    };
+    for (tag, sums, needle) in [
+        // Σ L < 0 and Σ L³ < 0, the rest unchanged (each passes the real-number checks).
+        ("negsum1", negated(0), "sums[0]"),
+        ("negsum3", negated(2), "sums[2]"),
+        // (Σ L²)² > Σ L · Σ L³, and (Σ L³)² > Σ L² · Σ L⁴: real, but not non-negative numbers.
+        ("cs1", hex_sums(n, [1.0, 2.0, 1.0, 16.0]).to_vec(), "sums"),
+        ("cs2", hex_sums(n, [1.0, 1.0, 2.0, 1.0]).to_vec(), "sums"),
+    ] {
+        let mut shard = good.clone();
+        shard["sums"] = serde_json::json!(sums);
+        let path = dir.join(format!("{tag}.json"));
+        std::fs::write(&path, serde_json::to_string(&shard).unwrap()).unwrap();
+        let (code, text, err) = ended(&["merge", path.to_str().unwrap()]);
+        assert_eq!(code, Some(2), "{tag}: {text}{err}");
+        assert!(text.is_empty() && err.contains(&format!("{tag}.json")) && err.contains(needle), "{tag}: {err}");
+        assert!(err.contains("non-negative"), "{tag}: {err}");
+    }
+}
+
+/// The probe: `merge` printed `time 0.0 ms (0.000e0 trials/s, …)`, a zero
+/// standing in for a time nobody measured. Merged shards say so instead.
+#[test]
+fn merge_says_the_time_of_merged_shards_is_not_measured() {
+    let dir = temp_dir("mergetime");
+    let (a, b) = (dir.join("a.json"), dir.join("b.json"));
+    resolved_shard(&a, "0..1000");
+    resolved_shard(&b, "1000..2000");
+    let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
+    let (code, text, err) = ended(&["merge", a, b]);
+    assert_eq!(code, Some(0), "{text}{err}");
+    assert!(text.contains("time not measured") && !text.contains("0.0 ms") && !text.contains("0.000e0"), "{text}");
+    let json = trace_json(&["merge", a, b, "--json"]);
+    for key in ["wall_time_ms", "trials_per_second", "forward_segments_per_second"] {
+        assert!(json[key].is_null(), "{key}: {json}");
+    }
+    assert!(json["time_not_measured"].as_str().unwrap().contains("merged"), "{json}");
+    // `trace` measures its time: numbers, no reason.
+    let json = trace_json(&["trace", &bundled("point-isotropic.toml"), "--trials", "20000", "--json"]);
+    assert!(json["wall_time_ms"].as_f64().is_some_and(|t| t > 0.0) && json["time_not_measured"].is_null(), "{json}");
+}
+
+/// The probe: `trace self.toml --trials 100 --out self.toml` exited 0 and
+/// replaced the scene file with the shard; `merge a.json b.json --out
+/// a.json` replaced a shard. An output that is one of the inputs is refused
+/// before the run (exit 2), however the path is spelled, and the input is
+/// left as it was.
+#[test]
+fn an_output_path_that_is_an_input_is_refused_before_the_run() {
+    let dir = temp_dir("outisinput");
+    let scene = dir.join("self.toml");
+    std::fs::copy(bundled("point-isotropic.toml"), &scene).unwrap();
+    let original = std::fs::read(&scene).unwrap();
+    let s = scene.to_str().unwrap();
+    let spelled_otherwise = dir.join("sub/../self.toml");
+    std::fs::create_dir_all(dir.join("sub")).unwrap();
+    let link = dir.join("link.toml");
+    std::fs::remove_file(&link).ok();
+    std::fs::hard_link(&scene, &link).unwrap();
+    for out in [s, spelled_otherwise.to_str().unwrap(), link.to_str().unwrap()] {
+        // A billion trials would take hours: refused before the run.
+        let (code, text, err) = ended(&["trace", s, "--trials", "1000000000", "--out", out]);
+        assert_eq!(code, Some(2), "{out}: {text}{err}");
+        assert!(text.is_empty() && err.contains(&format!("--out {out}")) && err.contains("scene file"), "{err}");
+        assert_eq!(std::fs::read(&scene).unwrap(), original, "{out}: the scene file was changed");
+    }
+    let (a, b) = (dir.join("a.json"), dir.join("b.json"));
+    resolved_shard(&a, "0..1000");
+    resolved_shard(&b, "1000..2000");
+    let shard_a = std::fs::read(&a).unwrap();
+    let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
+    let (code, text, err) = ended(&["merge", a, b, "--out", a]);
+    assert_eq!(code, Some(2), "{text}{err}");
+    assert!(text.is_empty() && err.contains(&format!("--out {a}")) && err.contains("shard"), "{err}");
+    assert_eq!(std::fs::read(a).unwrap(), shard_a, "the shard was changed");
+    // A new path is written as before.
+    let merged = dir.join("merged.json");
+    std::fs::remove_file(&merged).ok();
+    let (code, _, err) = ended(&["merge", a, b, "--out", merged.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(merged.exists());
+}
+
+/// The probe: `trace --trials -5` and `--seed -1` got clap's "unexpected
+/// argument '-5' found", naming neither the flag nor its range. Every
+/// numeric flag of trace, compare (and oracle, sweep) names itself, the
+/// value and the range (exit 2).
+#[test]
+fn negative_numbers_for_numeric_flags_name_the_flag_the_value_and_the_range() {
+    let scene = bundled("point-isotropic.toml");
+    let s = scene.as_str();
+    let cases: &[(&[&str], &[&str])] = &[
+        (&["trace", s, "--trials", "-5"], &["--trials", "\"-5\"", "[1, 18446744073709551615]"]),
+        (&["trace", s, "--trials", "-5..10"], &["--trials", "\"-5..10\"", "A..B"]),
+        (&["compare", s, "--trials", "-5"], &["--trials", "\"-5\"", "[1, 18446744073709551615]"]),
+        (&["trace", s, "--trials", "10", "--seed", "-1"], &["--seed", "-1", "[0, 18446744073709551615]"]),
+        (&["compare", s, "--trials", "10", "--seed", "-1"], &["--seed", "-1", "[0, 18446744073709551615]"]),
+        (&["trace", s, "--trials", "10", "--seed", "1.5"], &["--seed", "1.5", "[0, 18446744073709551615]"]),
+        (&["trace", s, "--trials", "10", "--threads", "-1"], &["--threads", "-1", "[1, 1024]"]),
+        (&["oracle", s, "--max-evals", "-5"], &["--max-evals", "-5", "[1, 1e15]"]),
+        (&["oracle", s, "--time-limit", "-1"], &["--time-limit", "-1", "(0, 1e6]"]),
+        (&["sweep", s, "--radii", "-1,2"], &["--radii", "-1", "finite and > 0"]),
+    ];
+    for (args, needles) in cases {
+        let (code, text, err) = ended(args);
+        assert_eq!(code, Some(2), "{args:?}: {text}{err}");
+        assert!(text.is_empty(), "{args:?}: {text}");
+        assert!(!err.contains("unexpected argument"), "{args:?}: {err}");
+        for needle in *needles {
+            assert!(err.contains(needle), "{args:?}: {needle:?} not in {err}");
+        }
+    }
+}
+
+/// The probe: `compare` printed `ratio 0.68368` with no bar. The ratio
+/// carries the tracer's standard error and the oracle's bar, propagated.
+#[test]
+fn compare_gives_the_ratio_its_bar() {
+    let scene = bundled("point-isotropic.toml");
+    let json = trace_json(&["compare", &scene, "--trials", "20000", "--seed", "3", "--json"]);
+    for side in ["mean", "variance"] {
+        let f = |k: &str| json[side][k].as_f64().unwrap_or_else(|| panic!("{side}.{k}: {json}"));
+        let (o, bar, t, se, r, dr) =
+            (f("oracle"), f("oracle_error"), f("tracer"), f("tracer_se"), f("ratio"), f("ratio_error"));
+        let want = r * ((se / t).powi(2) + (bar / o).powi(2)).sqrt();
+        assert!(dr > 0.0 && ((dr - want) / want).abs() < 1e-12, "{side}: ratio {r} ± {dr}, want ± {want}");
+    }
+    let (code, text, err) = ended(&["compare", &scene, "--trials", "20000", "--seed", "3"]);
+    assert_eq!(code, Some(0), "{text}{err}");
+    for line in text.lines().filter(|l| l.starts_with("mean L") || l.starts_with("Var L")) {
+        let ratio = line.split("ratio ").nth(1).unwrap_or_else(|| panic!("{line}"));
+        let bar = ratio.split_whitespace().collect::<Vec<_>>();
+        assert!(bar.len() >= 3 && bar[1] == "±" && bar[2].parse::<f64>().is_ok_and(|x| x > 0.0), "{line}");
     }
 }

@@ -49,6 +49,10 @@ pub struct Counters {
     /// centres (non-empty interval); brute force: (segment, sphere) pairs.
     pub candidate_tests: u64,
     pub hits: u64,
+    /// Trials whose L > 0 (at least one hit that added light). The mean and
+    /// variance are resolved only from `run::MIN_NONZERO_TRIALS` such trials
+    /// on: with few nonzero values their standard errors mean nothing.
+    pub nonzero_trials: u64,
     /// Phase-function evaluations for 𝒞 that went through Henyey–Greenstein.
     pub hg_evaluations: u64,
     pub draws: DrawCounts,
@@ -63,6 +67,7 @@ impl Counters {
         self.sphere_placements += o.sphere_placements;
         self.candidate_tests += o.candidate_tests;
         self.hits += o.hits;
+        self.nonzero_trials += o.nonzero_trials;
         self.hg_evaluations += o.hg_evaluations;
         self.draws.add(&o.draws);
     }
@@ -77,6 +82,7 @@ impl Counters {
             sphere_placements: self.sphere_placements.checked_add(o.sphere_placements)?,
             candidate_tests: self.candidate_tests.checked_add(o.candidate_tests)?,
             hits: self.hits.checked_add(o.hits)?,
+            nonzero_trials: self.nonzero_trials.checked_add(o.nonzero_trials)?,
             hg_evaluations: self.hg_evaluations.checked_add(o.hg_evaluations)?,
             draws: DrawCounts {
                 sub_step: a.sub_step.checked_add(b.sub_step)?,
@@ -235,7 +241,9 @@ impl Tracer {
             sum_f += self.forward_ray(&mut stream, &centres, method, &mut counters);
         }
         counters.draws = stream.counts;
-        (self.weight_scaled * sum_f, counters)
+        let l = self.weight_scaled * sum_f;
+        counters.nonzero_trials = u64::from(l > 0.0);
+        (l, counters)
     }
 
     /// Sphere centres of all N_B camera rays (distances along u), sorted.

@@ -27,4 +27,4 @@ pub mod sampling;
 
 pub use estimator::{Counters, HitMethod, TraceError, Tracer};
 pub use rng::trial_rng;
-pub use run::{merge, trace, Run, Shard};
+pub use run::{merge, trace, Run, Shard, MIN_NONZERO_TRIALS};

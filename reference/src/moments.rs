@@ -256,6 +256,49 @@ impl PowerSums {
         Ok(out)
     }
 
+    /// Whether these can be the sums of non-negative numbers of which
+    /// `nonzero` are > 0 (a tracer's L, a sum of non-negative hit
+    /// contributions), checked exactly on top of [`PowerSums::check_real`]:
+    /// Σ L ≥ 0 and Σ L³ ≥ 0; all four sums 0 or all > 0; (Σ L²)² ≤ Σ L · Σ L³
+    /// and (Σ L³)² ≤ Σ L² · Σ L⁴ (Cauchy–Schwarz on √L·L^{k/2}); (Σ L)² ≤
+    /// k Σ L² over the k = `nonzero` values > 0 (with the two before it,
+    /// this implies (Σ L²)² ≤ k Σ L⁴). The products are formed at twice the
+    /// sums' width: exact. The error names the sum.
+    pub fn check_non_negative(&self, nonzero: u64) -> Result<(), String> {
+        let s = &self.sums;
+        let why = "every L is a sum of non-negative hit contributions";
+        for k in [0, 2] {
+            if s[k] < 0 {
+                return Err(format!(
+                    "sums[{k}] (Σ L{}) = {:.6e}: must be >= 0 ({why})",
+                    ["", "²", "³", "⁴"][k],
+                    s[k].to_f64()
+                ));
+            }
+        }
+        if !self.is_zero() && s.iter().any(Float::is_zero) {
+            return Err(format!(
+                "sums: not the power sums of non-negative numbers (Σ L, Σ L², Σ L³, Σ L⁴ must be all 0 or all > 0; {why})"
+            ));
+        }
+        let prec = 2 * EXACT_BITS + 64;
+        let k = Float::with_val(prec, nonzero);
+        let product = |a: &Float, b: &Float| Float::with_val(prec, a * b);
+        for (lhs, rhs, rule) in [
+            (product(&s[1], &s[1]), product(&s[0], &s[2]), "(Σ L²)² <= Σ L · Σ L³"),
+            (product(&s[2], &s[2]), product(&s[1], &s[3]), "(Σ L³)² <= Σ L² · Σ L⁴"),
+            (product(&s[0], &s[0]), product(&k, &s[1]), "(Σ L)² <= k Σ L²"),
+        ] {
+            if lhs > rhs {
+                return Err(format!(
+                    "sums: not the power sums of non-negative numbers, {nonzero} of them > 0 (k = \
+                     counters.nonzero_trials): {rule} fails ({why})"
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Whether every sum is 0 (every L was 0).
     pub fn is_zero(&self) -> bool {
         self.sums.iter().all(Float::is_zero)

@@ -91,6 +91,11 @@ pub fn threads(text: &str) -> Result<usize, String> {
     count(text, THREADS)
 }
 
+/// `trace --seed`, `compare --seed`: any u64.
+pub fn seed(text: &str) -> Result<u64, String> {
+    text.trim().parse().map_err(|_| format!("{text:?} is not an integer in [0, {}]", u64::MAX))
+}
+
 /// `accuracy --points`.
 pub fn points(text: &str) -> Result<usize, String> {
     count(text, POINTS)

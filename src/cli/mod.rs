@@ -20,7 +20,7 @@ use std::process::ExitCode;
 pub enum CliError {
     /// Usage or bad input, exit 2: a flag, an unreadable or invalid scene
     /// file or shard, a value out of range, a scene the model does not
-    /// support, an output path that cannot be written. The message names
+    /// support, an output path that cannot be written or is an input. The message names
     /// the flag, field or line, the value and what is allowed.
     Usage(String),
     /// A computed failure, exit 1: the input was valid, the computation gave
@@ -31,7 +31,7 @@ pub enum CliError {
     /// A computed failure already stated on standard output, exit 1 with
     /// nothing on standard error: a verdict that failed or was not resolved
     /// (`compare`, `check`), a tracer run whose mean and variance are not
-    /// resolved (no hits).
+    /// resolved (fewer than `mcrt_reference::MIN_NONZERO_TRIALS` trials with hits).
     Stated,
 }
 

@@ -3,7 +3,7 @@
 use super::{to_json, CliError};
 use indicatif::{ProgressBar, ProgressStyle};
 use mcrt_noise::oracle::Precision;
-use mcrt_noise::reports::compare::{Comparison, TraceReport};
+use mcrt_noise::reports::compare::{Comparison, TraceReport, MERGED_TIME};
 use mcrt_noise::scene::Scene;
 use mcrt_reference::{merge, trace, HitMethod, Run, Shard, Tracer};
 use std::io::IsTerminal;
@@ -13,7 +13,13 @@ use std::time::Instant;
 
 /// `--trials M` (0..M) or `--trials A..B`.
 pub fn parse_trials(text: &str) -> Result<Range<u64>, CliError> {
-    let bad = || CliError::usage(format!("--trials: \"{text}\" is neither a count M >= 1 nor a range A..B with A < B"));
+    let bad = || {
+        CliError::usage(format!(
+            "--trials: \"{text}\" is neither a count M in [1, {max}] nor a range A..B of trial indices with \
+             0 <= A < B <= {max}",
+            max = u64::MAX
+        ))
+    };
     let range = match text.split_once("..") {
         Some((a, b)) => a.trim().parse::<u64>().map_err(|_| bad())?..b.trim().parse::<u64>().map_err(|_| bad())?,
         None => 0..text.trim().parse::<u64>().map_err(|_| bad())?,
@@ -68,8 +74,11 @@ fn traced(tracer: &Tracer, seed: u64, range: Range<u64>, threads: Option<usize>)
     Ok((run, start.elapsed().as_secs_f64()))
 }
 
+/// `trace`; `scene_path` is the scene file the scene was read from (an
+/// `--out` naming it is refused).
 pub fn trace_cmd(
     scene: &Scene,
+    scene_path: &Path,
     trials: &str,
     seed: u64,
     threads: Option<usize>,
@@ -78,9 +87,12 @@ pub fn trace_cmd(
 ) -> Result<(), CliError> {
     let range = parse_trials(trials)?;
     let tracer = prepared(scene, &range)?;
+    if let Some(out) = out {
+        not_an_input(out, "the scene file", scene_path)?;
+    }
     let file = out.map(open_out).transpose()?;
     let (run, seconds) = traced(&tracer, seed, range, threads)?;
-    let report = TraceReport::new(&run, seconds);
+    let report = TraceReport::new(&run, Ok(seconds));
     write_then_print(&run, file, out, &report, json)?;
     resolved(&run, &report)
 }
@@ -97,23 +109,60 @@ pub fn merge_cmd(paths: &[PathBuf], json: bool, out: Option<&Path>) -> Result<()
             Run::from_shard(&shard).map_err(at)
         })
         .collect::<Result<Vec<_>, _>>()?;
+    if let Some(out) = out {
+        for p in paths {
+            not_an_input(out, "the shard", p)?;
+        }
+    }
     let file = out.map(open_out).transpose()?;
     let run = merge(&runs).map_err(CliError::Usage)?;
-    let report = TraceReport::new(&run, 0.0);
+    let report = TraceReport::new(&run, Err(MERGED_TIME.to_string()));
     write_then_print(&run, file, out, &report, json)?;
     resolved(&run, &report)
 }
 
-/// A run of 4 trials or more whose mean or variance is not resolved (no
-/// hits, no spread, beyond a double; the reason is in the report just
-/// printed) is a computed failure, exit 1. Below 4 trials the variance's
-/// error is not defined by construction: such a run is a shard to merge,
-/// exit 0.
+/// A run of 4 trials or more whose mean or variance is not resolved (fewer
+/// than `mcrt_reference::MIN_NONZERO_TRIALS` trials with hits, no spread,
+/// beyond a double; the reason is in the report just printed) is a computed
+/// failure, exit 1. Below 4 trials the variance's error is not defined by
+/// construction: such a run is a shard to merge, exit 0.
 fn resolved(run: &Run, report: &TraceReport) -> Result<(), CliError> {
     if report.not_resolved.is_some() && run.counters.trials >= 4 {
         Err(CliError::Stated)
     } else {
         Ok(())
+    }
+}
+
+/// Refuses an `--out` path that is the same file as an input (exit 2,
+/// before the run): creating it would truncate the input, and the shard
+/// would replace it. Same file: same device and inode (Unix; hard links and
+/// symbolic links included), else the same canonical path. A path that does
+/// not exist yet is no input.
+fn not_an_input(out: &Path, what: &str, input: &Path) -> Result<(), CliError> {
+    if same_file(out, input) {
+        return Err(CliError::usage(format!(
+            "--out {}: is {what} {} (an input of this command); writing there would replace it: give another path",
+            out.display(),
+            input.display()
+        )));
+    }
+    Ok(())
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) else {
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        ma.dev() == mb.dev() && ma.ino() == mb.ino()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (ma, mb);
+        matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
     }
 }
 

@@ -26,7 +26,8 @@ pub struct TraceReport {
     /// Sample mean of L with its standard error; `None` (JSON null) when not
     /// resolved, the reason in `not_resolved` (below 4 trials, where the
     /// variance's error is not defined, a small shard is still written and
-    /// merges normally; no hits; no spread; beyond the range of a double).
+    /// merges normally; fewer than 100 trials with hits, `Run::estimates`;
+    /// no spread; beyond the range of a double).
     pub mean: Option<WithError>,
     /// Unbiased sample variance of L with its standard error (from the 4th moment); `None` likewise.
     pub variance: Option<WithError>,
@@ -35,17 +36,25 @@ pub struct TraceReport {
     pub not_resolved: Option<String>,
     /// What the run did, summed over its trials.
     pub counters: Counters,
-    /// Wall time of the run (ms; 0 for merged shards).
-    pub wall_time_ms: f64,
-    /// Trials per second of wall time (0 when the time is 0).
-    pub trials_per_second: f64,
-    /// Forward segments traced per second of wall time (0 when the time is 0).
-    pub forward_segments_per_second: f64,
+    /// Wall time of the run (ms); `None` (JSON null) when not measured, the
+    /// reason in `time_not_measured` (merged shards).
+    pub wall_time_ms: Option<f64>,
+    /// Trials per second of wall time; `None` likewise.
+    pub trials_per_second: Option<f64>,
+    /// Forward segments traced per second of wall time; `None` likewise.
+    pub forward_segments_per_second: Option<f64>,
+    /// Why the time and the rates are not given (absent when they are).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_not_measured: Option<String>,
 }
 
+/// The reason `merge` gives no time (its shards were traced elsewhere).
+pub const MERGED_TIME: &str = "time not measured: merged from shards (each shard's trace reported its own time)";
+
 impl TraceReport {
-    /// The report of a run that took `wall_seconds` (0 for merged shards).
-    pub fn new(run: &Run, wall_seconds: f64) -> TraceReport {
+    /// The report of a run that took `wall_seconds`, or `Err(reason)` when
+    /// its time was not measured (merged shards: [`MERGED_TIME`]).
+    pub fn new(run: &Run, wall_seconds: Result<f64, String>) -> TraceReport {
         let estimates = run.estimates();
         let reasons: Vec<&String> =
             [&estimates.mean, &estimates.variance].into_iter().filter_map(|e| e.as_ref().err()).collect();
@@ -56,7 +65,15 @@ impl TraceReport {
             [a, b] => Some(format!("{a}; {b}")),
             _ => unreachable!("two estimates"),
         };
-        let per_second = |n: u64| if wall_seconds > 0.0 { n as f64 / wall_seconds } else { 0.0 };
+        // A time of 0 is below the clock's resolution, not a time: no rate from it.
+        let seconds = wall_seconds.and_then(|t| {
+            if t > 0.0 {
+                Ok(t)
+            } else {
+                Err("time not measured: the run took less than the clock's resolution".to_string())
+            }
+        });
+        let per_second = |n: u64| seconds.as_ref().ok().map(|t| n as f64 / t);
         TraceReport {
             seed: run.seed,
             trials: run.ranges.iter().map(|r| [r.start, r.end]).collect(),
@@ -65,9 +82,10 @@ impl TraceReport {
             variance: estimates.variance.ok(),
             not_resolved,
             counters: run.counters,
-            wall_time_ms: wall_seconds * 1e3,
+            wall_time_ms: seconds.as_ref().ok().map(|t| t * 1e3),
             trials_per_second: per_second(run.counters.trials),
             forward_segments_per_second: per_second(run.counters.forward_segments),
+            time_not_measured: seconds.err(),
         }
     }
 
@@ -76,6 +94,13 @@ impl TraceReport {
         let c = &self.counters;
         let d = &c.draws;
         let why = self.not_resolved.as_deref().unwrap_or("");
+        let time = match (self.wall_time_ms, self.trials_per_second, self.forward_segments_per_second) {
+            (Some(ms), Some(trials), Some(segments)) => format!(
+                "time {} ms, one measurement  ({trials:.3e} trials/s, {segments:.3e} segments/s)",
+                three_digits(ms)
+            ),
+            _ => self.time_not_measured.clone().unwrap_or_else(|| "time not measured".into()),
+        };
         let stats = match (&self.mean, &self.variance) {
             (Some(m), Some(v)) => format!(
                 "mean L          {:.10e} ± {:.2e} (s.e.)\nVar L           {:.10e} ± {:.2e} (s.e., from the 4th \
@@ -95,7 +120,7 @@ impl TraceReport {
              forward rays {}  segments {}  spheres {}  candidate tests {}  hits {}  HG evaluations {}\n\
              draws: sub-step {}  extinction {}  light {}  emission dir {}  emission pos {}  free path {}  \
              roulette {}  phase {}\n\
-             time {:.1} ms  ({:.3e} trials/s, {:.3e} segments/s)\n",
+             {time}\n",
             self.trial_count,
             self.seed,
             c.forward_rays,
@@ -112,11 +137,15 @@ impl TraceReport {
             d.free_path,
             d.roulette,
             d.phase,
-            self.wall_time_ms,
-            self.trials_per_second,
-            self.forward_segments_per_second,
         )
     }
+}
+
+/// `x` (> 0) to three significant digits, without an exponent for the
+/// times a run takes (0.0123, 1.23, 123, 12345): never rounded to 0.
+fn three_digits(x: f64) -> String {
+    let decimals = (2 - x.log10().floor() as i32).clamp(0, 20) as usize;
+    format!("{x:.decimals$}")
 }
 
 /// One quantity, oracle beside tracer.
@@ -132,6 +161,10 @@ pub struct Side {
     pub tracer_se: f64,
     /// tracer/oracle.
     pub ratio: f64,
+    /// The ratio's error bar: the tracer's standard error and the oracle's
+    /// bar propagated, √(se² + ratio²·bar²)/|oracle| (independent errors,
+    /// to first order).
+    pub ratio_error: f64,
     /// (tracer − oracle)/√(se² + bar²).
     pub z: f64,
 }
@@ -142,12 +175,16 @@ impl Side {
     /// s.e. > 0), or z is infinite; [`Side::finite`] says whether it is.
     pub fn new(oracle: f64, oracle_error: f64, tracer: WithError) -> Side {
         let z = (tracer.value - oracle) / (tracer.se * tracer.se + oracle_error * oracle_error).sqrt();
-        Side { oracle, oracle_error, tracer: tracer.value, tracer_se: tracer.se, ratio: tracer.value / oracle, z }
+        let ratio = tracer.value / oracle;
+        let ratio_error = tracer.se.hypot(ratio * oracle_error) / oracle.abs();
+        Side { oracle, oracle_error, tracer: tracer.value, tracer_se: tracer.se, ratio, ratio_error, z }
     }
 
     /// Every number of the side finite (no inf or NaN ratio or z).
     pub fn finite(&self) -> bool {
-        [self.oracle, self.oracle_error, self.tracer, self.tracer_se, self.ratio, self.z].iter().all(|x| x.is_finite())
+        [self.oracle, self.oracle_error, self.tracer, self.tracer_se, self.ratio, self.ratio_error, self.z]
+            .iter()
+            .all(|x| x.is_finite())
     }
 }
 
@@ -184,8 +221,9 @@ pub struct Comparison {
     /// Both resolved and |z| ≤ `z_limit`.
     pub pass: bool,
     /// One line: AGREE or DISAGREE with both z, the limit and the model
-    /// compared against; or NOT RESOLVED with the reason (no hits, no spread,
-    /// a value beyond a double, or a z that would not be finite).
+    /// compared against; or NOT RESOLVED with the reason (fewer than 100
+    /// trials with hits, no spread, a value beyond a double, or a z that would
+    /// not be finite).
     pub verdict: String,
 }
 
@@ -239,8 +277,8 @@ impl Comparison {
     pub fn table(&self) -> String {
         let row = |name: &str, s: &Option<Side>| match s {
             Some(s) => format!(
-                "{name:<9} oracle {:.8e} ± {:.1e}   tracer {:.8e} ± {:.1e}   ratio {:.5}   z {:+.2}\n",
-                s.oracle, s.oracle_error, s.tracer, s.tracer_se, s.ratio, s.z
+                "{name:<9} oracle {:.8e} ± {:.1e}   tracer {:.8e} ± {:.1e}   ratio {:.5} ± {:.1e}   z {:+.2}\n",
+                s.oracle, s.oracle_error, s.tracer, s.tracer_se, s.ratio, s.ratio_error, s.z
             ),
             None => format!("{name:<9} not resolved (below)\n"),
         };

@@ -35,7 +35,7 @@ fn sweep_table(w: &mut String, rows: &[SweepRow]) {
     writeln!(w, "| R | mean: tracer/small | z | tracer/finite | z | Var L: tracer/small | z | tracer/finite | z |")
         .unwrap();
     writeln!(w, "|---|---|---|---|---|---|---|---|---|").unwrap();
-    let rel = |s: &Side| s.tracer_se / s.oracle;
+    let rel = |s: &Side| s.ratio_error;
     for r in rows {
         writeln!(
             w,
