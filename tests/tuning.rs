@@ -124,7 +124,7 @@ fn the_objectives_variance_is_the_oracles() {
 
 /// Costs that make the search's structure visible: every count costs.
 fn costs() -> CostTable {
-    CostTable::from_array([1500.0, 50.0, 45.0, 12.0, 2.0, 3.0, 6.0, 10.0], [0.0; 8], "test".into())
+    CostTable::from_array([1500.0, 50.0, 400.0, 45.0, 12.0, 2.0, 3.0, 6.0, 10.0], [0.0; 9], "test".into())
 }
 
 /// At one radius the search (closed-form N_F*, grid in q and N_B, then
@@ -158,7 +158,9 @@ fn the_search_at_one_radius_matches_brute_force() {
 }
 
 /// The whole optimisation on the bundled isotropic scene: the optimum is no
-/// worse than any alternative, the bias/noise split adds up, the
+/// worse than any alternative of the sphere method (the cylinder limit is
+/// another integration volume, with a cost model of its own, and may be
+/// better), the bias/noise split adds up, the
 /// sensitivity ranges contain the optimum, and M τ = T.
 #[test]
 fn the_optimum_beats_its_alternatives_and_its_parts_add_up() {
@@ -166,7 +168,7 @@ fn the_optimum_beats_its_alternatives_and_its_parts_add_up() {
     let o = optimize(&s, &Options::new(0.1, costs())).unwrap();
     assert!(o.bias_predicted && o.model == "finite-sphere");
     let b = o.best;
-    for a in &o.alternatives {
+    for a in o.alternatives.iter().filter(|a| !a.name.starts_with("q → 0")) {
         if let Ok(x) = &a.scored {
             assert!(
                 x.rmse.relative >= b.rmse.relative * (1.0 - 1e-12),

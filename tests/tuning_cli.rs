@@ -70,7 +70,7 @@ fn bad_optimize_flags_and_costs_name_themselves() {
         assert!(t.is_empty() && e.contains(needle), "{args:?}: {e}");
     }
     let bad = std::env::temp_dir().join(format!("mcrt-noise-bad-costs-{}.toml", std::process::id()));
-    std::fs::write(&bad, "[cost]\ntrial_ns = 1\nray_ns = 1\nsegment_ns = -3\nsphere_ns = 1\nsort_ns = 1\nsearch_ns = 1\nhit_ns = 1\nhg_ns = 1\n").unwrap();
+    std::fs::write(&bad, "[cost]\ntrial_ns = 1\nforward_ray_ns = 1\ncamera_ray_ns = 1\nsegment_ns = -3\nsphere_ns = 1\nsort_ns = 1\nsearch_ns = 1\nhit_ns = 1\nhg_ns = 1\n").unwrap();
     let out = run(&["optimize", "scenes/point-isotropic.toml", "--budget", "1", "--costs", bad.to_str().unwrap()]);
     let (_, e) = text(&out);
     assert_eq!(out.status.code(), Some(2), "{e}");

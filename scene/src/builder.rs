@@ -140,8 +140,8 @@ impl SceneBuilder {
     ///
     /// ```
     /// use mcrt_scene::{Cost, Scene};
-    /// let cost = Cost { trial_ns: 900.0, ray_ns: 40.0, segment_ns: 30.0, sphere_ns: 8.0,
-    ///                   sort_ns: 1.5, search_ns: 2.0, hit_ns: 4.0, hg_ns: 9.0, std_errors: [0.0; 8] };
+    /// // trial, forward ray, camera ray, segment, sphere, sort, search, hit, HG (ns; `COST_KEYS`)
+    /// let cost = Cost { ns: [900.0, 40.0, 2000.0, 30.0, 8.0, 1.5, 2.0, 4.0, 9.0], std_errors: [0.0; 9] };
     /// let scene = Scene::builder().medium(1.0, 0.8).point_light([1.0, 0.0, 1.0], 1.0)
     ///     .camera([0.0; 3], [0.0, 0.0, 1.0]).estimator(0.05, 0.5, 200, 8).cost(cost).build()?;
     /// assert_eq!(scene.cost, Some(cost));

@@ -22,18 +22,20 @@ pub(crate) struct SceneFile {
 }
 
 /// A file holding a `[cost]` table alone (`Cost::from_toml_str`).
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct CostOnlyFile {
     pub cost: CostFile,
 }
 
-/// `[cost]`: a renderer's per-operation costs in nanoseconds (`Cost`).
-#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
+/// `[cost]`: a renderer's per-operation costs in nanoseconds (`Cost`,
+/// keys `COST_KEYS`).
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct CostFile {
     pub trial_ns: f64,
-    pub ray_ns: f64,
+    pub forward_ray_ns: f64,
+    pub camera_ray_ns: f64,
     pub segment_ns: f64,
     pub sphere_ns: f64,
     pub sort_ns: f64,
@@ -41,7 +43,40 @@ pub(crate) struct CostFile {
     pub hit_ns: f64,
     pub hg_ns: f64,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub std_errors: Option<[f64; 8]>,
+    pub std_errors: Option<Vec<f64>>,
+}
+
+impl CostFile {
+    /// The costs in `COST_KEYS` order.
+    pub fn ns(&self) -> [f64; 9] {
+        [
+            self.trial_ns,
+            self.forward_ray_ns,
+            self.camera_ray_ns,
+            self.segment_ns,
+            self.sphere_ns,
+            self.sort_ns,
+            self.search_ns,
+            self.hit_ns,
+            self.hg_ns,
+        ]
+    }
+
+    /// From costs in `COST_KEYS` order.
+    pub fn from_ns(ns: [f64; 9], std_errors: Option<Vec<f64>>) -> CostFile {
+        CostFile {
+            trial_ns: ns[0],
+            forward_ray_ns: ns[1],
+            camera_ray_ns: ns[2],
+            segment_ns: ns[3],
+            sphere_ns: ns[4],
+            sort_ns: ns[5],
+            search_ns: ns[6],
+            hit_ns: ns[7],
+            hg_ns: ns[8],
+            std_errors,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Deserialize, Serialize)]

@@ -23,5 +23,5 @@ mod validate;
 pub use builder::SceneBuilder;
 pub use error::{FieldError, SceneError};
 pub use glam::DVec3;
-pub use model::{Camera, Cost, Effects, Estimator, Light, Medium, ScatteringOrders, Scene};
+pub use model::{Camera, Cost, Effects, Estimator, Light, Medium, ScatteringOrders, Scene, COST_KEYS};
 pub use phase::Phase;

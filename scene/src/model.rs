@@ -23,32 +23,40 @@ pub struct Scene {
     pub cost: Option<Cost>,
 }
 
-/// Per-operation costs of one iteration in nanoseconds (`[cost]`, every
-/// key required; `mcrt-noise calibrate` prints such a table): the fixed
-/// cost of an iteration, per forward ray, per forward segment, per sphere,
-/// per unit of S log₂ S for sorting the S spheres, per searching segment
-/// and unit of log₂(1 + S), per hit, per Henyey–Greenstein evaluation.
-/// Each finite, in [0, 1e12].
+/// The keys of a `[cost]` table, in the order of [`Cost::ns`]: the fixed
+/// cost of an iteration, per forward ray, per camera ray, per forward
+/// segment, per integration sphere, per unit of S log₂ S for sorting the S
+/// spheres of an iteration, per searching segment and unit of log₂(1 + S),
+/// per hit, per Henyey–Greenstein evaluation.
+pub const COST_KEYS: [&str; 9] = [
+    "trial_ns",
+    "forward_ray_ns",
+    "camera_ray_ns",
+    "segment_ns",
+    "sphere_ns",
+    "sort_ns",
+    "search_ns",
+    "hit_ns",
+    "hg_ns",
+];
+
+/// Per-operation costs of one iteration in nanoseconds (`[cost]`, every key
+/// of [`COST_KEYS`] required; `mcrt-noise calibrate` prints such a table),
+/// each in [0, 1e12], and optionally their standard errors (`std_errors`,
+/// as a calibration gives them).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Cost {
-    /// Fixed cost of an iteration.
-    pub trial_ns: f64,
-    /// Per forward ray.
-    pub ray_ns: f64,
-    /// Per forward segment.
-    pub segment_ns: f64,
-    /// Per integration sphere.
-    pub sphere_ns: f64,
-    /// Per unit of S log₂ S (sorting).
-    pub sort_ns: f64,
-    /// Per searching segment and unit of log₂(1 + S).
-    pub search_ns: f64,
-    /// Per hit.
-    pub hit_ns: f64,
-    /// Per Henyey–Greenstein evaluation.
-    pub hg_ns: f64,
-    /// The eight costs' standard errors, in the order above (zeros: given by hand).
-    pub std_errors: [f64; 8],
+    /// The costs in the order of [`COST_KEYS`].
+    pub ns: [f64; 9],
+    /// Their standard errors (zeros: given by hand).
+    pub std_errors: [f64; 9],
+}
+
+impl Cost {
+    /// The cost named `key` (one of [`COST_KEYS`]).
+    pub fn get(&self, key: &str) -> Option<f64> {
+        COST_KEYS.iter().position(|k| *k == key).map(|i| self.ns[i])
+    }
 }
 
 /// Homogeneous medium. Units: 1/length for the coefficients.

@@ -487,9 +487,9 @@ impl Cost {
     /// writes it), with the checks of a scene's `[cost]` table.
     ///
     /// ```
-    /// let k = mcrt_scene::Cost::from_toml_str("[cost]\ntrial_ns = 900\nray_ns = 40\nsegment_ns = 30\n\
-    ///     sphere_ns = 8\nsort_ns = 1.5\nsearch_ns = 2\nhit_ns = 4\nhg_ns = 9\n")?;
-    /// assert_eq!(k.segment_ns, 30.0);
+    /// let k = mcrt_scene::Cost::from_toml_str("[cost]\ntrial_ns = 900\nforward_ray_ns = 40\n\
+    ///     camera_ray_ns = 2000\nsegment_ns = 30\nsphere_ns = 8\nsort_ns = 1.5\nsearch_ns = 2\nhit_ns = 4\nhg_ns = 9\n")?;
+    /// assert_eq!(k.get("segment_ns"), Some(30.0));
     /// assert!(mcrt_scene::Cost::from_toml_str("[cost]\ntrial_ns = -1").is_err());
     /// # Ok::<(), mcrt_scene::SceneError>(())
     /// ```
@@ -507,38 +507,32 @@ impl Cost {
 
 impl From<Cost> for CostFile {
     fn from(k: Cost) -> CostFile {
-        CostFile {
-            trial_ns: k.trial_ns,
-            ray_ns: k.ray_ns,
-            segment_ns: k.segment_ns,
-            sphere_ns: k.sphere_ns,
-            sort_ns: k.sort_ns,
-            search_ns: k.search_ns,
-            hit_ns: k.hit_ns,
-            hg_ns: k.hg_ns,
-            std_errors: (k.std_errors != [0.0; 8]).then_some(k.std_errors),
-        }
+        CostFile::from_ns(k.ns, (k.std_errors != [0.0; 9]).then(|| k.std_errors.to_vec()))
     }
 }
 
-/// `[cost]`: every cost a time in nanoseconds in [0, 1e12].
+/// `[cost]`: every cost and standard error a time in nanoseconds in [0, 1e12].
 fn cost(c: &mut Checker, k: &CostFile) -> Cost {
-    let mut ns = |field: &str, v: f64| {
-        c.range(&format!("cost.{field}"), v, (0.0, true), (1e12, true), "in [0, 1e12] (nanoseconds)")
-    };
-    Cost {
-        trial_ns: ns("trial_ns", k.trial_ns),
-        ray_ns: ns("ray_ns", k.ray_ns),
-        segment_ns: ns("segment_ns", k.segment_ns),
-        sphere_ns: ns("sphere_ns", k.sphere_ns),
-        sort_ns: ns("sort_ns", k.sort_ns),
-        search_ns: ns("search_ns", k.search_ns),
-        hit_ns: ns("hit_ns", k.hit_ns),
-        hg_ns: ns("hg_ns", k.hg_ns),
-        std_errors: k.std_errors.map_or([0.0; 8], |e| {
-            e.map(|v| c.range("cost.std_errors", v, (0.0, true), (1e12, true), "8 numbers in [0, 1e12] (nanoseconds)"))
-        }),
+    let allowed = "in [0, 1e12] (nanoseconds)";
+    let ns = k.ns();
+    for (key, v) in COST_KEYS.iter().zip(ns) {
+        c.range(&format!("cost.{key}"), v, (0.0, true), (1e12, true), allowed);
     }
+    let mut std_errors = [0.0; 9];
+    match &k.std_errors {
+        None => {}
+        Some(e) if e.len() == 9 => {
+            for (i, v) in e.iter().enumerate() {
+                std_errors[i] = c.range("cost.std_errors", *v, (0.0, true), (1e12, true), allowed);
+            }
+        }
+        Some(e) => c.push(
+            "cost.std_errors",
+            format!("{} numbers", e.len()),
+            "9 numbers, one per cost, in the order of the keys",
+        ),
+    }
+    Cost { ns, std_errors }
 }
 
 fn orders(c: &mut Checker, o: &OrdersFile) -> ScatteringOrders {

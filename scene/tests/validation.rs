@@ -384,16 +384,18 @@ fn scales_counts_and_q_outside_what_downstream_can_compute_are_refused_with_the_
 /// errors; round-trips; absent means none.
 #[test]
 fn a_cost_table_is_validated_by_field_and_round_trips() {
-    let table = "[cost]\ntrial_ns = 900.0\nray_ns = 40.0\nsegment_ns = 30.0\nsphere_ns = 8.0\nsort_ns = 1.5\n\
-                 search_ns = 2.0\nhit_ns = 4.0\nhg_ns = 9.0\n";
+    let table = "[cost]\ntrial_ns = 900.0\nforward_ray_ns = 40.0\ncamera_ray_ns = 2000.0\nsegment_ns = 30.0\n\
+                 sphere_ns = 8.0\nsort_ns = 1.5\nsearch_ns = 2.0\nhit_ns = 4.0\nhg_ns = 9.0\n";
     let s = Scene::from_toml_str(&format!("{BASE}{table}")).unwrap();
     let k = s.cost.unwrap();
-    assert_eq!((k.trial_ns, k.hg_ns, k.std_errors), (900.0, 9.0, [0.0; 8]));
+    assert_eq!((k.get("trial_ns"), k.get("hg_ns"), k.std_errors), (Some(900.0), Some(9.0), [0.0; 9]));
     assert_eq!(Scene::from_toml_str(&s.to_toml_string()).unwrap(), s);
     assert_eq!(Scene::from_toml_str(BASE).unwrap().cost, None);
-    let with_errors = format!("{BASE}{table}std_errors = [1, 2, 3, 4, 5, 6, 7, 8]\n");
+    let with_errors = format!("{BASE}{table}std_errors = [1, 2, 3, 4, 5, 6, 7, 8, 9]\n");
     let s = Scene::from_toml_str(&with_errors).unwrap();
-    assert_eq!(s.cost.unwrap().std_errors[7], 8.0);
+    assert_eq!(s.cost.unwrap().std_errors[8], 9.0);
+    let (f, msg) = field_error(&format!("{BASE}{table}std_errors = [1, 2]\n"));
+    assert!(f == "cost.std_errors" && msg.contains("9 numbers"), "{msg}");
     assert_eq!(Scene::from_toml_str(&s.to_toml_string()).unwrap(), s);
     let (f, msg) = field_error(&format!("{BASE}{}", table.replace("hit_ns = 4.0", "hit_ns = -4.0")));
     assert_eq!(f, "cost.hit_ns");
@@ -401,9 +403,9 @@ fn a_cost_table_is_validated_by_field_and_round_trips() {
     let (f, _) = field_error(&format!("{BASE}{}", table.replace("sort_ns = 1.5", "sort_ns = nan")));
     assert_eq!(f, "cost.sort_ns");
     // A missing key or an unknown one is a parse error naming it.
-    for bad in [table.replace("ray_ns = 40.0\n", ""), format!("{table}bogus_ns = 1.0\n")] {
+    for bad in [table.replace("camera_ray_ns = 2000.0\n", ""), format!("{table}bogus_ns = 1.0\n")] {
         match Scene::from_toml_str(&format!("{BASE}{bad}")) {
-            Err(SceneError::Parse(m)) => assert!(m.contains("ray_ns") || m.contains("bogus_ns"), "{m}"),
+            Err(SceneError::Parse(m)) => assert!(m.contains("camera_ray_ns") || m.contains("bogus_ns"), "{m}"),
             other => panic!("expected a parse error, got {other:?}"),
         }
     }

@@ -57,13 +57,7 @@ fn costs_for(scene: &Scene, file: Option<&Path>) -> Result<CostTable, CliError> 
 /// with the keys and checks of a scene's `[cost]` table.
 fn parse_costs(text: &str) -> Result<CostTable, String> {
     let k = mcrt_noise::scene::Cost::from_toml_str(text).map_err(|e| e.to_string())?;
-    let mut scene_like = CostTable::from_array(
-        [k.trial_ns, k.ray_ns, k.segment_ns, k.sphere_ns, k.sort_ns, k.search_ns, k.hit_ns, k.hg_ns],
-        k.std_errors,
-        String::new(),
-    );
-    scene_like.source = "the --costs file".into();
-    Ok(scene_like)
+    Ok(CostTable::from_array(k.ns, k.std_errors, "the --costs file".into()))
 }
 
 /// `optimize`.

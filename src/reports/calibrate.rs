@@ -190,6 +190,7 @@ pub fn markdown(c: &Calibration) -> String {
     let names = [
         "iteration",
         "forward ray",
+        "camera ray",
         "segment",
         "sphere",
         "sort (per S log₂ S)",
@@ -197,17 +198,12 @@ pub fn markdown(c: &Calibration) -> String {
         "hit",
         "HG evaluation",
     ];
-    writeln!(s, "| operation | cost (ns) | standard error (ns) |").unwrap();
-    writeln!(s, "|---|---:|---:|").unwrap();
+    writeln!(s, "| operation | key | cost (ns) | standard error (ns) |").unwrap();
+    writeln!(s, "|---|---|---:|---:|").unwrap();
     for (i, n) in names.iter().enumerate() {
-        let held = c.fit.held_at_zero.iter().any(|h| {
-            let idx = ["trial_ns", "ray_ns", "segment_ns", "sphere_ns", "sort_ns", "search_ns", "hit_ns", "hg_ns"]
-                .iter()
-                .position(|x| x == h);
-            idx == Some(i)
-        });
-        let note = if held { " (held at 0: the fit made it negative)" } else { "" };
-        writeln!(s, "| {n} | {:.3}{note} | {:.3} |", c.fit.costs.as_array()[i], c.fit.costs.std_errors[i]).unwrap();
+        let key = c.fit.costs.keys[i];
+        let note = if c.fit.held_at_zero.contains(&key) { " (held at 0: the fit made it negative)" } else { "" };
+        writeln!(s, "| {n} | `{key}` | {:.3}{note} | {:.3} |", c.fit.costs.ns[i], c.fit.costs.std_errors[i]).unwrap();
     }
     writeln!(
         s,

@@ -58,7 +58,7 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
     writeln!(s).unwrap();
     writeln!(s, "best: {}", line(&o.best, None)).unwrap();
     writeln!(s).unwrap();
-    writeln!(s, "beside it (ratio: its RMSE over the best's):").unwrap();
+    writeln!(s, "beside it (ratio: its RMSE over the best's; the cylinder limit is another integration volume, with its own cost, and may beat the spheres):").unwrap();
     for a in &o.alternatives {
         match &a.scored {
             Ok(x) => {

@@ -6,26 +6,14 @@
 //! (negative in the fit) is held at 0 and the rest refitted, one at a time
 //! (non-negative least squares by elimination); the fit says which.
 
-use super::cost::{expected_s_log2_s, CostTable};
+use super::cost::{expected_s_log2_s, CostTable, OPERATIONS};
 use mcrt_reference::Counters;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-/// The reference machine's costs, fitted by `mcrt-noise calibrate` there
-/// (2 cores; one thread timed; 2026-12-01). Used when no `[cost]` table or
-/// `--costs` file is given.
-pub const REFERENCE_COSTS: CostTable = CostTable {
-    trial_ns: 1400.0,
-    ray_ns: 60.0,
-    segment_ns: 45.0,
-    sphere_ns: 12.0,
-    sort_ns: 2.0,
-    search_ns: 3.0,
-    hit_ns: 5.0,
-    hg_ns: 10.0,
-    std_errors: [0.0; 8],
-    source: String::new(),
-};
+/// The reference machine's costs (`tuning::cost::CostTable::reference_machine`);
+/// see `reference_costs` for where they come from.
+pub const REFERENCE_COSTS: CostTable = super::reference_costs::REFERENCE_COSTS;
 
 /// One timed run.
 #[derive(Debug, Clone, Serialize)]
@@ -50,15 +38,16 @@ impl Measurement {
         self.seconds / self.counters.trials as f64
     }
 
-    /// The measured counts per iteration, in [`CostTable::as_array`]'s
+    /// The measured counts per iteration, in [`mcrt_scene::COST_KEYS`]'
     /// order (sorting and searching from the sphere count, as the model has them).
-    pub fn counts_per_iteration(&self) -> [f64; 8] {
+    pub fn counts_per_iteration(&self) -> [f64; OPERATIONS] {
         let c = &self.counters;
         let t = c.trials as f64;
         let spheres = c.sphere_placements as f64 / t;
         [
             1.0,
             c.forward_rays as f64 / t,
+            self.camera_rays as f64,
             c.forward_segments as f64 / t,
             spheres,
             expected_s_log2_s(self.camera_rays as f64, self.q),
@@ -82,9 +71,9 @@ pub struct Fit {
     pub max_relative_residual: f64,
 }
 
-const NAMES: [&str; 8] = ["trial_ns", "ray_ns", "segment_ns", "sphere_ns", "sort_ns", "search_ns", "hit_ns", "hg_ns"];
+const NAMES: [&str; OPERATIONS] = mcrt_scene::COST_KEYS;
 
-/// Fits the eight costs to `runs`; `source` names the machine and date.
+/// Fits the costs to `runs`; `source` names the machine and date.
 /// Needs more runs than free costs.
 pub fn fit(runs: &[Measurement], source: String) -> Result<Fit, String> {
     let mut active: Vec<usize> = (0..8).filter(|&j| runs.iter().any(|r| r.counts_per_iteration()[j] > 0.0)).collect();
@@ -110,15 +99,21 @@ pub fn fit(runs: &[Measurement], source: String) -> Result<Fit, String> {
         let dof = (n - p) as f64;
         let s2 = resid.norm_squared() / dof;
         let cov = (a.transpose() * &a).try_inverse().ok_or("the timed runs do not separate the costs")? * s2;
-        let mut c = [0.0; 8];
-        let mut e = [0.0; 8];
+        let mut c = [0.0; OPERATIONS];
+        let mut e = [0.0; OPERATIONS];
+        let mut full = [[0.0; OPERATIONS]; OPERATIONS];
         for (k, &j) in active.iter().enumerate() {
             c[j] = x[k];
             e[j] = cov[(k, k)].max(0.0).sqrt();
+            for (l, &i) in active.iter().enumerate() {
+                full[j][i] = cov[(k, l)];
+            }
         }
         let max = resid.iter().fold(0.0f64, |m, r| m.max(r.abs()));
+        let mut costs = CostTable::from_array(c, e, source);
+        costs.covariance = Some(full);
         return Ok(Fit {
-            costs: CostTable::from_array(c, e, source),
+            costs,
             held_at_zero: held,
             rms_relative_residual: (resid.norm_squared() / n as f64).sqrt(),
             max_relative_residual: max,
@@ -130,7 +125,7 @@ pub fn fit(runs: &[Measurement], source: String) -> Result<Fit, String> {
 mod tests {
     use super::*;
 
-    fn run(q: f64, n_b: u64, n_f: u64, seg: f64, hits: u64, cand: u64, secs_ns: [f64; 8]) -> Measurement {
+    fn run(q: f64, n_b: u64, n_f: u64, seg: f64, hits: u64, cand: u64, secs_ns: [f64; OPERATIONS]) -> Measurement {
         let trials = 1000u64;
         let counters = Counters {
             trials,
@@ -150,7 +145,7 @@ mod tests {
 
     #[test]
     fn exact_timings_give_back_their_costs_and_an_unused_cost_is_held_at_zero() {
-        let truth = [1500.0, 50.0, 40.0, 10.0, 2.0, 3.0, 6.0, 0.0];
+        let truth = [1500.0, 50.0, 300.0, 40.0, 10.0, 2.0, 3.0, 6.0, 0.0];
         let runs: Vec<Measurement> = [
             (1.0, 1, 10, 1.0, 0, 1),
             (0.5, 8, 200, 1.0, 3, 20),
@@ -167,7 +162,7 @@ mod tests {
         .map(|&(q, nb, nf, seg, hits, cand)| run(q, nb, nf, seg, hits, cand, truth))
         .collect();
         let f = fit(&runs, "test".into()).unwrap();
-        for (got, want) in f.costs.as_array().iter().zip(truth) {
+        for (got, want) in f.costs.ns.iter().zip(truth) {
             assert!((got - want).abs() <= 1e-6 * want.max(1.0), "{:?}", f.costs);
         }
         assert_eq!(f.held_at_zero, vec!["hg_ns"]);

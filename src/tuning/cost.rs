@@ -3,7 +3,8 @@
 //! per-operation costs.
 //!
 //! One iteration of one pixel (as the reference tracer runs it, docs/tracer.md):
-//! N_B camera rays each place on average 1/q spheres (sub-steps and
+//! N_B camera rays (a renderer's primary rays: a cost of their own, next to
+//! nothing in the tracer, whose camera rays are one line) each place on average 1/q spheres (sub-steps and
 //! extinction draws), the S spheres of the iteration are sorted, N_F forward
 //! rays are emitted and walked segment by segment, every segment whose line
 //! passes within R of the camera line searches the sorted centres (two
@@ -11,7 +12,7 @@
 //! contribution (a phase-function evaluation). So
 //!
 //! ```text
-//! τ = c_trial + c_ray N_F + c_segment N_F ν + c_sphere N_B/q + c_sort E[S log₂ S]
+//! τ = c_trial + c_ray N_F + c_camera N_B + c_segment N_F ν + c_sphere N_B/q + c_sort E[S log₂ S]
 //!     + c_search N_F ν p_c(R) log₂(1 + N_B/q) + c_hit N_F N_B h(R)/q
 //! ```
 //!
@@ -24,100 +25,62 @@
 
 use super::rates::Rates;
 use mcrt_scene::{Phase, Scene};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
-/// Per-operation costs in nanoseconds, each with its standard error (0 for
-/// costs given by hand). Names follow [`IterationCounts`].
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// The number of costed operations, [`mcrt_scene::COST_KEYS`].
+pub const OPERATIONS: usize = mcrt_scene::COST_KEYS.len();
+
+/// Per-operation costs in nanoseconds with their standard errors (0 for
+/// costs given by hand), in the order of [`mcrt_scene::COST_KEYS`] and
+/// [`IterationCounts::as_array`]: per iteration, forward ray, camera ray,
+/// forward segment, sphere, unit of S log₂ S (sorting), searching segment
+/// and unit of log₂(1 + S), hit, Henyey–Greenstein evaluation.
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CostTable {
-    /// Fixed cost of an iteration (set-up, the pixel's statistics).
-    pub trial_ns: f64,
-    /// Per forward ray: light choice, emission.
-    pub ray_ns: f64,
-    /// Per forward segment: free path, roulette, scattering, the hit interval.
-    pub segment_ns: f64,
-    /// Per sphere: a sub-step, an extinction draw, storing the centre.
-    pub sphere_ns: f64,
-    /// Per unit of S log₂ S: sorting the iteration's S sphere centres.
-    pub sort_ns: f64,
-    /// Per candidate segment and unit of log₂(1 + S): the binary searches.
-    pub search_ns: f64,
-    /// Per hit: the contribution.
-    pub hit_ns: f64,
-    /// Per Henyey–Greenstein evaluation (one per hit in such media).
-    pub hg_ns: f64,
-    /// Standard errors of the eight costs above, in the same order
-    /// (from the calibration's fit; zeros for costs given by hand).
-    #[serde(default)]
-    pub std_errors: [f64; 8],
-    /// Where the costs come from (a calibration's machine and date, or "user").
-    #[serde(default)]
+    /// The operations' names (`trial_ns`, …), for reports.
+    pub keys: [&'static str; OPERATIONS],
+    /// The costs, ns.
+    pub ns: [f64; OPERATIONS],
+    /// Their standard errors, ns.
+    pub std_errors: [f64; OPERATIONS],
+    /// Where the costs come from (a calibration's machine and date, or the scene).
     pub source: String,
+    /// The costs' covariance (ns²), from a calibration's fit: the costs are
+    /// correlated (a run's time fixes their sum over its counts better than
+    /// each alone), so time errors from it are smaller than from
+    /// `std_errors` alone, which a `[cost]` table keeps (conservatively).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub covariance: Option<[[f64; OPERATIONS]; OPERATIONS]>,
 }
 
 impl CostTable {
-    /// The eight costs in [`IterationCounts::as_array`]'s order.
-    pub fn as_array(&self) -> [f64; 8] {
-        [
-            self.trial_ns,
-            self.ray_ns,
-            self.segment_ns,
-            self.sphere_ns,
-            self.sort_ns,
-            self.search_ns,
-            self.hit_ns,
-            self.hg_ns,
-        ]
+    /// A table from costs and standard errors.
+    pub fn from_array(ns: [f64; OPERATIONS], std_errors: [f64; OPERATIONS], source: String) -> CostTable {
+        CostTable { keys: mcrt_scene::COST_KEYS, ns, std_errors, source, covariance: None }
     }
 
-    /// A table from eight costs (in [`IterationCounts::as_array`]'s order).
-    pub fn from_array(c: [f64; 8], std_errors: [f64; 8], source: String) -> CostTable {
-        CostTable {
-            trial_ns: c[0],
-            ray_ns: c[1],
-            segment_ns: c[2],
-            sphere_ns: c[3],
-            sort_ns: c[4],
-            search_ns: c[5],
-            hit_ns: c[6],
-            hg_ns: c[7],
-            std_errors,
-            source,
-        }
-    }
-
-    /// Checks that every cost is finite and ≥ 0; the error names the field.
+    /// Checks that every cost and error is a time in [0, 1e12] ns; the error names the key.
     pub fn validate(&self) -> Result<(), String> {
-        const NAMES: [&str; 8] =
-            ["trial_ns", "ray_ns", "segment_ns", "sphere_ns", "sort_ns", "search_ns", "hit_ns", "hg_ns"];
-        for (name, v) in NAMES.iter().zip(self.as_array()) {
+        for (name, v) in self.keys.iter().zip(self.ns) {
             if !(0.0..=1e12).contains(&v) {
                 return Err(format!("cost.{name} = {v}: must be a time in nanoseconds in [0, 1e12]"));
             }
         }
-        if self.std_errors.iter().any(|e| !(e.is_finite() && *e >= 0.0)) {
-            return Err(format!("cost.std_errors = {:?}: must be finite and >= 0", self.std_errors));
+        if self.std_errors.iter().any(|e| !(0.0..=1e12).contains(e)) {
+            return Err(format!("cost.std_errors = {:?}: must be in [0, 1e12] ns", self.std_errors));
         }
         Ok(())
     }
 
-    /// The scene's `[cost]` table, if it has one (no standard errors: given by hand).
+    /// The scene's `[cost]` table, if it has one.
     pub fn from_scene(scene: &Scene) -> Option<CostTable> {
-        scene.cost.map(|k| {
-            CostTable::from_array(
-                [k.trial_ns, k.ray_ns, k.segment_ns, k.sphere_ns, k.sort_ns, k.search_ns, k.hit_ns, k.hg_ns],
-                k.std_errors,
-                "the scene's [cost] table".into(),
-            )
-        })
+        scene.cost.map(|k| CostTable::from_array(k.ns, k.std_errors, "the scene's [cost] table".into()))
     }
 
     /// The table as a scene file's `[cost]` section (also a `--costs` file).
     pub fn to_toml(&self) -> String {
-        let c = self.as_array();
-        let names = ["trial_ns", "ray_ns", "segment_ns", "sphere_ns", "sort_ns", "search_ns", "hit_ns", "hg_ns"];
         let mut s = format!("# {}\n[cost]\n", self.source);
-        for (name, v) in names.iter().zip(c) {
+        for (name, v) in self.keys.iter().zip(self.ns) {
             s.push_str(&format!("{name} = {v:.4}\n"));
         }
         let e: Vec<String> = self.std_errors.iter().map(|e| format!("{e:.4}")).collect();
@@ -134,13 +97,16 @@ impl CostTable {
     }
 
     /// Predicted wall time of one iteration with `counts`, in seconds, and
-    /// its standard error from the costs' (counts are expectations).
+    /// its standard error from the costs' (with their covariance when the
+    /// table has it; counts are expectations).
     pub fn seconds(&self, counts: &IterationCounts) -> (f64, f64) {
         let n = counts.as_array();
-        let c = self.as_array();
-        let t: f64 = n.iter().zip(c).map(|(n, c)| n * c).sum();
-        let var: f64 = n.iter().zip(self.std_errors).map(|(n, e)| (n * e).powi(2)).sum();
-        (t * 1e-9, var.sqrt() * 1e-9)
+        let t: f64 = n.iter().zip(self.ns).map(|(n, c)| n * c).sum();
+        let var: f64 = match &self.covariance {
+            Some(cov) => (0..OPERATIONS).map(|i| (0..OPERATIONS).map(|j| n[i] * cov[i][j] * n[j]).sum::<f64>()).sum(),
+            None => n.iter().zip(self.std_errors).map(|(n, e)| (n * e).powi(2)).sum(),
+        };
+        (t * 1e-9, var.max(0.0).sqrt() * 1e-9)
     }
 }
 
@@ -151,6 +117,8 @@ pub struct IterationCounts {
     pub trials: f64,
     /// N_F.
     pub forward_rays: f64,
+    /// N_B.
+    pub camera_rays: f64,
     /// N_F ν.
     pub segments: f64,
     /// N_B/q.
@@ -197,11 +165,12 @@ impl Parameters {
 }
 
 impl IterationCounts {
-    /// The counts as an array, in [`CostTable::as_array`]'s order.
-    pub fn as_array(&self) -> [f64; 8] {
+    /// The counts in [`mcrt_scene::COST_KEYS`]'s order.
+    pub fn as_array(&self) -> [f64; OPERATIONS] {
         [
             self.trials,
             self.forward_rays,
+            self.camera_rays,
             self.segments,
             self.spheres,
             self.sort_work,
@@ -220,6 +189,7 @@ impl IterationCounts {
         IterationCounts {
             trials: 1.0,
             forward_rays: n_f,
+            camera_rays: n_b,
             segments,
             spheres,
             sort_work: expected_s_log2_s(n_b, q),

@@ -24,6 +24,7 @@ pub mod maps;
 pub mod objective;
 pub mod radii;
 pub mod rates;
+pub mod reference_costs;
 pub mod search;
 pub mod sensitivity;
 
