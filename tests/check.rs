@@ -156,3 +156,74 @@ fn too_few_samples_and_unmet_targets_fail_with_their_reason() {
     println!("{reason}\nwith {needed} samples: detects {achieved:.4}");
     assert!((achieved / 0.02 - 1.0).abs() < 0.05, "{enough}");
 }
+
+/// Power sums that no real numbers have are refused, naming the inequality;
+/// sums of real numbers, rounded as f64 summation rounds them, are not.
+#[test]
+fn impossible_power_sums_are_refused_naming_the_inequality_they_break() {
+    use mcrt_noise::{SampleError, SumsInequality as I};
+    let refused = |count: u64, nonzero: Option<u64>, sums: [f64; 4], eps: f64| {
+        let s = Samples::from_power_sums(count, sums, eps);
+        let s = match nonzero {
+            Some(k) => s.and_then(|s| s.with_nonzero(k)),
+            None => s,
+        };
+        match s {
+            Err(SampleError::Unrealisable { violated, .. }) => Some(violated),
+            Err(e) => panic!("{sums:?}: {e}"),
+            Ok(_) => None,
+        }
+    };
+    // Each case breaks one inequality and none checked before it (the
+    // adversarial probe's two first: Σ L⁴ far above (Σ L²)²).
+    let cases = [
+        (10_000, None, [11.1, 0.8, 0.5, 1e10], 1e-12, I::FourthSumAtMostSquareOfSecond),
+        (100, None, [0.1, 0.01, 0.001, 1e300], 0.0, I::FourthSumAtMostSquareOfSecond),
+        (4, None, [10.0, 1.0, 100.0, 354.0], 0.0, I::SquareOfSumAtMostNTimesSumOfSquares),
+        (4, None, [0.0, 4.0, 0.0, 1.0], 0.0, I::SquareOfSumOfSquaresAtMostNTimesFourthSum),
+        (4, None, [0.0, 4.0, 5.0, 5.0], 0.0, I::SquareOfThirdSumAtMostSecondTimesFourth),
+        // 1.1, 1.1, 0.9, 0.9 with Σ L⁴ lowered by 10⁻³: μ₄ < μ₂².
+        (4, None, [4.0, 4.04, 4.12, 4.2394], 0.0, I::CentralFourthAtLeastSquareOfSecond),
+        // The same with Σ L³ raised by δ = 10⁻³ and Σ L⁴ by 4δ + 10⁻⁵: μ₄ > μ₂², but μ₃ ≠ 0 is too large.
+        (4, None, [4.0, 4.04, 4.121, 4.24441], 0.0, I::Pearson),
+        // 10, 10, 10, 14 with Σ L⁴ raised by 100: kurtosis above M − 1.
+        (4, None, [44.0, 496.0, 5744.0, 68516.0], 0.0, I::CentralFourthAtMostMMinusOneTimesSquare),
+        // A single value x has Σ L² = x² and Σ L⁴ = x⁴: 2, 4.0000001, 8, 16 are not.
+        (1, None, [2.0, 4.0000001, 8.0, 16.0], 0.0, I::SquareOfSumOfSquaresAtMostNTimesFourthSum),
+        // Three ones among ten values are not two nonzero values.
+        (10, Some(2), [3.0, 3.0, 3.0, 3.0], 0.0, I::SquareOfSumAtMostNTimesSumOfSquares),
+        (10, Some(0), [1.0, 1.0, 1.0, 1.0], 0.0, I::SquareOfSumAtMostNTimesSumOfSquares),
+        (10, Some(1), [0.0, 0.0, 0.0, 0.0], 0.0, I::NonzeroValuesNeedPositiveSquares),
+    ];
+    for (count, nonzero, sums, eps, which) in cases {
+        assert_eq!(refused(count, nonzero, sums, eps), Some(which), "{count} {nonzero:?} {sums:?}");
+    }
+    // The message names the inequality, its sides and the allowance.
+    let err = Samples::from_power_sums(10_000, [11.1, 0.8, 0.5, 1e10], 1e-12).unwrap_err().to_string();
+    assert!(
+        err.contains("Σ L⁴ ≤ (Σ L²)² must hold, but its left side is 1.00000e10 and its right side 6.40000e-1"),
+        "{err}"
+    );
+    assert!(err.contains("relative error 1e-12"), "{err}");
+    // Sums of real numbers in plain f64 summation, with the CLI's default
+    // bound (M + 2)·2⁻⁵³, are accepted, including where the inequalities are
+    // tight: one nonzero value (Σ L⁴ = (Σ L²)²), two values (μ₄ = μ₂² =
+    // μ₄/(M − 1)), one value, equal values, and the tracer's skewed L.
+    let tracer = Tracer::new(&scene()).unwrap();
+    let traced: Vec<f64> = (0..20_000).map(|i| tracer.trial(5, i, HitMethod::Sorted).0).collect();
+    let mut one_hit = vec![0.0; 999];
+    one_hit.push(0.123456789);
+    let sets: [Vec<f64>; 6] =
+        [traced, one_hit, vec![0.3, 0.7], vec![0.1], vec![0.1; 1000], vec![1e-3, 1e-3, 2e-3, 7e-3, 1e-3]];
+    for values in sets {
+        let m = values.len();
+        let sums = [1, 2, 3, 4].map(|k| values.iter().map(|x| x * x.powi(k - 1)).sum::<f64>());
+        let nonzero = values.iter().filter(|x| **x != 0.0).count() as u64;
+        let eps = (m as f64 + 2.0) * f64::EPSILON / 2.0;
+        assert_eq!(refused(m as u64, Some(nonzero), sums, eps), None, "{m} values: {sums:?}");
+        assert_eq!(refused(m as u64, None, sums, eps), None, "{m} values: {sums:?}");
+    }
+    // Exact sums on the boundaries: one nonzero value 0.5 of two; one value.
+    assert_eq!(refused(2, Some(1), [0.5, 0.25, 0.125, 0.0625], 0.0), None);
+    assert_eq!(refused(1, Some(1), [0.5, 0.25, 0.125, 0.0625], 0.0), None);
+}

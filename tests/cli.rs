@@ -288,9 +288,26 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     std::fs::write(&long_line, "1".repeat(5000)).unwrap();
     let nonsense_sums = dir.join("nonsense.json");
     std::fs::write(&nonsense_sums, r#"{"count": 10, "sums": [10.0, 1.0, 1.0, 1.0]}"#).unwrap();
+    // The adversarial probe's sums: Σ L⁴ far above (Σ L²)² (they passed once).
+    let huge_fourth = dir.join("huge-fourth.json");
+    std::fs::write(&huge_fourth, r#"{"count": 10000, "sums": [11.1, 0.8, 0.5, 1e10]}"#).unwrap();
+    let huge_fourth_300 = dir.join("huge-fourth-300.json");
+    std::fs::write(&huge_fourth_300, r#"{"count": 100, "sums": [0.1, 0.01, 0.001, 1e300]}"#).unwrap();
+    let too_many_nonzero = dir.join("too-many-nonzero.json");
+    std::fs::write(&too_many_nonzero, r#"{"count": 10, "nonzero": 20, "sums": [3.0, 3.0, 3.0, 3.0]}"#).unwrap();
+    let too_few_nonzero = dir.join("too-few-nonzero.json");
+    std::fs::write(&too_few_nonzero, r#"{"count": 10, "nonzero": 2, "sums": [3.0, 3.0, 3.0, 3.0]}"#).unwrap();
     for (values, extra, needle) in [
         (&not_number, &[][..], "line 3: sample 2 = NaN: must be finite"),
-        (&nonsense_sums, &[][..], "not the power sums of real numbers"),
+        (&nonsense_sums, &[][..], "not the power sums of real numbers: (Σ L)² ≤ N·Σ L² must hold (N = count = 10"),
+        (&huge_fourth, &[][..], "with count = 10000: not the power sums of real numbers: Σ L⁴ ≤ (Σ L²)² must hold"),
+        (&huge_fourth_300, &[][..], "Σ L⁴ ≤ (Σ L²)² must hold, but its left side is 1.00000e300"),
+        (&too_many_nonzero, &[][..], "nonzero = 20: must be in [0, count = 10]"),
+        (
+            &too_few_nonzero,
+            &[][..],
+            "and nonzero = 2: not the power sums of real numbers: (Σ L)² ≤ N·Σ L² must hold (N = nonzero = 2)",
+        ),
         (&string_in_array, &[][..], "JSON array: invalid type: string"),
         (&long_line, &[][..], "line 1 is longer than 4096 bytes"),
         (&dir.join("missing.txt"), &[][..], "missing.txt"),
