@@ -132,7 +132,7 @@ fn scattered_light_is_predicted_with_the_measured_model_bar() {
     let inside = check(&p, &two_point(p.mean.value + 0.9 * bar), &CheckOptions::default());
     assert_eq!(inside.checks[0].z, Some(0.0), "{inside}");
     let outside = check(&p, &two_point(p.mean.value + 1.5 * bar), &CheckOptions::default());
-    let se = outside.checks[0].measured.standard_error;
+    let se = outside.checks[0].measured.unwrap().standard_error;
     let z = outside.checks[0].z.unwrap();
     assert!((z - 0.5 * bar / se).abs() < 1e-6 * z, "{outside}");
 }
@@ -226,4 +226,28 @@ fn impossible_power_sums_are_refused_naming_the_inequality_they_break() {
     // Exact sums on the boundaries: one nonzero value 0.5 of two; one value.
     assert_eq!(refused(2, Some(1), [0.5, 0.25, 0.125, 0.0625], 0.0), None);
     assert_eq!(refused(1, Some(1), [0.5, 0.25, 0.125, 0.0625], 0.0), None);
+}
+
+/// Values with no spread have no standard error: the verdict fails as not
+/// resolved, says why (zero spread, not a large error), and prints no
+/// measured number with a 0 bar, in text or JSON.
+#[test]
+fn values_without_spread_are_not_resolved_and_have_no_zero_bar() {
+    let prediction = predict(&scene()).unwrap();
+    for values in [vec![0.0; 5], vec![prediction.mean.value; 1000]] {
+        let verdict = check(&prediction, &samples(values.iter().copied()), &CheckOptions::default());
+        let text = verdict.to_string();
+        assert!(!verdict.pass, "{text}");
+        for q in &verdict.checks {
+            assert!(q.measured.is_none() && q.z.is_none() && q.ratio.is_none(), "{text}");
+            assert!(q.not_resolved.as_ref().is_some_and(|r| r.contains("zero spread")), "{text}");
+        }
+        assert!(!text.contains("± 0.0e0 (s.e.)") && !text.contains("too large"), "{text}");
+        assert!(text.contains(&format!("mean L and Var L: not resolved: all {} values are equal", values.len())));
+        let json = serde_json::to_value(&verdict).unwrap();
+        for k in 0..2 {
+            assert!(json["checks"][k]["measured"].is_null() && json["checks"][k]["ratio"].is_null(), "{json}");
+            assert!(json["checks"][k]["not_resolved"].as_str().unwrap().contains("zero spread"), "{json}");
+        }
+    }
 }

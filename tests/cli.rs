@@ -279,6 +279,16 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{text}");
     assert!(text.contains("too few samples to resolve the target 0.100 %") && text.contains("samples would"), "{text}");
+    // Five zeros: not resolved (exit 1), zero spread named, no "0 ± 0" row.
+    let zeros = dir.join("zeros.txt");
+    std::fs::write(&zeros, "0\n0\n0\n0\n0\n").unwrap();
+    let out = run(&zeros, &[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(text.contains("not resolved: all 5 values are equal (0.000000e0): zero spread"), "{text}");
+    assert!(!text.contains("± 0.0e0 (s.e.)") && !text.contains("too large"), "{text}");
+    let json: serde_json::Value = serde_json::from_slice(&run(&zeros, &["--json"]).stdout).unwrap();
+    assert!(json["checks"][0]["measured"].is_null() && json["checks"][1]["not_resolved"].is_string(), "{json}");
     // Bad input: exit 2, a message naming the line or flag, nothing on stdout.
     let not_number = dir.join("bad.txt");
     std::fs::write(&not_number, "1e-3\n2e-3\nnan\n").unwrap();

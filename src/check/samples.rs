@@ -259,10 +259,7 @@ impl Samples {
     /// Whether these sums can be those of real numbers (`nonzero` of them
     /// nonzero, if stated).
     fn realisable(&self, nonzero: Option<u64>) -> Result<(), SampleError> {
-        let sums = self.sums.to_hex().map(|hex| {
-            let parsed = rug::Float::parse_radix(&hex, 16).expect("PowerSums::to_hex is MPFR's own format");
-            rug::Float::with_val(SUM_BITS, parsed)
-        });
+        let sums = self.exact_sums();
         realisable(self.count(), nonzero, &sums, self.sums_relative_error).map_err(|(violated, sides)| {
             SampleError::Unrealisable {
                 count: self.count(),
@@ -326,6 +323,45 @@ impl Samples {
     /// below 4 values).
     pub fn variance(&self) -> Option<Measured> {
         self.sums.summary().map(|s| Measured { value: s.variance.value, standard_error: s.variance.se })
+    }
+
+    /// The mean and s², each with a standard error a z-test can use, or
+    /// why it has none: all values equal (zero spread: a standard error of
+    /// 0 is no error bar), or the value or its error beyond the range of a
+    /// double (`None` below 4 values).
+    pub(crate) fn estimates(&self) -> Option<(Result<Measured, String>, Result<Measured, String>)> {
+        if self.count() < 4 {
+            return None;
+        }
+        let as_measured = |r: Result<mcrt_reference::moments::WithError, String>| {
+            r.map(|w| Measured { value: w.value, standard_error: w.se })
+        };
+        if self.all_equal() {
+            let why = format!(
+                "all {} values are equal ({:.6e}): zero spread, so there is no standard error and no z-score",
+                self.count(),
+                self.mean().map_or(f64::NAN, |m| m.value)
+            );
+            return Some((Err(why.clone()), Err(why)));
+        }
+        let e = self.sums.estimates();
+        Some((as_measured(e.mean), as_measured(e.variance)))
+    }
+
+    /// Whether every value is the same: M·Σ L² = (Σ L)², exactly.
+    fn all_equal(&self) -> bool {
+        use rug::Float;
+        let [s1, s2, _, _] = self.exact_sums();
+        let p = 2 * SUM_BITS + 128;
+        Float::with_val(p, &s2 * self.count()) == Float::with_val(p, &s1 * &s1)
+    }
+
+    /// The exact sums, read back from [`PowerSums::to_hex`].
+    fn exact_sums(&self) -> [rug::Float; 4] {
+        self.sums.to_hex().map(|hex| {
+            let parsed = rug::Float::parse_radix(&hex, 16).expect("PowerSums::to_hex is MPFR's own format");
+            rug::Float::with_val(SUM_BITS, parsed)
+        })
     }
 
     /// Bounds on the error of the mean and of s² caused by the sums'

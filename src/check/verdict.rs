@@ -122,23 +122,31 @@ pub struct QuantityCheck {
     pub name: &'static str,
     /// The oracle's value with its bars.
     pub predicted: Predicted,
-    /// The renderer's value with its standard error.
-    pub measured: Measured,
+    /// The renderer's value with its standard error; `None` when it has no
+    /// standard error a z-test can use (all values equal, or beyond the
+    /// range of a double: `not_resolved` says which).
+    pub measured: Option<Measured>,
     /// Bound on the measurement's error from inexact power sums (0 when
     /// the samples were accumulated exactly).
     pub rounding_bar: f64,
     /// z = sign(d)·max(0, |d| − bars)/se, d = measured − predicted, bars =
-    /// quadrature + model + rounding bars; `None` when se = 0.
+    /// quadrature + model + rounding bars; `None` when the quantity is not
+    /// resolved (`not_resolved` says why).
     pub z: Option<f64>,
-    /// measured/predicted.
-    pub ratio: f64,
+    /// measured/predicted (`None` when not resolved).
+    pub ratio: Option<f64>,
     /// The smallest relative error δ of the renderer in this quantity that
     /// fails the check with probability ≥ the stated power: the solution of
     /// δ|P| = (z_limit + z_power)·se·(1 + δ) + bars, the standard error
     /// growing with the error as it does when a bug scales L. `None` when
-    /// no error is certain to be caught (the standard error is too large
-    /// for any δ: (z_limit + z_power)·se ≥ |P|).
+    /// no error is certain to be caught (`undetectable` says why).
     pub detectable_relative_error: Option<f64>,
+    /// Why the quantity has no z-score (and no detectable error): the reason
+    /// it is not resolved, or `None` when it is.
+    pub not_resolved: Option<String>,
+    /// Why a resolved quantity has no detectable error: the standard error
+    /// is too large for any δ, (z_limit + z_power)·se ≥ |P|.
+    pub undetectable: Option<String>,
     /// The target resolution, if one was stated.
     pub target_relative_error: Option<f64>,
     /// |z| within the limit (and the target met, if any).
@@ -216,7 +224,7 @@ pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions)
         reasons: Vec::new(),
         statement: String::new(),
     };
-    let (Some(mean), Some(variance)) = (samples.mean(), samples.variance()) else {
+    let Some((mean, variance)) = samples.estimates() else {
         verdict.reasons.push(format!(
             "{} samples: at least {MIN_SAMPLES} are needed for the variance and its standard error",
             samples.count()
@@ -235,6 +243,7 @@ pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions)
         verdict.reasons.extend(disagreement(&q, z_limit));
         verdict.checks.push(q);
     }
+    verdict.reasons.extend(unresolved(&verdict.checks));
     // Unmet targets matter when nothing disagrees: they stop a weak pass.
     if verdict.reasons.is_empty() {
         let n = samples.count();
@@ -261,50 +270,76 @@ pub const CALIBRATED_SAMPLES: u64 = 10_000;
 fn quantity(
     name: &'static str,
     predicted: Predicted,
-    measured: Measured,
+    measured: Result<Measured, String>,
     rounding_bar: f64,
     target: Option<f64>,
     (z_limit, z_power): (f64, f64),
 ) -> QuantityCheck {
     let bars = predicted.total_bar() + rounding_bar;
-    let diff = measured.value - predicted.value;
-    let excess = (diff.abs() - bars).max(0.0);
-    let se = measured.standard_error;
-    let resolved_se = se > 0.0 && se.is_finite();
-    let z = resolved_se.then(|| excess.copysign(diff) / se);
     let scale = predicted.value.abs();
-    let noise = (z_limit + z_power) * se;
-    let detectable_relative_error = (resolved_se && noise < scale).then(|| (noise + bars) / (scale - noise));
+    let (measured, not_resolved) = match measured {
+        Ok(m) => (Some(m), None),
+        Err(why) => (None, Some(why)),
+    };
+    let resolved = measured.filter(|_| not_resolved.is_none());
+    let z = resolved.map(|m| {
+        let diff = m.value - predicted.value;
+        (diff.abs() - bars).max(0.0).copysign(diff) / m.standard_error
+    });
+    let noise = resolved.map(|m| (z_limit + z_power) * m.standard_error);
+    let detectable_relative_error = noise.filter(|n| *n < scale).map(|n| (n + bars) / (scale - n));
+    let undetectable = noise.filter(|n| *n >= scale).map(|n| {
+        format!(
+            "no error of any size is certain to be caught: (z limit + z power)·s.e. = {n:.2e} is not below the \
+             predicted {scale:.2e}"
+        )
+    });
     let within = z.is_some_and(|z| z.abs() <= z_limit);
-    let resolved = target.is_none_or(|t| detectable_relative_error.is_some_and(|d| d <= t));
+    let target_met = target.is_none_or(|t| detectable_relative_error.is_some_and(|d| d <= t));
     QuantityCheck {
         name,
         predicted,
         measured,
         rounding_bar,
         z,
-        ratio: measured.value / predicted.value,
+        ratio: measured.map(|m| m.value / predicted.value),
         detectable_relative_error,
+        not_resolved,
+        undetectable,
         target_relative_error: target,
-        pass: within && resolved,
+        pass: within && target_met,
     }
+}
+
+/// Why quantities are not resolved, one sentence per reason (quantities
+/// sharing a reason named together).
+fn unresolved(checks: &[QuantityCheck]) -> Vec<String> {
+    let mut out: Vec<(Vec<&str>, &str)> = Vec::new();
+    for q in checks {
+        if let Some(why) = &q.not_resolved {
+            match out.iter_mut().find(|(_, w)| *w == why.as_str()) {
+                Some((names, _)) => names.push(q.name),
+                None => out.push((vec![q.name], why)),
+            }
+        }
+    }
+    out.into_iter().map(|(names, why)| format!("{}: not resolved: {why}", names.join(" and "))).collect()
 }
 
 /// Why `q` disagrees with the prediction, if it does.
 fn disagreement(q: &QuantityCheck, z_limit: f64) -> Option<String> {
-    match q.z {
-        None => Some(format!(
-            "{}: not resolved: the measured standard error is {:e} (0 when every sample is equal), so no z-score \
-             exists; measured {:.6e}, predicted {:.6e}",
-            q.name, q.measured.standard_error, q.measured.value, q.predicted.value
-        )),
-        Some(z) if z.abs() > z_limit => Some(format!(
+    let (z, m) = (q.z?, q.measured?);
+    (z.abs() > z_limit).then(|| {
+        format!(
             "{}: measured {:.6e} ± {:.2e} against predicted {:.6e} (ratio {:.5}): z = {z:+.2}, beyond the limit \
              ±{z_limit:.2}",
-            q.name, q.measured.value, q.measured.standard_error, q.predicted.value, q.ratio
-        )),
-        Some(_) => None,
-    }
+            q.name,
+            m.value,
+            m.standard_error,
+            q.predicted.value,
+            m.value / q.predicted.value
+        )
+    })
 }
 
 /// The reason of `q`'s unmet target, if it has one.
@@ -317,7 +352,9 @@ fn unmet_target(q: &QuantityCheck, z_sum: f64, n: u64) -> Option<String> {
 fn too_few(q: &QuantityCheck, target: f64, z_sum: f64, n: u64) -> String {
     let scale = q.predicted.value.abs();
     let bars_rel = (q.predicted.total_bar() + q.rounding_bar) / scale;
-    let se_rel = q.measured.standard_error / scale;
+    // Only resolved quantities are asked for their target (unresolved ones
+    // already fail with their reason).
+    let se_rel = q.measured.map_or(f64::INFINITY, |m| m.standard_error) / scale;
     // δ = (k se + b)/(1 − k se) in relative terms; solved for se at δ = target.
     let need = if bars_rel >= target {
         format!("the bars alone are {bars_rel:.2e} relative, so no number of samples can")
@@ -334,7 +371,7 @@ fn too_few(q: &QuantityCheck, target: f64, z_sum: f64, n: u64) -> String {
     )
 }
 
-/// A detectable error in words.
+/// A detectable error in words (for a resolved quantity).
 fn percent(d: Option<f64>) -> String {
     d.map_or("no error of any size with certainty (the standard error is too large)".to_string(), |d| {
         format!("{:.3} %", d * 100.0)
@@ -343,14 +380,14 @@ fn percent(d: Option<f64>) -> String {
 
 fn statement(v: &Verdict) -> String {
     let [m, var] = [&v.checks[0], &v.checks[1]];
-    let unresolved: Vec<&str> = v.checks.iter().filter(|q| q.z.is_none()).map(|q| q.name).collect();
+    let unresolved: Vec<&str> = v.checks.iter().filter(|q| q.not_resolved.is_some()).map(|q| q.name).collect();
     let disagreeing: Vec<&str> =
         v.checks.iter().filter(|q| q.z.is_some_and(|z| z.abs() > v.z_limit)).map(|q| q.name).collect();
     if !unresolved.is_empty() && disagreeing.is_empty() {
         return format!(
-            "nothing: the {} of these samples {} no standard error (see the reasons)",
+            "nothing: the {} of these samples {} not resolved (see the reasons)",
             unresolved.join(" and "),
-            if unresolved.len() == 1 { "has" } else { "have" }
+            if unresolved.len() == 1 { "is" } else { "are" }
         );
     }
     if !disagreeing.is_empty() {
@@ -416,20 +453,24 @@ impl fmt::Display for Verdict {
             CHECKS
         )?;
         for q in &self.checks {
-            let z = q.z.map_or("none".to_string(), |z| format!("{z:+.2}"));
-            writeln!(
+            write!(
                 f,
-                "  {:<6} predicted {:.8e} ± {:.1e} (quadrature) ± {:.1e} (model)   measured {:.8e} ± {:.1e} (s.e.)   \
-                 ratio {:.5}   z {z}   detects {}",
-                q.name,
-                q.predicted.value,
-                q.predicted.quadrature_bar,
-                q.predicted.model_bar,
-                q.measured.value,
-                q.measured.standard_error,
-                q.ratio,
-                percent(q.detectable_relative_error)
+                "  {:<6} predicted {:.8e} ± {:.1e} (quadrature) ± {:.1e} (model)   ",
+                q.name, q.predicted.value, q.predicted.quadrature_bar, q.predicted.model_bar
             )?;
+            match (q.measured, &q.not_resolved) {
+                (Some(m), None) => writeln!(
+                    f,
+                    "measured {:.8e} ± {:.1e} (s.e.)   ratio {:.5}   z {}   detects {}",
+                    m.value,
+                    m.standard_error,
+                    m.value / q.predicted.value,
+                    q.z.map_or("none".to_string(), |z| format!("{z:+.2}")),
+                    percent(q.detectable_relative_error)
+                )?,
+                (_, Some(why)) => writeln!(f, "measured: not resolved ({why})")?,
+                (None, None) => unreachable!("a quantity without a measurement has its reason"),
+            }
         }
         for r in &self.reasons {
             writeln!(f, "  fails: {r}")?;
