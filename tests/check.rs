@@ -135,6 +135,13 @@ fn scattered_light_is_predicted_with_the_measured_model_bar() {
     let se = outside.checks[0].measured.unwrap().standard_error;
     let z = outside.checks[0].z.unwrap();
     assert!((z - 0.5 * bar / se).abs() < 1e-6 * z, "{outside}");
+    // The ratio carries the model bar: m/P ± (|m|·b/|P|)/(|P| − b).
+    let ratio = outside.checks[0].ratio.unwrap();
+    let (m, pm) = (outside.checks[0].measured.unwrap().value, p.mean.value);
+    assert_eq!(ratio.value, m / pm);
+    assert_eq!(ratio.standard_error, se / pm);
+    assert!((ratio.bar - m * bar / pm / (pm - bar)).abs() < 1e-12 * ratio.bar, "{ratio:?}");
+    assert!(ratio.bar > 0.01 * mcrt_noise::prec::model_error_scale(scene.estimator.radius), "{ratio:?}");
 }
 
 #[test]
@@ -249,5 +256,31 @@ fn values_without_spread_are_not_resolved_and_have_no_zero_bar() {
             assert!(json["checks"][k]["measured"].is_null() && json["checks"][k]["ratio"].is_null(), "{json}");
             assert!(json["checks"][k]["not_resolved"].as_str().unwrap().contains("zero spread"), "{json}");
         }
+    }
+}
+
+/// The ratio measured/predicted is printed with its standard error and its
+/// bar, in text and JSON, and a disagreement states the prediction's bars.
+#[test]
+fn the_ratio_has_its_standard_error_and_bar() {
+    let prediction = predict(&scene()).unwrap();
+    let tracer = Tracer::new(&scene()).unwrap();
+    let bright = samples((0..20_000).map(|i| 1.5 * tracer.trial(21, i, HitMethod::Sorted).0));
+    let verdict = check(&prediction, &bright, &CheckOptions::default());
+    let text = verdict.to_string();
+    for q in &verdict.checks {
+        let (m, r) = (q.measured.unwrap(), q.ratio.unwrap());
+        let p = q.predicted.value;
+        assert_eq!(r.standard_error, m.standard_error / p);
+        let b = q.predicted.total_bar();
+        assert!(r.bar > 0.0 && (r.bar - m.value * b / p / (p - b)).abs() <= 1e-12 * r.bar, "{r:?}");
+        assert!(text.contains(&format!("ratio {r}")), "{text}");
+        assert!(text.contains(&format!("{:.5} ± {:.1e} (s.e.) ± {:.1e} (bars)", r.value, r.standard_error, r.bar)));
+    }
+    assert!(text.contains("fails: mean L") && text.contains("(bars) (ratio 1."), "{text}");
+    let json = serde_json::to_value(&verdict).unwrap();
+    for k in 0..2 {
+        let r = &json["checks"][k]["ratio"];
+        assert!(r["value"].is_f64() && r["standard_error"].is_f64() && r["bar"].is_f64(), "{json}");
     }
 }

@@ -238,6 +238,9 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
         text.starts_with("PASS") && text.contains("what this check shows: a renderer whose mean is off by"),
         "{text}"
     );
+    // Both ratios with their standard error and bar.
+    assert_eq!(text.matches(" (s.e.)   ratio ").count(), 2, "{text}");
+    assert_eq!(text.matches(" (bars)   z ").count(), 2, "{text}");
     // From standard input too.
     let mut child = bin()
         .arg("check")
@@ -264,6 +267,10 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     let z = |j: &serde_json::Value, k: usize| j["checks"][k]["z"].as_f64().unwrap();
     assert!((z(&from_array, 0) - z(&from_sums, 0)).abs() < 1e-6 && (z(&from_array, 1) - z(&from_sums, 1)).abs() < 1e-3);
     assert!(from_sums["checks"][1]["rounding_bar"].as_f64().unwrap() > 0.0);
+    for k in 0..2 {
+        let ratio = &from_sums["checks"][k]["ratio"];
+        assert!(ratio["standard_error"].as_f64().unwrap() > 0.0 && ratio["bar"].as_f64().unwrap() > 0.0, "{ratio}");
+    }
     // A renderer 10 % too bright: fail, exit 1, the verdict once, on stdout only.
     let bright = dir.join("bright.txt");
     let wrong = traced_values(&scene, 100_000, 1.1);

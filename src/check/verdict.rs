@@ -133,8 +133,9 @@ pub struct QuantityCheck {
     /// quadrature + model + rounding bars; `None` when the quantity is not
     /// resolved (`not_resolved` says why).
     pub z: Option<f64>,
-    /// measured/predicted (`None` when not resolved).
-    pub ratio: Option<f64>,
+    /// measured/predicted with its standard error and bar (`None` when
+    /// the measurement is not resolved).
+    pub ratio: Option<Ratio>,
     /// The smallest relative error δ of the renderer in this quantity that
     /// fails the check with probability ≥ the stated power: the solution of
     /// δ|P| = (z_limit + z_power)·se·(1 + δ) + bars, the standard error
@@ -151,6 +152,66 @@ pub struct QuantityCheck {
     pub target_relative_error: Option<f64>,
     /// |z| within the limit (and the target met, if any).
     pub pass: bool,
+}
+
+/// measured/predicted, with the measurement's standard error and the
+/// prediction's bars carried to it.
+///
+/// With P the prediction, b its bars (quadrature + model, bounds), m the
+/// measurement, se its standard error and r its rounding bar (a bound):
+/// the ratio m/P differs from m_true/P_true by (m/P − m/P_true) + (m −
+/// m_true)/P_true. The first part is at most |m|·b/(|P|(|P| − b)) and the
+/// rounding's share of the second at most r/(|P| − b): together `bar`. The
+/// statistical share is se/|P| to first order: `standard_error`.
+///
+/// ```
+/// use mcrt_noise::check::Ratio;
+/// let r = Ratio::new(2.0, 0.1, 4.0, 0.04, 0.0).unwrap();
+/// assert_eq!((r.value, r.standard_error), (0.5, 0.025));
+/// assert!((r.bar - 0.5 * 0.01 / 0.99).abs() < 1e-15);
+/// assert!(Ratio::new(2.0, 0.1, 4.0, 4.0, 0.0).is_none()); // bars as large as the prediction
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Ratio {
+    /// measured/predicted.
+    pub value: f64,
+    /// The measurement's standard error over |predicted| (a standard
+    /// deviation, like the measurement's).
+    pub standard_error: f64,
+    /// Bound on the ratio's error from the prediction's bars and the
+    /// measurement's rounding bar, (|m|·b/|P| + r)/(|P| − b).
+    pub bar: f64,
+}
+
+impl Ratio {
+    /// The ratio of `measured` (standard error `se`, rounding bar
+    /// `rounding_bar`) to `predicted` (bars `bars`); `None` unless the bars
+    /// are below |predicted| and every number is finite.
+    pub fn new(measured: f64, se: f64, predicted: f64, bars: f64, rounding_bar: f64) -> Option<Ratio> {
+        let p = predicted.abs();
+        let r = Ratio {
+            value: measured / predicted,
+            standard_error: se / p,
+            bar: (measured.abs() * bars / p + rounding_bar) / (p - bars),
+        };
+        (bars < p && [r.value, r.standard_error, r.bar].iter().all(|x| x.is_finite())).then_some(r)
+    }
+}
+
+impl fmt::Display for Ratio {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} ± {:.1e} (s.e.) ± {:.1e} (bars)", fixed(self.value, 5), self.standard_error, self.bar)
+    }
+}
+
+/// `x` with `decimals` decimals where that shows its leading digits (|x| in
+/// [10⁻², 10⁵)), else in exponent notation with as many.
+fn fixed(x: f64, decimals: usize) -> String {
+    if (1e-2..1e5).contains(&x.abs()) {
+        format!("{x:.decimals$}")
+    } else {
+        format!("{x:.decimals$e}")
+    }
 }
 
 /// The outcome of [`check`]: pass or fail, each quantity's numbers, and
@@ -277,10 +338,20 @@ fn quantity(
 ) -> QuantityCheck {
     let bars = predicted.total_bar() + rounding_bar;
     let scale = predicted.value.abs();
-    let (measured, not_resolved) = match measured {
+    let (measured, mut not_resolved) = match measured {
         Ok(m) => (Some(m), None),
         Err(why) => (None, Some(why)),
     };
+    let ratio = measured.and_then(|m| {
+        Ratio::new(m.value, m.standard_error, predicted.value, predicted.total_bar(), rounding_bar)
+    });
+    if measured.is_some() && ratio.is_none() {
+        not_resolved = Some(format!(
+            "the prediction's bars ({:.2e}) are not below its value ({:.6e}): there is nothing to check against",
+            predicted.total_bar(),
+            predicted.value
+        ));
+    }
     let resolved = measured.filter(|_| not_resolved.is_none());
     let z = resolved.map(|m| {
         let diff = m.value - predicted.value;
@@ -302,7 +373,7 @@ fn quantity(
         measured,
         rounding_bar,
         z,
-        ratio: measured.map(|m| m.value / predicted.value),
+        ratio,
         detectable_relative_error,
         not_resolved,
         undetectable,
@@ -328,16 +399,16 @@ fn unresolved(checks: &[QuantityCheck]) -> Vec<String> {
 
 /// Why `q` disagrees with the prediction, if it does.
 fn disagreement(q: &QuantityCheck, z_limit: f64) -> Option<String> {
-    let (z, m) = (q.z?, q.measured?);
+    let (z, m, ratio) = (q.z?, q.measured?, q.ratio?);
     (z.abs() > z_limit).then(|| {
         format!(
-            "{}: measured {:.6e} ± {:.2e} against predicted {:.6e} (ratio {:.5}): z = {z:+.2}, beyond the limit \
-             ±{z_limit:.2}",
+            "{}: measured {:.6e} ± {:.2e} (s.e.) against predicted {:.6e} ± {:.1e} (bars) (ratio {ratio}): z = \
+             {z:+.2}, beyond the limit ±{z_limit:.2}",
             q.name,
             m.value,
             m.standard_error,
             q.predicted.value,
-            m.value / q.predicted.value
+            q.predicted.total_bar() + q.rounding_bar,
         )
     })
 }
@@ -458,18 +529,17 @@ impl fmt::Display for Verdict {
                 "  {:<6} predicted {:.8e} ± {:.1e} (quadrature) ± {:.1e} (model)   ",
                 q.name, q.predicted.value, q.predicted.quadrature_bar, q.predicted.model_bar
             )?;
-            match (q.measured, &q.not_resolved) {
-                (Some(m), None) => writeln!(
+            match (q.measured, q.ratio, &q.not_resolved) {
+                (Some(m), Some(ratio), None) => writeln!(
                     f,
-                    "measured {:.8e} ± {:.1e} (s.e.)   ratio {:.5}   z {}   detects {}",
+                    "measured {:.8e} ± {:.1e} (s.e.)   ratio {ratio}   z {}   detects {}",
                     m.value,
                     m.standard_error,
-                    m.value / q.predicted.value,
                     q.z.map_or("none".to_string(), |z| format!("{z:+.2}")),
                     percent(q.detectable_relative_error)
                 )?,
-                (_, Some(why)) => writeln!(f, "measured: not resolved ({why})")?,
-                (None, None) => unreachable!("a quantity without a measurement has its reason"),
+                (_, _, Some(why)) => writeln!(f, "measured: not resolved ({why})")?,
+                (_, _, None) => unreachable!("a quantity without a measurement or ratio has its reason"),
             }
         }
         for r in &self.reasons {
