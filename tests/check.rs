@@ -284,3 +284,51 @@ fn the_ratio_has_its_standard_error_and_bar() {
         assert!(r["value"].is_f64() && r["standard_error"].is_f64() && r["bar"].is_f64(), "{json}");
     }
 }
+
+/// Mostly-zero values: below `MIN_NONZERO` nonzero values nothing is
+/// resolved, however many zeros; at it the z-tests run. Power sums without
+/// a nonzero count say that sparsity was not checked.
+#[test]
+fn sparse_values_are_not_resolved_below_the_nonzero_threshold() {
+    use mcrt_noise::check::MIN_NONZERO;
+    let prediction = predict(&scene()).unwrap();
+    let tracer = Tracer::new(&scene()).unwrap();
+    let hits: Vec<f64> =
+        (0..).map(|i| tracer.trial(33, i, HitMethod::Sorted).0).filter(|l| *l != 0.0).take(MIN_NONZERO as usize).collect();
+    // k nonzero values among 10⁵, spread evenly.
+    let padded = |k: usize| {
+        let mut v = vec![0.0; 100_000];
+        for (j, l) in hits[..k].iter().enumerate() {
+            v[j * 997] = *l;
+        }
+        v
+    };
+    let below = samples(padded(MIN_NONZERO as usize - 1));
+    assert_eq!(below.nonzero(), Some(MIN_NONZERO - 1));
+    let verdict = check(&prediction, &below, &CheckOptions::default());
+    let text = verdict.to_string();
+    assert!(!verdict.pass, "{text}");
+    for q in &verdict.checks {
+        assert!(q.z.is_none() && q.detectable_relative_error.is_none(), "{text}");
+        assert!(q.measured.is_some() && q.ratio.is_some(), "{text}");
+    }
+    assert!(text.contains("mean L and Var L: not resolved: only 99 of the 100000 values are nonzero (fewer than 100)"));
+    assert!(text.contains("≈ 1/√99 (10 %)") && text.contains("fourth moment"), "{text}");
+    let at = check(&prediction, &samples(padded(MIN_NONZERO as usize)), &CheckOptions::default());
+    assert!(at.checks.iter().all(|q| q.z.is_some() && q.not_resolved.is_none()), "{at}");
+    assert!(!at.statement.contains("sparsity"), "{at}");
+    // Zeros of either sign are zero.
+    assert_eq!(samples([0.0, -0.0, 1.0, -2.0]).nonzero(), Some(2));
+    // Power sums: the count is unknown unless stated.
+    let values = padded(MIN_NONZERO as usize - 1);
+    let sums = [1, 2, 3, 4].map(|k| values.iter().map(|x| x.powi(k)).sum::<f64>());
+    let eps = 1e-10;
+    let unknown = Samples::from_power_sums(values.len() as u64, sums, eps).unwrap();
+    let v = check(&prediction, &unknown, &CheckOptions::default());
+    assert_eq!(v.nonzero, None);
+    assert!(v.checks.iter().all(|q| q.z.is_some()), "{v}");
+    assert!(v.statement.contains("sparsity could not be checked"), "{v}");
+    let stated = unknown.with_nonzero(MIN_NONZERO - 1).unwrap();
+    let v = check(&prediction, &stated, &CheckOptions::default());
+    assert!(!v.pass && v.reasons.iter().any(|r| r.contains("only 99 of the 100000 values are nonzero")), "{v}");
+}

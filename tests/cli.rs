@@ -267,6 +267,22 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     let z = |j: &serde_json::Value, k: usize| j["checks"][k]["z"].as_f64().unwrap();
     assert!((z(&from_array, 0) - z(&from_sums, 0)).abs() < 1e-6 && (z(&from_array, 1) - z(&from_sums, 1)).abs() < 1e-3);
     assert!(from_sums["checks"][1]["rounding_bar"].as_f64().unwrap() > 0.0);
+    // Sums without a nonzero count: sparsity could not be checked, and the verdict says so.
+    assert!(from_sums["statement"].as_str().unwrap().contains("sparsity could not be checked"), "{from_sums}");
+    assert!(from_sums["nonzero"].is_null() && from_array["nonzero"].as_u64().unwrap() >= 100, "{from_array}");
+    assert!(!from_array["statement"].as_str().unwrap().contains("sparsity"), "{from_array}");
+    // With a nonzero count below 100: not resolved, exit 1, the reason given.
+    // (The sums of 37 of the values, the rest zeros: sums 37 nonzero values can have.)
+    let sparse_sums = dir.join("sparse-sums.json");
+    let count = good.len();
+    let hits: Vec<f64> = good.iter().copied().filter(|v| *v != 0.0).take(37).collect();
+    let hit_sums: Vec<f64> = (1..=4).map(|k| hits.iter().map(|v| v.powi(k)).sum()).collect();
+    std::fs::write(&sparse_sums, serde_json::json!({"count": count, "sums": hit_sums, "nonzero": 37}).to_string())
+        .unwrap();
+    let out = run(&sparse_sums, &[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains(&format!("not resolved: only 37 of the {count} values are nonzero (fewer than 100)")), "{text}");
     for k in 0..2 {
         let ratio = &from_sums["checks"][k]["ratio"];
         assert!(ratio["standard_error"].as_f64().unwrap() > 0.0 && ratio["bar"].as_f64().unwrap() > 0.0, "{ratio}");

@@ -19,4 +19,4 @@ mod verdict;
 
 pub use predict::{predict, predict_with, Model, PredictError, Predicted, Prediction};
 pub use samples::{Measured, SampleError, Samples, SumsInequality};
-pub use verdict::{check, CheckOptions, QuantityCheck, Ratio, Verdict, CHECKS, MIN_SAMPLES};
+pub use verdict::{check, CheckOptions, QuantityCheck, Ratio, Verdict, CHECKS, MIN_NONZERO, MIN_SAMPLES};

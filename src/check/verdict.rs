@@ -224,6 +224,9 @@ pub struct Verdict {
     pub model: Model,
     /// How many samples.
     pub samples: u64,
+    /// How many of them are nonzero (`None`: power sums given without the
+    /// count, so sparsity was not checked; the statement says so).
+    pub nonzero: Option<u64>,
     /// The family-wise false-alarm rate.
     pub false_alarm_rate: f64,
     /// The per-quantity rate (Šidák over [`CHECKS`]).
@@ -244,13 +247,28 @@ pub struct Verdict {
 /// errors exist.
 pub const MIN_SAMPLES: u64 = 4;
 
+/// Fewest nonzero values for which the z-tests mean anything; below it both
+/// quantities are not resolved (the verdict fails, saying so). A renderer's
+/// L is mostly 0 where hits are rare, and then the k nonzero values carry
+/// the whole measurement: the relative standard error of the mean is ≈
+/// 1/√k, and the variance's standard error comes from the fourth moment,
+/// which a handful of values does not pin down (a low s² comes with a low
+/// standard error). With fewer than 100 nonzero values the normal
+/// approximation behind the z-tests is meaningless, whatever the number of
+/// zeros beside them.
+pub const MIN_NONZERO: u64 = 100;
+
 /// Checks a renderer's per-iteration values of one pixel against the
 /// prediction: z-scores of the mean and of Var L (Var's standard error from
 /// the fourth moment), the prediction's bars subtracted first, at the
 /// family-wise false-alarm rate of `options`; and the smallest relative
 /// error in each that these samples could detect. Fewer than
-/// [`MIN_SAMPLES`] samples, a zero measured variance, or a detectable
-/// error above a stated target fail, with the reason.
+/// [`MIN_SAMPLES`] samples, fewer than [`MIN_NONZERO`] nonzero values, a
+/// quantity without a usable standard error (all values equal, or beyond
+/// the range of a double), or a detectable error above a stated target
+/// fail, with the reason. Power sums without a nonzero count
+/// ([`Samples::with_nonzero`]) are checked, and the statement says that
+/// their sparsity could not be.
 ///
 /// ```
 /// use mcrt_noise::{check, predict, CheckOptions, Samples, Scene};
@@ -277,6 +295,7 @@ pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions)
         pass: false,
         model: prediction.model,
         samples: samples.count(),
+        nonzero: samples.nonzero(),
         false_alarm_rate: options.false_alarm_rate,
         per_check_rate: options.per_check_rate(),
         z_limit,
@@ -294,13 +313,14 @@ pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions)
         return verdict;
     };
     let (round_mean, round_var) = samples.rounding_bounds();
+    let sparse = samples.nonzero().filter(|k| *k < MIN_NONZERO).map(|k| sparse_reason(k, samples.count()));
     let targets = options.targets;
     let quantities = [
         ("mean L", prediction.mean, mean, round_mean, targets.0),
         ("Var L", prediction.variance, variance, round_var, targets.1),
     ];
     for (name, predicted, measured, rounding_bar, target) in quantities {
-        let q = quantity(name, predicted, measured, rounding_bar, target, (z_limit, z_power));
+        let q = quantity(name, predicted, measured, sparse.as_deref(), rounding_bar, target, (z_limit, z_power));
         verdict.reasons.extend(disagreement(&q, z_limit));
         verdict.checks.push(q);
     }
@@ -312,6 +332,13 @@ pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions)
     }
     verdict.pass = verdict.reasons.is_empty();
     verdict.statement = statement(&verdict);
+    if verdict.nonzero.is_none() {
+        verdict.statement.push_str(&format!(
+            "; sparsity could not be checked: the power sums came without the number of nonzero values, so this \
+             verdict may rest on fewer than {MIN_NONZERO} of them (give \"nonzero\" in the power-sums file, or \
+             Samples::with_nonzero)"
+        ));
+    }
     if verdict.samples < CALIBRATED_SAMPLES {
         verdict.statement.push_str(&format!(
             "; but with {} samples (< {CALIBRATED_SAMPLES}) the stated false-alarm rate is not calibrated: a \
@@ -332,6 +359,7 @@ fn quantity(
     name: &'static str,
     predicted: Predicted,
     measured: Result<Measured, String>,
+    sparse: Option<&str>,
     rounding_bar: f64,
     target: Option<f64>,
     (z_limit, z_power): (f64, f64),
@@ -345,6 +373,9 @@ fn quantity(
     let ratio = measured.and_then(|m| {
         Ratio::new(m.value, m.standard_error, predicted.value, predicted.total_bar(), rounding_bar)
     });
+    if measured.is_some() {
+        not_resolved = sparse.map(str::to_string);
+    }
     if measured.is_some() && ratio.is_none() {
         not_resolved = Some(format!(
             "the prediction's bars ({:.2e}) are not below its value ({:.6e}): there is nothing to check against",
@@ -380,6 +411,23 @@ fn quantity(
         target_relative_error: target,
         pass: within && target_met,
     }
+}
+
+/// Why values with only `nonzero` of `count` nonzero (fewer than
+/// [`MIN_NONZERO`]) resolve nothing.
+fn sparse_reason(nonzero: u64, count: u64) -> String {
+    let needed = (count as f64 * MIN_NONZERO as f64 / nonzero.max(1) as f64).ceil();
+    format!(
+        "only {nonzero} of the {count} values are nonzero (fewer than {MIN_NONZERO}): the mean's relative standard \
+         error is then ≈ 1/√{nonzero} ({:.0} %) and the variance's, from the fourth moment, is unreliable, so the normal \
+         approximation behind the z-tests does not hold{}",
+        100.0 / (nonzero.max(1) as f64).sqrt(),
+        if nonzero == 0 {
+            String::new()
+        } else {
+            format!(" (about {needed:.1e} samples would give {MIN_NONZERO} nonzero values)")
+        }
+    )
 }
 
 /// Why quantities are not resolved, one sentence per reason (quantities
@@ -537,6 +585,11 @@ impl fmt::Display for Verdict {
                     m.standard_error,
                     q.z.map_or("none".to_string(), |z| format!("{z:+.2}")),
                     percent(q.detectable_relative_error)
+                )?,
+                (Some(m), Some(ratio), Some(_)) => writeln!(
+                    f,
+                    "measured {:.8e} ± {:.1e} (s.e.)   ratio {ratio}   z: not resolved (see the reasons)",
+                    m.value, m.standard_error
                 )?,
                 (_, _, Some(why)) => writeln!(f, "measured: not resolved ({why})")?,
                 (_, _, None) => unreachable!("a quantity without a measurement or ratio has its reason"),
