@@ -332,3 +332,39 @@ fn sparse_values_are_not_resolved_below_the_nonzero_threshold() {
     let v = check(&prediction, &stated, &CheckOptions::default());
     assert!(!v.pass && v.reasons.iter().any(|r| r.contains("only 99 of the 100000 values are nonzero")), "{v}");
 }
+
+/// Values far from the prediction's scale: no number is printed as 0, inf
+/// or NaN, nor in fixed point with hundreds of digits; a z beyond the range
+/// of a double fails with that reason.
+#[test]
+fn extreme_values_print_no_zero_infinite_or_unreadable_stand_ins() {
+    let bright_scene = Scene::builder()
+        .medium(1.0, 0.8)
+        .point_light([1.0, 0.0, 1.0], 1e10)
+        .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+        .estimator(0.2, 0.5, 20, 4)
+        .build()
+        .unwrap();
+    for (scene, value) in [(scene(), 1e-170), (bright_scene, 1e-303)] {
+        let prediction = predict(&scene).unwrap();
+        let values = (0..200).flat_map(|_| [value, 3.0 * value]);
+        let verdict = check(&prediction, &samples(values), &CheckOptions::default());
+        let text = verdict.to_string();
+        assert!(!verdict.pass, "{text}");
+        for bad in ["inf", "NaN", " 0.00000 ", "0.000 %", "0.0e0"] {
+            assert!(!text.contains(bad), "{bad:?} in\n{text}");
+        }
+        assert!(text.lines().all(|l| l.len() < 1200), "{text}");
+        assert!(verdict.reasons[0].starts_with("mean L: measured"), "{text}");
+        assert!(verdict.checks[1].not_resolved.as_ref().unwrap().contains("outside the range of a double"), "{text}");
+        if value == 1e-303 {
+            assert!(verdict.checks[0].z.is_none() && verdict.checks[0].ratio.is_none(), "{text}");
+            assert!(verdict.reasons[0].contains("|z| beyond the range of a double"), "{text}");
+            assert!(verdict.statement.starts_with("the renderer's mean L differs"), "{text}");
+        } else {
+            // In exponent notation: z ≈ −2.3·10¹⁶⁸, ratio ≈ 1.8·10⁻¹⁶⁷.
+            assert!(text.contains("   z -2.2") && text.contains("e168   detects"), "{text}");
+            assert!(text.contains("   ratio 1.7") && text.contains("e-167 ± "), "{text}");
+        }
+    }
+}

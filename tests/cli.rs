@@ -238,6 +238,9 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
         text.starts_with("PASS") && text.contains("what this check shows: a renderer whose mean is off by"),
         "{text}"
     );
+    // The finite-sphere model's zero bar is said in words, not printed as 0.
+    assert_eq!(text.matches("(quadrature), model exact").count(), 2, "{text}");
+    assert!(!text.contains("0.0e0"), "{text}");
     // Both ratios with their standard error and bar.
     assert_eq!(text.matches(" (s.e.)   ratio ").count(), 2, "{text}");
     assert_eq!(text.matches(" (bars)   z ").count(), 2, "{text}");
@@ -267,6 +270,10 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     let z = |j: &serde_json::Value, k: usize| j["checks"][k]["z"].as_f64().unwrap();
     assert!((z(&from_array, 0) - z(&from_sums, 0)).abs() < 1e-6 && (z(&from_array, 1) - z(&from_sums, 1)).abs() < 1e-3);
     assert!(from_sums["checks"][1]["rounding_bar"].as_f64().unwrap() > 0.0);
+    // Power sums' rounding bar is printed beside the standard error.
+    let sums_text = String::from_utf8_lossy(&run(&sums_file, &[]).stdout).to_string();
+    assert_eq!(sums_text.matches(" (s.e.) ± ").count(), 4, "{sums_text}");
+    assert_eq!(sums_text.matches(" (rounding)   ratio ").count(), 2, "{sums_text}");
     // Sums without a nonzero count: sparsity could not be checked, and the verdict says so.
     assert!(from_sums["statement"].as_str().unwrap().contains("sparsity could not be checked"), "{from_sums}");
     assert!(from_sums["nonzero"].is_null() && from_array["nonzero"].as_u64().unwrap() >= 100, "{from_array}");

@@ -131,10 +131,12 @@ pub struct QuantityCheck {
     pub rounding_bar: f64,
     /// z = sign(d)·max(0, |d| − bars)/se, d = measured − predicted, bars =
     /// quadrature + model + rounding bars; `None` when the quantity is not
-    /// resolved (`not_resolved` says why).
+    /// resolved (`not_resolved` says why), or when |z| is beyond the range
+    /// of a double (the quantity then fails, its reason saying so).
     pub z: Option<f64>,
     /// measured/predicted with its standard error and bar (`None` when
-    /// the measurement is not resolved).
+    /// the measurement is not resolved, or when the ratio is beyond the
+    /// range of a double: the row and the failure's reason say so).
     pub ratio: Option<Ratio>,
     /// The smallest relative error δ of the renderer in this quantity that
     /// fails the check with probability ≥ the stated power: the solution of
@@ -186,7 +188,8 @@ pub struct Ratio {
 impl Ratio {
     /// The ratio of `measured` (standard error `se`, rounding bar
     /// `rounding_bar`) to `predicted` (bars `bars`); `None` unless the bars
-    /// are below |predicted| and every number is finite.
+    /// are below |predicted| and every number is a normal double or 0 (a
+    /// ratio beyond the range of a double is not given as a number).
     pub fn new(measured: f64, se: f64, predicted: f64, bars: f64, rounding_bar: f64) -> Option<Ratio> {
         let p = predicted.abs();
         let r = Ratio {
@@ -194,7 +197,8 @@ impl Ratio {
             standard_error: se / p,
             bar: (measured.abs() * bars / p + rounding_bar) / (p - bars),
         };
-        (bars < p && [r.value, r.standard_error, r.bar].iter().all(|x| x.is_finite())).then_some(r)
+        let representable = |x: f64| x == 0.0 || x.is_normal();
+        (bars < p && [r.value, r.standard_error, r.bar].into_iter().all(representable)).then_some(r)
     }
 }
 
@@ -376,7 +380,7 @@ fn quantity(
     if measured.is_some() {
         not_resolved = sparse.map(str::to_string);
     }
-    if measured.is_some() && ratio.is_none() {
+    if measured.is_some() && ratio.is_none() && predicted.total_bar() >= scale {
         not_resolved = Some(format!(
             "the prediction's bars ({:.2e}) are not below its value ({:.6e}): there is nothing to check against",
             predicted.total_bar(),
@@ -384,10 +388,14 @@ fn quantity(
         ));
     }
     let resolved = measured.filter(|_| not_resolved.is_none());
-    let z = resolved.map(|m| {
-        let diff = m.value - predicted.value;
-        (diff.abs() - bars).max(0.0).copysign(diff) / m.standard_error
-    });
+    // A z beyond the range of a double (a tiny standard error far from the
+    // prediction) is left out; `disagreement` states the failure instead.
+    let z = resolved
+        .map(|m| {
+            let diff = m.value - predicted.value;
+            (diff.abs() - bars).max(0.0).copysign(diff) / m.standard_error
+        })
+        .filter(|z| z.is_finite());
     let noise = resolved.map(|m| (z_limit + z_power) * m.standard_error);
     let detectable_relative_error = noise.filter(|n| *n < scale).map(|n| (n + bars) / (scale - n));
     let undetectable = noise.filter(|n| *n >= scale).map(|n| {
@@ -445,13 +453,23 @@ fn unresolved(checks: &[QuantityCheck]) -> Vec<String> {
     out.into_iter().map(|(names, why)| format!("{}: not resolved: {why}", names.join(" and "))).collect()
 }
 
+/// Whether `q` is resolved and its z lies beyond the limit (or beyond the
+/// range of a double).
+fn disagrees(q: &QuantityCheck, z_limit: f64) -> bool {
+    q.not_resolved.is_none() && q.measured.is_some() && q.z.is_none_or(|z| z.abs() > z_limit)
+}
+
 /// Why `q` disagrees with the prediction, if it does.
 fn disagreement(q: &QuantityCheck, z_limit: f64) -> Option<String> {
-    let (z, m, ratio) = (q.z?, q.measured?, q.ratio?);
-    (z.abs() > z_limit).then(|| {
+    let m = q.measured?;
+    disagrees(q, z_limit).then(|| {
+        let z = q.z.map_or(format!("|z| beyond the range of a double ({:.1e}), far beyond", f64::MAX), |z| {
+            format!("z = {}, beyond", z_text(z))
+        });
+        let ratio = ratio_text(q.ratio, m, q.predicted);
         format!(
-            "{}: measured {:.6e} ± {:.2e} (s.e.) against predicted {:.6e} ± {:.1e} (bars) (ratio {ratio}): z = \
-             {z:+.2}, beyond the limit ±{z_limit:.2}",
+            "{}: measured {:.6e} ± {:.2e} (s.e.) against predicted {:.6e} ± {:.1e} (bars) (ratio {ratio}): {z} the \
+             limit ±{z_limit:.2}",
             q.name,
             m.value,
             m.standard_error,
@@ -459,6 +477,23 @@ fn disagreement(q: &QuantityCheck, z_limit: f64) -> Option<String> {
             q.predicted.total_bar() + q.rounding_bar,
         )
     })
+}
+
+/// The ratio with its errors, or why it is not given.
+fn ratio_text(ratio: Option<Ratio>, m: Measured, p: Predicted) -> String {
+    ratio.map_or_else(
+        || format!("beyond the range of a double: {:.3e}/{:.3e}", m.value, p.value),
+        |r| r.to_string(),
+    )
+}
+
+/// A z-score: two decimals, or in exponent notation when large.
+fn z_text(z: f64) -> String {
+    if z.abs() < 1e4 {
+        format!("{z:+.2}")
+    } else {
+        format!("{z:+.3e}")
+    }
 }
 
 /// The reason of `q`'s unmet target, if it has one.
@@ -480,28 +515,45 @@ fn too_few(q: &QuantityCheck, target: f64, z_sum: f64, n: u64) -> String {
     } else {
         let se_needed = (target - bars_rel) / (z_sum * (1.0 + target));
         let ratio = se_rel / se_needed;
-        format!("about {:.2e} samples would (standard errors fall like 1/√M)", (n as f64 * ratio * ratio).ceil())
+        let count = (n as f64 * ratio * ratio).ceil();
+        if count.is_finite() {
+            format!("about {count:.2e} samples would (standard errors fall like 1/√M)")
+        } else {
+            format!("more than {:.1e} samples would be needed (standard errors fall like 1/√M)", f64::MAX)
+        }
     };
+    let detects = q.detectable_relative_error.map_or("no error of any size with certainty".to_string(), percent);
     format!(
-        "{}: too few samples to resolve the target {:.3} %: these {n} samples detect only {}; {need}",
+        "{}: too few samples to resolve the target {}: these {n} samples detect {detects}; {need}",
         q.name,
-        target * 100.0,
-        percent(q.detectable_relative_error)
+        percent(target)
     )
 }
 
-/// A detectable error in words (for a resolved quantity).
-fn percent(d: Option<f64>) -> String {
-    d.map_or("no error of any size with certainty (the standard error is too large)".to_string(), |d| {
-        format!("{:.3} %", d * 100.0)
-    })
+/// A relative error in per cent: three decimals, or three significant
+/// digits when smaller than 0.01 % (never a bare 0.000 %).
+fn percent(d: f64) -> String {
+    let p = d * 100.0;
+    if p.abs() >= 0.01 {
+        format!("{p:.3} %")
+    } else {
+        format!("{p:.2e} %")
+    }
+}
+
+/// A resolved quantity's detectable error, or why it has none.
+fn detects(q: &QuantityCheck) -> String {
+    q.detectable_relative_error.map_or_else(
+        || "no error of any size with certainty (the standard error is too large)".to_string(),
+        percent,
+    )
 }
 
 fn statement(v: &Verdict) -> String {
     let [m, var] = [&v.checks[0], &v.checks[1]];
     let unresolved: Vec<&str> = v.checks.iter().filter(|q| q.not_resolved.is_some()).map(|q| q.name).collect();
     let disagreeing: Vec<&str> =
-        v.checks.iter().filter(|q| q.z.is_some_and(|z| z.abs() > v.z_limit)).map(|q| q.name).collect();
+        v.checks.iter().filter(|q| disagrees(q, v.z_limit)).map(|q| q.name).collect();
     if !unresolved.is_empty() && disagreeing.is_empty() {
         return format!(
             "nothing: the {} of these samples {} not resolved (see the reasons)",
@@ -524,7 +576,7 @@ fn statement(v: &Verdict) -> String {
     let detects: Vec<String> = [("mean", m), ("Var L", var)]
         .iter()
         .filter_map(|(name, q)| {
-            q.detectable_relative_error.map(|d| format!("whose {name} is off by {:.3} % or more", d * 100.0))
+            q.detectable_relative_error.map(|d| format!("whose {name} is off by {} or more", percent(d)))
         })
         .collect();
     let undetectable: Vec<&str> = [("mean", m), ("Var L", var)]
@@ -572,27 +624,38 @@ impl fmt::Display for Verdict {
             CHECKS
         )?;
         for q in &self.checks {
-            write!(
-                f,
-                "  {:<6} predicted {:.8e} ± {:.1e} (quadrature) ± {:.1e} (model)   ",
-                q.name, q.predicted.value, q.predicted.quadrature_bar, q.predicted.model_bar
-            )?;
-            match (q.measured, q.ratio, &q.not_resolved) {
-                (Some(m), Some(ratio), None) => writeln!(
+            write!(f, "  {:<6} predicted {:.8e} ± {:.1e} (quadrature)", q.name, q.predicted.value, q.predicted.quadrature_bar)?;
+            // The finite-sphere model's bar is 0 because the model is exact: say so.
+            if q.predicted.model_bar > 0.0 {
+                write!(f, " ± {:.1e} (model)   ", q.predicted.model_bar)?;
+            } else {
+                write!(f, ", model exact   ")?;
+            }
+            let measured = |m: Measured| {
+                let rounding = if q.rounding_bar > 0.0 {
+                    format!(" ± {:.1e} (rounding)", q.rounding_bar)
+                } else {
+                    String::new()
+                };
+                format!("measured {:.8e} ± {:.1e} (s.e.){rounding}", m.value, m.standard_error)
+            };
+            match (q.measured, &q.not_resolved) {
+                (Some(m), None) => writeln!(
                     f,
-                    "measured {:.8e} ± {:.1e} (s.e.)   ratio {ratio}   z {}   detects {}",
-                    m.value,
-                    m.standard_error,
-                    q.z.map_or("none".to_string(), |z| format!("{z:+.2}")),
-                    percent(q.detectable_relative_error)
+                    "{}   ratio {}   z {}   detects {}",
+                    measured(m),
+                    ratio_text(q.ratio, m, q.predicted),
+                    q.z.map_or(format!("beyond ±{:.1e}", f64::MAX), z_text),
+                    detects(q)
                 )?,
-                (Some(m), Some(ratio), Some(_)) => writeln!(
+                (Some(m), Some(_)) => writeln!(
                     f,
-                    "measured {:.8e} ± {:.1e} (s.e.)   ratio {ratio}   z: not resolved (see the reasons)",
-                    m.value, m.standard_error
+                    "{}   ratio {}   z: not resolved (see the reasons)",
+                    measured(m),
+                    ratio_text(q.ratio, m, q.predicted)
                 )?,
-                (_, _, Some(why)) => writeln!(f, "measured: not resolved ({why})")?,
-                (_, _, None) => unreachable!("a quantity without a measurement or ratio has its reason"),
+                (None, Some(why)) => writeln!(f, "measured: not resolved ({why})")?,
+                (None, None) => unreachable!("a quantity without a measurement has its reason"),
             }
         }
         for r in &self.reasons {
