@@ -346,7 +346,11 @@ fn load_with_radius(path: &PathBuf, radius: Option<f64>) -> Result<Scene, CliErr
 
 /// The run's evaluation budget from `--max-evals` (default: the
 /// precision's, `Precision::default_evaluations`) and `--time-limit`.
-fn budget_from_flags(precision: Precision, max_evals: Option<f64>, time_limit: Option<f64>) -> Result<Budget, CliError> {
+fn budget_from_flags(
+    precision: Precision,
+    max_evals: Option<f64>,
+    time_limit: Option<f64>,
+) -> Result<Budget, CliError> {
     let limit = match max_evals {
         None => precision.default_evaluations(),
         Some(n) if n.is_finite() && (1.0..=1e15).contains(&n) && n.fract() == 0.0 => n as u64,
@@ -363,7 +367,13 @@ fn budget_from_flags(precision: Precision, max_evals: Option<f64>, time_limit: O
 
 /// `oracle`: an unsupported scene is input (exit 2); NOT CONVERGED, the
 /// budget spent or a result beyond f64 is computed (exit 1).
-fn oracle(path: &PathBuf, precision: Precision, rel_tol: Option<f64>, budget: &Budget, json: bool) -> Result<(), CliError> {
+fn oracle(
+    path: &PathBuf,
+    precision: Precision,
+    rel_tol: Option<f64>,
+    budget: &Budget,
+    json: bool,
+) -> Result<(), CliError> {
     let scene = load(path)?;
     let report = mcrt_noise::oracle::run_within(&scene, precision, rel_tol, budget)
         .map_err(|e| CliError::from(e).at(path.display()))?;

@@ -293,8 +293,11 @@ fn sparse_values_are_not_resolved_below_the_nonzero_threshold() {
     use mcrt_noise::check::MIN_NONZERO;
     let prediction = predict(&scene()).unwrap();
     let tracer = Tracer::new(&scene()).unwrap();
-    let hits: Vec<f64> =
-        (0..).map(|i| tracer.trial(33, i, HitMethod::Sorted).0).filter(|l| *l != 0.0).take(MIN_NONZERO as usize).collect();
+    let hits: Vec<f64> = (0..)
+        .map(|i| tracer.trial(33, i, HitMethod::Sorted).0)
+        .filter(|l| *l != 0.0)
+        .take(MIN_NONZERO as usize)
+        .collect();
     // k nonzero values among 10⁵, spread evenly.
     let padded = |k: usize| {
         let mut v = vec![0.0; 100_000];

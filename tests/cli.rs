@@ -289,7 +289,10 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     let out = run(&sparse_sums, &[]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{text}{}", String::from_utf8_lossy(&out.stderr));
-    assert!(text.contains(&format!("not resolved: only 37 of the {count} values are nonzero (fewer than 100)")), "{text}");
+    assert!(
+        text.contains(&format!("not resolved: only 37 of the {count} values are nonzero (fewer than 100)")),
+        "{text}"
+    );
     for k in 0..2 {
         let ratio = &from_sums["checks"][k]["ratio"];
         assert!(ratio["standard_error"].as_f64().unwrap() > 0.0 && ratio["bar"].as_f64().unwrap() > 0.0, "{ratio}");

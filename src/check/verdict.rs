@@ -374,9 +374,8 @@ fn quantity(
         Ok(m) => (Some(m), None),
         Err(why) => (None, Some(why)),
     };
-    let ratio = measured.and_then(|m| {
-        Ratio::new(m.value, m.standard_error, predicted.value, predicted.total_bar(), rounding_bar)
-    });
+    let ratio = measured
+        .and_then(|m| Ratio::new(m.value, m.standard_error, predicted.value, predicted.total_bar(), rounding_bar));
     if measured.is_some() {
         not_resolved = sparse.map(str::to_string);
     }
@@ -481,10 +480,7 @@ fn disagreement(q: &QuantityCheck, z_limit: f64) -> Option<String> {
 
 /// The ratio with its errors, or why it is not given.
 fn ratio_text(ratio: Option<Ratio>, m: Measured, p: Predicted) -> String {
-    ratio.map_or_else(
-        || format!("beyond the range of a double: {:.3e}/{:.3e}", m.value, p.value),
-        |r| r.to_string(),
-    )
+    ratio.map_or_else(|| format!("beyond the range of a double: {:.3e}/{:.3e}", m.value, p.value), |r| r.to_string())
 }
 
 /// A z-score: two decimals, or in exponent notation when large.
@@ -543,17 +539,14 @@ fn percent(d: f64) -> String {
 
 /// A resolved quantity's detectable error, or why it has none.
 fn detects(q: &QuantityCheck) -> String {
-    q.detectable_relative_error.map_or_else(
-        || "no error of any size with certainty (the standard error is too large)".to_string(),
-        percent,
-    )
+    q.detectable_relative_error
+        .map_or_else(|| "no error of any size with certainty (the standard error is too large)".to_string(), percent)
 }
 
 fn statement(v: &Verdict) -> String {
     let [m, var] = [&v.checks[0], &v.checks[1]];
     let unresolved: Vec<&str> = v.checks.iter().filter(|q| q.not_resolved.is_some()).map(|q| q.name).collect();
-    let disagreeing: Vec<&str> =
-        v.checks.iter().filter(|q| disagrees(q, v.z_limit)).map(|q| q.name).collect();
+    let disagreeing: Vec<&str> = v.checks.iter().filter(|q| disagrees(q, v.z_limit)).map(|q| q.name).collect();
     if !unresolved.is_empty() && disagreeing.is_empty() {
         return format!(
             "nothing: the {} of these samples {} not resolved (see the reasons)",
@@ -624,7 +617,11 @@ impl fmt::Display for Verdict {
             CHECKS
         )?;
         for q in &self.checks {
-            write!(f, "  {:<6} predicted {:.8e} ± {:.1e} (quadrature)", q.name, q.predicted.value, q.predicted.quadrature_bar)?;
+            write!(
+                f,
+                "  {:<6} predicted {:.8e} ± {:.1e} (quadrature)",
+                q.name, q.predicted.value, q.predicted.quadrature_bar
+            )?;
             // The finite-sphere model's bar is 0 because the model is exact: say so.
             if q.predicted.model_bar > 0.0 {
                 write!(f, " ± {:.1e} (model)   ", q.predicted.model_bar)?;
@@ -632,11 +629,8 @@ impl fmt::Display for Verdict {
                 write!(f, ", model exact   ")?;
             }
             let measured = |m: Measured| {
-                let rounding = if q.rounding_bar > 0.0 {
-                    format!(" ± {:.1e} (rounding)", q.rounding_bar)
-                } else {
-                    String::new()
-                };
+                let rounding =
+                    if q.rounding_bar > 0.0 { format!(" ± {:.1e} (rounding)", q.rounding_bar) } else { String::new() };
                 format!("measured {:.8e} ± {:.1e} (s.e.){rounding}", m.value, m.standard_error)
             };
             match (q.measured, &q.not_resolved) {

@@ -105,11 +105,8 @@ pub fn run_kernel<T: crate::quad::CheckRule>(
 ) -> Result<(Outcome<T>, Duration, String), KernelCliError> {
     check_kernel_args(angle.sin.to_f64(), r.to_f64()).map_err(KernelCliError::Flag)?;
     // One budget per run, as `oracle`'s: MPFR evaluations cost ~300 times f64's.
-    let evaluations = if T::CAN_RAISE_PRECISION {
-        crate::quad::DEFAULT_EVALUATIONS_MPFR
-    } else {
-        crate::quad::DEFAULT_EVALUATIONS
-    };
+    let evaluations =
+        if T::CAN_RAISE_PRECISION { crate::quad::DEFAULT_EVALUATIONS_MPFR } else { crate::quad::DEFAULT_EVALUATIONS };
     let opts = Options::rel(tol).with_budget(crate::quad::Budget::new(evaluations));
     let t0 = Instant::now();
     let (out, method) = match path {
