@@ -122,7 +122,8 @@ enum Command {
     Check {
         scene: PathBuf,
         /// The renderer's values: one L per line (`#` comments allowed), a JSON array, or power sums as JSON
-        /// `{"count": M, "sums": [ΣL, ΣL², ΣL³, ΣL⁴], "sums_relative_error": ε}` (ε defaults to M·2⁻⁵³); `-` reads stdin.
+        /// `{"count": M, "sums": [ΣL, ΣL², ΣL³, ΣL⁴], "sums_relative_error": ε, "nonzero": N}` (ε defaults to (M + 2)·2⁻⁵³;
+        /// N, the number of nonzero values, is optional: without it sparsity is not checked); `-` reads stdin.
         #[arg(long)]
         values: PathBuf,
         /// Family-wise probability that a correct renderer fails (both quantities together).

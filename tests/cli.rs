@@ -248,6 +248,12 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
         text.starts_with("PASS") && text.contains("what this check shows: a renderer whose mean is off by"),
         "{text}"
     );
+    // The finite-sphere model's zero bar is said in words, not printed as 0.
+    assert_eq!(text.matches("(quadrature), model exact").count(), 2, "{text}");
+    assert!(!text.contains("0.0e0"), "{text}");
+    // Both ratios with their standard error and bar.
+    assert_eq!(text.matches(" (s.e.)   ratio ").count(), 2, "{text}");
+    assert_eq!(text.matches(" (bars)   z ").count(), 2, "{text}");
     // From standard input too.
     let mut child = bin()
         .arg("check")
@@ -274,6 +280,33 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     let z = |j: &serde_json::Value, k: usize| j["checks"][k]["z"].as_f64().unwrap();
     assert!((z(&from_array, 0) - z(&from_sums, 0)).abs() < 1e-6 && (z(&from_array, 1) - z(&from_sums, 1)).abs() < 1e-3);
     assert!(from_sums["checks"][1]["rounding_bar"].as_f64().unwrap() > 0.0);
+    // Power sums' rounding bar is printed beside the standard error.
+    let sums_text = String::from_utf8_lossy(&run(&sums_file, &[]).stdout).to_string();
+    assert_eq!(sums_text.matches(" (s.e.) ± ").count(), 4, "{sums_text}");
+    assert_eq!(sums_text.matches(" (rounding)   ratio ").count(), 2, "{sums_text}");
+    // Sums without a nonzero count: sparsity could not be checked, and the verdict says so.
+    assert!(from_sums["statement"].as_str().unwrap().contains("sparsity could not be checked"), "{from_sums}");
+    assert!(from_sums["nonzero"].is_null() && from_array["nonzero"].as_u64().unwrap() >= 100, "{from_array}");
+    assert!(!from_array["statement"].as_str().unwrap().contains("sparsity"), "{from_array}");
+    // With a nonzero count below 100: not resolved, exit 1, the reason given.
+    // (The sums of 37 of the values, the rest zeros: sums 37 nonzero values can have.)
+    let sparse_sums = dir.join("sparse-sums.json");
+    let count = good.len();
+    let hits: Vec<f64> = good.iter().copied().filter(|v| *v != 0.0).take(37).collect();
+    let hit_sums: Vec<f64> = (1..=4).map(|k| hits.iter().map(|v| v.powi(k)).sum()).collect();
+    std::fs::write(&sparse_sums, serde_json::json!({"count": count, "sums": hit_sums, "nonzero": 37}).to_string())
+        .unwrap();
+    let out = run(&sparse_sums, &[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        text.contains(&format!("not resolved: only 37 of the {count} values are nonzero (fewer than 100)")),
+        "{text}"
+    );
+    for k in 0..2 {
+        let ratio = &from_sums["checks"][k]["ratio"];
+        assert!(ratio["standard_error"].as_f64().unwrap() > 0.0 && ratio["bar"].as_f64().unwrap() > 0.0, "{ratio}");
+    }
     // A renderer 10 % too bright: fail, exit 1, the verdict once, on stdout only.
     let bright = dir.join("bright.txt");
     let wrong = traced_values(&scene, 100_000, 1.1);
@@ -289,6 +322,16 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{text}");
     assert!(text.contains("too few samples to resolve the target 0.100 %") && text.contains("samples would"), "{text}");
+    // Five zeros: not resolved (exit 1), zero spread named, no "0 ± 0" row.
+    let zeros = dir.join("zeros.txt");
+    std::fs::write(&zeros, "0\n0\n0\n0\n0\n").unwrap();
+    let out = run(&zeros, &[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(text.contains("not resolved: all 5 values are equal (0.000000e0): zero spread"), "{text}");
+    assert!(!text.contains("± 0.0e0 (s.e.)") && !text.contains("too large"), "{text}");
+    let json: serde_json::Value = serde_json::from_slice(&run(&zeros, &["--json"]).stdout).unwrap();
+    assert!(json["checks"][0]["measured"].is_null() && json["checks"][1]["not_resolved"].is_string(), "{json}");
     // Bad input: exit 2, a message naming the line or flag, nothing on stdout.
     let not_number = dir.join("bad.txt");
     std::fs::write(&not_number, "1e-3\n2e-3\nnan\n").unwrap();
@@ -298,9 +341,26 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     std::fs::write(&long_line, "1".repeat(5000)).unwrap();
     let nonsense_sums = dir.join("nonsense.json");
     std::fs::write(&nonsense_sums, r#"{"count": 10, "sums": [10.0, 1.0, 1.0, 1.0]}"#).unwrap();
+    // The adversarial probe's sums: Σ L⁴ far above (Σ L²)² (they passed once).
+    let huge_fourth = dir.join("huge-fourth.json");
+    std::fs::write(&huge_fourth, r#"{"count": 10000, "sums": [11.1, 0.8, 0.5, 1e10]}"#).unwrap();
+    let huge_fourth_300 = dir.join("huge-fourth-300.json");
+    std::fs::write(&huge_fourth_300, r#"{"count": 100, "sums": [0.1, 0.01, 0.001, 1e300]}"#).unwrap();
+    let too_many_nonzero = dir.join("too-many-nonzero.json");
+    std::fs::write(&too_many_nonzero, r#"{"count": 10, "nonzero": 20, "sums": [3.0, 3.0, 3.0, 3.0]}"#).unwrap();
+    let too_few_nonzero = dir.join("too-few-nonzero.json");
+    std::fs::write(&too_few_nonzero, r#"{"count": 10, "nonzero": 2, "sums": [3.0, 3.0, 3.0, 3.0]}"#).unwrap();
     for (values, extra, needle) in [
         (&not_number, &[][..], "line 3: sample 2 = NaN: must be finite"),
-        (&nonsense_sums, &[][..], "not the power sums of real numbers"),
+        (&nonsense_sums, &[][..], "not the power sums of real numbers: (Σ L)² ≤ N·Σ L² must hold (N = count = 10"),
+        (&huge_fourth, &[][..], "with count = 10000: not the power sums of real numbers: Σ L⁴ ≤ (Σ L²)² must hold"),
+        (&huge_fourth_300, &[][..], "Σ L⁴ ≤ (Σ L²)² must hold, but its left side is 1.00000e300"),
+        (&too_many_nonzero, &[][..], "nonzero = 20: must be in [0, count = 10]"),
+        (
+            &too_few_nonzero,
+            &[][..],
+            "and nonzero = 2: not the power sums of real numbers: (Σ L)² ≤ N·Σ L² must hold (N = nonzero = 2)",
+        ),
         (&string_in_array, &[][..], "JSON array: invalid type: string"),
         (&long_line, &[][..], "line 1 is longer than 4096 bytes"),
         (&dir.join("missing.txt"), &[][..], "missing.txt"),

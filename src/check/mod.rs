@@ -18,5 +18,5 @@ mod samples;
 mod verdict;
 
 pub use predict::{predict, predict_with, Model, PredictError, Predicted, Prediction};
-pub use samples::{Measured, SampleError, Samples};
-pub use verdict::{check, CheckOptions, QuantityCheck, Verdict, CHECKS, MIN_SAMPLES};
+pub use samples::{Measured, SampleError, Samples, SumsInequality};
+pub use verdict::{check, CheckOptions, QuantityCheck, Ratio, Verdict, CHECKS, MIN_NONZERO, MIN_SAMPLES};

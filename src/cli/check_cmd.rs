@@ -24,13 +24,15 @@ pub struct CheckArgs<'a> {
 }
 
 /// Power sums as JSON: `{"count": M, "sums": [ΣL, ΣL², ΣL³, ΣL⁴]}`, with
-/// an optional bound on their relative error.
+/// an optional bound on their relative error and an optional count of the
+/// nonzero values (without it the check cannot tell sparse values).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SumsFile {
     count: u64,
     sums: [f64; 4],
     sums_relative_error: Option<f64>,
+    nonzero: Option<u64>,
 }
 
 /// Runs the check: `Ok` on pass; a failed verdict, printed on stdout, is
@@ -98,20 +100,30 @@ fn read_samples(path: &Path) -> Result<Samples, String> {
             reader.take(MAX_LINE).read_to_string(&mut text).map_err(io)?;
             let f: SumsFile =
                 serde_json::from_str(&text).map_err(|e| format!("--values {at}: power sums JSON: {e}"))?;
-            // The default bounds plain f64 summation, M·2⁻⁵³; past ~10¹³
-            // values that bound exceeds what the check accepts: say so.
+            // The default bounds plain f64 summation of M powers, each formed
+            // with at most 3 roundings: (M − 1)·2⁻⁵³ for the additions and
+            // 3·2⁻⁵³ for the terms, (M + 2)·2⁻⁵³ (the check's inequalities
+            // are tight for one nonzero value, where the terms' own rounding
+            // matters); past ~10¹³ values that bound exceeds what the check
+            // accepts: say so.
+            let plain = (f.count as f64 + 2.0) * f64::EPSILON / 2.0;
             let eps = match f.sums_relative_error {
                 Some(eps) => eps,
-                None if (f.count as f64) * f64::EPSILON / 2.0 < 1e-3 => f.count as f64 * f64::EPSILON / 2.0,
+                None if plain < 1e-3 => plain,
                 None => {
                     return Err(format!(
                         "--values {at}: count = {}: plain f64 sums of that many values may be off by more than 10⁻³ \
-                         relative; give \"sums_relative_error\" (e.g. 2⁻⁵³ for compensated sums)",
+                         relative; give \"sums_relative_error\" (e.g. 4·2⁻⁵³ for compensated sums of powers formed by multiplication)",
                         f.count
                     ))
                 }
             };
-            Samples::from_power_sums(f.count, f.sums, eps).map_err(|e| format!("--values {at}: {e}"))
+            let samples =
+                Samples::from_power_sums(f.count, f.sums, eps).map_err(|e| format!("--values {at}: {e}"))?;
+            match f.nonzero {
+                Some(k) => samples.with_nonzero(k).map_err(|e| format!("--values {at}: {e}")),
+                None => Ok(samples),
+            }
         }
         Some(b'[') => {
             let mut samples = Samples::new();

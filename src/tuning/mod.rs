@@ -10,9 +10,10 @@
 //! - [`objective`]: RMSE = √(b(R)² + Var L/M) after the budget, M = T/τ;
 //! - [`search`]: the search over (q, N_F, N_B) at one R, explicit in them;
 //! - [`radii`]: the model and rates per radius, computed once;
-//! - [`optimize`] (here): the search over R, the comparisons (q = 1, the
-//!   cylinder limit, the scene's own parameters, the asymptotic rule's R,
-//!   N_B = 1) and the sensitivity of the optimum.
+//! - [`optimize`] (here): the search over R, the comparisons (q = 1,
+//!   several spheres per camera ray (q ≤ 1/2), the cylinder limit, the
+//!   scene's own parameters, the asymptotic rule's R, N_B = 1) and the
+//!   sensitivity of the optimum.
 //!
 //! Where the finite-sphere model does not cover the scene (scattered
 //! light), the bias is not predicted: R is held at the scene's and only
@@ -269,6 +270,12 @@ fn alternatives(
         name: "q = 1 (one sphere per camera ray, the standard method)".into(),
         scored: q1.ok_or_else(|| none("q = 1")),
         note: "R, N_F, N_B optimised with q held at 1".into(),
+    });
+    let several = fixed_r(cache, &Constraints { q_max: Some(0.5), ..free })?;
+    out.push(Alternative {
+        name: "several spheres per camera ray (q ≤ 1/2)".into(),
+        scored: several.ok_or_else(|| none("q ≤ 1/2")),
+        note: "R, q, N_F, N_B optimised with q at most 1/2 (at least two spheres per camera ray on average)".into(),
     });
     let cyl = fixed_r(cache, &Constraints { cylinder: true, ..free })?;
     out.push(Alternative {

@@ -39,6 +39,8 @@ pub struct Constraints {
     pub max_spheres: Option<f64>,
     /// q held at this value, if given (q = 1: the standard method).
     pub q: Option<f64>,
+    /// q at most this, if given (q ≤ 1/2: several spheres per camera ray).
+    pub q_max: Option<f64>,
     /// N_B held at this value, if given.
     pub camera_rays: Option<u64>,
     /// The cylinder limit q → 0: Var L at q = 0 (closed form) and the cost
@@ -51,7 +53,7 @@ pub struct Constraints {
 impl Constraints {
     /// Only the budget (and the memory limit, if given) constrain.
     pub fn free(budget: f64, max_spheres: Option<f64>) -> Constraints {
-        Constraints { budget, max_spheres, q: None, camera_rays: None, cylinder: false }
+        Constraints { budget, max_spheres, q: None, q_max: None, camera_rays: None, cylinder: false }
     }
 }
 
@@ -88,7 +90,7 @@ impl Radius {
         n_b: f64,
     ) -> Option<(Rmse, IterationCounts)> {
         let spheres = n_b / q;
-        let feasible = (MIN_Q..=1.0).contains(&q)
+        let feasible = (MIN_Q..=c.q_max.unwrap_or(1.0)).contains(&q)
             && (1.0..=mcrt_scene::limits::MAX_FORWARD_RAYS as f64).contains(&n_f)
             && (1.0..=mcrt_scene::limits::MAX_CAMERA_RAYS as f64).contains(&n_b)
             && spheres <= MAX_SPHERES.min(mcrt_scene::limits::MAX_SPHERES_PER_ITERATION)
@@ -150,7 +152,10 @@ impl Radius {
         let qs: Vec<f64> = match c.q {
             _ if c.cylinder => vec![1.0],
             Some(q) => vec![q],
-            None => (0..=48).map(|k| 10f64.powf(-6.0 * f64::from(48 - k) / 48.0)).collect(),
+            None => {
+                let top = c.q_max.unwrap_or(1.0);
+                (0..=48).map(|k| top * 10f64.powf(-6.0 * f64::from(48 - k) / 48.0)).filter(|q| *q >= MIN_Q).collect()
+            }
         };
         let nbs: Vec<u64> = match c.camera_rays {
             Some(n) => vec![n],
