@@ -259,8 +259,9 @@ pub const MIN_SAMPLES: u64 = 4;
 /// which a handful of values does not pin down (a low s² comes with a low
 /// standard error). With fewer than 100 nonzero values the normal
 /// approximation behind the z-tests is meaningless, whatever the number of
-/// zeros beside them.
-pub const MIN_NONZERO: u64 = 100;
+/// zeros beside them. The same rule as the reference tracer's (`compare`
+/// and `trace`), defined once there.
+pub const MIN_NONZERO: u64 = mcrt_reference::MIN_NONZERO_TRIALS;
 
 /// Checks a renderer's per-iteration values of one pixel against the
 /// prediction: z-scores of the mean and of Var L (Var's standard error from
