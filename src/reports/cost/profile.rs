@@ -109,6 +109,9 @@ pub(crate) fn section(s: &mut String) -> Result<(), String> {
             }
         }
         writeln!(s, "| total | {} | | |", super::target::duration(total)).unwrap();
+        if bits.is_none() {
+            writeln!(s, "\nWith scattered light the counts are the engine's deterministic ones: a value shared between integrals (source tables, Λ(ϑ), the mean's ⟨𝒞⟩ table) is counted at every use and its table's samples where they are built, so µs per evaluation is no per-call cost here; every integrand call is charged to the run's budget all the same.").unwrap();
+        }
     }
     writeln!(s).unwrap();
     writeln!(s, "{}", WHAT_STANDS_IN_THE_WAY).unwrap();
