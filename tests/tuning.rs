@@ -11,7 +11,7 @@ use mcrt_noise::tuning::cost::{CostTable, IterationCounts, Parameters};
 use mcrt_noise::tuning::objective::ModelAtRadius;
 use mcrt_noise::tuning::rates::Rates;
 use mcrt_noise::tuning::search::{Constraints, Radius};
-use mcrt_noise::tuning::{optimize, Options};
+use mcrt_noise::tuning::{optimize, sensitivity, Options};
 use mcrt_noise::Scene;
 
 fn scene(name: &str) -> Scene {
@@ -99,26 +99,33 @@ fn expected_counts_match_the_tracers_counters() {
 }
 
 /// The objective's Var L (explicit in q, N_F, N_B) is the oracle's at the
-/// scene's own parameters, within the bars, for both models.
+/// scene's own parameters, within the bars, for both models: the
+/// finite-sphere one (bias predicted) and, from the same report without
+/// it, the small-sphere one (bias not predicted).
 #[test]
 fn the_objectives_variance_is_the_oracles() {
     for name in ["point-isotropic", "point-hg-forward", "beam-isotropic"] {
         let s = scene(name);
         let report = run(&s, Precision::F64, None).unwrap();
-        let m = ModelAtRadius::from_report(&report);
-        let e = s.estimator;
-        let v = m.variance(e.q, e.forward_rays as f64, e.camera_rays as f64);
-        let want = report.prediction.variance;
-        assert!(
-            (v.value - want.value).abs() <= v.error + want.error + 1e-13 * want.value,
-            "{name}: {} ± {:e} vs {} ± {:e}",
-            v.value,
-            v.error,
-            want.value,
-            want.error
-        );
-        assert_eq!(m.model, "finite-sphere");
-        assert!(m.bias.is_some());
+        let mut small = report.clone();
+        small.finite = None;
+        for (r, model, want) in
+            [(&report, "finite-sphere", report.prediction.variance), (&small, "small-sphere", report.variance.exact)]
+        {
+            let m = ModelAtRadius::from_report(r);
+            let e = s.estimator;
+            let v = m.variance(e.q, e.forward_rays as f64, e.camera_rays as f64);
+            assert!(
+                (v.value - want.value).abs() <= v.error + want.error + 1e-13 * want.value,
+                "{name}, {model}: {} ± {:e} vs {} ± {:e}",
+                v.value,
+                v.error,
+                want.value,
+                want.error
+            );
+            assert_eq!(m.model, model);
+            assert_eq!(m.bias.is_some(), model == "finite-sphere");
+        }
     }
 }
 
@@ -180,17 +187,39 @@ fn the_optimum_beats_its_alternatives_and_its_parts_add_up() {
         }
     }
     let r = b.rmse;
-    assert!(
-        (r.relative.powi(2) - r.relative_bias.powi(2) - r.relative_noise.powi(2)).abs() <= 1e-12 * r.relative.powi(2)
-    );
-    assert!((r.iterations * r.seconds_per_iteration - 0.1).abs() <= 1e-12);
+    let bias = r.relative_bias.unwrap();
+    assert!((r.relative.powi(2) - bias.powi(2) - r.relative_noise.powi(2)).abs() <= 1e-12 * r.relative.powi(2));
+    // M whole iterations fit in T, M + 1 do not.
+    let m = r.iterations as f64;
+    assert!(m >= 1.0 && m * r.seconds_per_iteration <= 0.1 && (m + 1.0) * r.seconds_per_iteration > 0.1, "{r:?}");
+    // Each sensitivity range: its ends within 10 % of the best, and the
+    // scan's next step beyond an end that is not a bound, outside.
     let sens = o.sensitivity;
     let p = b.parameters;
-    assert!(sens.q.lo <= p.q && p.q <= sens.q.hi);
+    let at = o.radii.iter().find(|x| x.model.radius == p.radius).unwrap();
+    let c = Constraints::free(0.1, None);
+    let score = |p: Parameters| at.scored_at(&s, &costs(), &c, &p).map_or(f64::INFINITY, |x| x.rmse.relative);
+    let limit = 1.1 * r.relative;
+    let q = sens.q;
+    assert!(score(Parameters { q: q.lo, ..p }) <= limit && score(Parameters { q: q.hi, ..p }) <= limit, "{q:?}");
+    if !q.lo_at_bound {
+        assert!(score(Parameters { q: q.lo / sensitivity::q_step(), ..p }) > limit, "{q:?}");
+    }
+    let with_n_f = |p: Parameters, v: f64| Parameters { forward_rays: v as u64, ..p };
+    let with_n_b = |p: Parameters, v: f64| Parameters { camera_rays: v as u64, ..p };
+    for (range, set) in
+        [(sens.forward_rays, &with_n_f as &dyn Fn(Parameters, f64) -> Parameters), (sens.camera_rays, &with_n_b)]
+    {
+        assert!(score(set(p, range.lo)) <= limit && score(set(p, range.hi)) <= limit, "{range:?}");
+        if !range.hi_at_bound {
+            assert!(score(set(p, sensitivity::count_up(range.hi))) > limit, "{range:?}");
+        }
+        if !range.lo_at_bound {
+            assert!(score(set(p, sensitivity::count_down(range.lo))) > limit, "{range:?}");
+        }
+    }
     let rr = sens.radius.unwrap();
     assert!(rr.lo <= p.radius && p.radius <= rr.hi);
-    assert!(sens.forward_rays.lo <= p.forward_rays as f64 && p.forward_rays as f64 <= sens.forward_rays.hi);
-    assert!(sens.camera_rays.lo <= p.camera_rays as f64 && p.camera_rays as f64 <= sens.camera_rays.hi);
     // The scene's own parameters are among the alternatives, at its R.
     let own = o.alternatives.iter().find(|a| a.name.contains("own")).unwrap().scored.as_ref().unwrap();
     assert_eq!(own.parameters, Parameters::of(&s));
@@ -218,7 +247,15 @@ fn with_scattered_light_the_radius_is_held_and_the_bias_not_predicted() {
     let o = optimize(&s, &Options::new(0.1, costs())).unwrap();
     assert!(!o.bias_predicted && o.model == "small-sphere");
     assert_eq!(o.best.parameters.radius, s.estimator.radius);
-    assert_eq!(o.best.rmse.relative_bias, 0.0);
+    assert_eq!(o.best.rmse.relative_bias, None);
     assert!(o.sensitivity.radius.is_none());
     assert!(o.alternatives.iter().all(|a| !a.name.contains("asymptotic")));
+}
+
+/// A budget below one iteration is refused before any search, naming
+/// `--budget` and the least budget that fits one iteration.
+#[test]
+fn a_budget_below_one_iteration_names_the_least_that_fits() {
+    let err = optimize(&scene("point-isotropic"), &Options::new(1e-9, costs())).unwrap_err().to_string();
+    assert!(err.contains("--budget 0.000000001") && err.contains("at least one iteration"), "{err}");
 }

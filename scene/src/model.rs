@@ -27,7 +27,7 @@ pub struct Scene {
 /// cost of an iteration, per forward ray, per camera ray, per forward
 /// segment, per integration sphere, per unit of S log₂ S for sorting the S
 /// spheres of an iteration, per searching segment and unit of log₂(1 + S),
-/// per hit, per Henyey–Greenstein evaluation.
+/// per hit, and per hit in a Henyey–Greenstein medium (its phase function evaluated).
 pub const COST_KEYS: [&str; 9] = [
     "trial_ns",
     "forward_ray_ns",

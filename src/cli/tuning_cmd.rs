@@ -94,13 +94,32 @@ fn write_svg(dir: &Path, name: &str, svg: &str) -> Result<(), CliError> {
     std::fs::write(&path, svg).map_err(|e| CliError::usage(format!("--maps {}: {e}", path.display())))
 }
 
+/// `calibrate --out`: writable (checked without truncating it: a failed
+/// calibration must not destroy an existing costs file) and not in the
+/// scenes directory the calibration reads.
+fn check_out(path: &Path, scenes: &Path) -> Result<(), CliError> {
+    let bad = |why: String| CliError::usage(format!("--out {}: {why}", path.display()));
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let (dir, scenes) = (dir.canonicalize().map_err(|e| bad(e.to_string()))?, scenes.canonicalize().ok());
+    if scenes.is_some_and(|s| dir.starts_with(s)) {
+        return Err(bad("is inside the scenes directory the calibration reads; write it elsewhere".into()));
+    }
+    if path.exists() {
+        std::fs::OpenOptions::new().append(true).open(path).map_err(|e| bad(e.to_string()))?;
+    } else {
+        std::fs::File::create(path).map_err(|e| bad(e.to_string()))?;
+        std::fs::remove_file(path).map_err(|e| bad(e.to_string()))?;
+    }
+    Ok(())
+}
+
 /// `calibrate`.
 pub fn calibrate_cmd(scenes: &Path, seconds: f64, out: Option<&Path>, json: bool) -> Result<(), CliError> {
     if !(seconds.is_finite() && (0.05..=600.0).contains(&seconds)) {
         return Err(CliError::usage(format!("--seconds {seconds}: must be in [0.05, 600] seconds per case")));
     }
     if let Some(path) = out {
-        std::fs::write(path, "").map_err(|e| CliError::usage(format!("--out {}: {e}", path.display())))?;
+        check_out(path, scenes)?;
     }
     let source = format!(
         "calibrated by `mcrt-noise calibrate` on this machine ({} cores available, one thread timed), {} s per case",

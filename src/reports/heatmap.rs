@@ -38,6 +38,9 @@ pub fn svg(title: &str, map: &Map) -> String {
     let lx = |x: f64| (x.log10() - map.x[0].log10()) / (map.x[nx - 1].log10() - map.x[0].log10());
     let ly = |y: f64| (y.log10() - map.y[0].log10()) / (map.y[ny - 1].log10() - map.y[0].log10());
     let (dw, dh) = (cell_w / nx as f64, cell_h / ny as f64);
+    // Cell i is centred on x[i]: a position's pixel is at (t(n − 1) + ½) cells.
+    let px = |x: f64| left + (lx(x) * (nx - 1) as f64 + 0.5) * dw;
+    let py = |y: f64| top + cell_h - (ly(y) * (ny - 1) as f64 + 0.5) * dh;
     let mut s = String::new();
     writeln!(s, r##"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="12">"##).unwrap();
     writeln!(s, r##"<defs><pattern id="none" width="6" height="6" patternUnits="userSpaceOnUse"><rect width="6" height="6" fill="#eee"/><path d="M0 6 L6 0" stroke="#bbb"/></pattern></defs>"##).unwrap();
@@ -72,11 +75,11 @@ pub fn svg(title: &str, map: &Map) -> String {
     // Axes in decades.
     let decades = |a: f64, b: f64| (a.log10().ceil() as i32..=b.log10().floor() as i32).collect::<Vec<_>>();
     for d in decades(map.x[0], map.x[nx - 1]) {
-        let x = left + cell_w * lx(10f64.powi(d));
+        let x = px(10f64.powi(d));
         writeln!(s, r##"<line x1="{x:.2}" y1="{}" x2="{x:.2}" y2="{}" stroke="black"/><text x="{x:.2}" y="{}" text-anchor="middle">1e{d}</text>"##, top + cell_h, top + cell_h + 5.0, top + cell_h + 18.0).unwrap();
     }
     for d in decades(map.y[0], map.y[ny - 1]) {
-        let y = top + cell_h * (1.0 - ly(10f64.powi(d)));
+        let y = py(10f64.powi(d));
         writeln!(s, r##"<line x1="{}" y1="{y:.2}" x2="{left}" y2="{y:.2}" stroke="black"/><text x="{}" y="{:.2}" text-anchor="end">1e{d}</text>"##, left - 5.0, left - 8.0, y + 4.0).unwrap();
     }
     writeln!(

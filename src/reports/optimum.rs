@@ -13,18 +13,23 @@ fn line(s: &Scored, q_shown: Option<&str>) -> String {
     let p = s.parameters;
     let r = s.rmse;
     let q = q_shown.map_or_else(|| fmt_q(p.q), str::to_string);
+    let bias = match (r.relative_bias, r.relative_bias_error) {
+        (Some(b), Some(e)) => format!("bias {b:.3e} ± {e:.1e}"),
+        _ => "bias not predicted".to_string(),
+    };
     format!(
-        "q = {:<9} R = {:<10} N_F = {:<9} N_B = {:<7} rel. RMSE {:.4e} ± {:.1e} (bias {:.3e}, noise {:.3e}; M = {:.4e} iterations of {:.4e} s)",
+        "q = {:<9} R = {:<10} N_F = {:<9} N_B = {:<7} rel. RMSE {:.4e} ± {:.1e} ({bias}, noise {:.3e} ± {:.1e}; M = {} iterations of {:.4e} ± {:.1e} s)",
         q,
         format!("{:.4e}", p.radius),
         p.forward_rays,
         p.camera_rays,
         r.relative,
         r.error,
-        r.relative_bias,
         r.relative_noise,
+        r.relative_noise_error,
         r.iterations,
-        r.seconds_per_iteration
+        r.seconds_per_iteration,
+        r.seconds_per_iteration_error
     )
 }
 
@@ -54,7 +59,7 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
     } else {
         writeln!(s, "model: small-sphere (the scene has scattered light, which the finite-sphere model does not cover): the bias is NOT predicted, so R is held at the scene's {} and only q, N_F, N_B are chosen, for the noise alone", o.radius_range.0).unwrap();
     }
-    writeln!(s, "RMSE = √(bias² + Var L/M)/μ(0), M = T/τ; the bars are the quadrature's and the cost fit's standard errors (the cost model's own accuracy: docs/choosing-parameters.md)").unwrap();
+    writeln!(s, "RMSE = √(bias² + Var L/M)/μ(0), M = ⌊T/τ⌋; the bars are the quadrature's and the time's standard errors (the cost fit's and the rates'; the cost model's own accuracy: docs/choosing-parameters.md)").unwrap();
     writeln!(s).unwrap();
     writeln!(s, "best: {}", line(&o.best, None)).unwrap();
     writeln!(s).unwrap();
@@ -78,7 +83,7 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
         )
         .unwrap();
     }
-    writeln!(s, "\nsensitivity: each parameter's range with RMSE within 10 % of the best, the others at the optimum:")
+    writeln!(s, "\nsensitivity: each parameter's contiguous range around the optimum with RMSE within 10 % of the best, the others at the optimum:")
         .unwrap();
     writeln!(s, "{}", range("q", &o.sensitivity.q, false)).unwrap();
     match &o.sensitivity.radius {

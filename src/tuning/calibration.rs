@@ -53,7 +53,9 @@ impl Measurement {
             expected_s_log2_s(self.camera_rays as f64, self.q),
             c.candidate_tests as f64 / t * (1.0 + self.camera_rays as f64 / self.q).log2(),
             c.hits as f64 / t,
-            c.hg_evaluations as f64 / t,
+            // The model's HG cost is per hit in such a medium (the tracer
+            // evaluates f once per hitting segment; a renderer may per hit).
+            if self.hg { c.hits as f64 / t } else { 0.0 },
         ]
     }
 }
@@ -76,8 +78,9 @@ const NAMES: [&str; OPERATIONS] = mcrt_scene::COST_KEYS;
 /// Fits the costs to `runs`; `source` names the machine and date.
 /// Needs more runs than free costs.
 pub fn fit(runs: &[Measurement], source: String) -> Result<Fit, String> {
-    let mut active: Vec<usize> = (0..8).filter(|&j| runs.iter().any(|r| r.counts_per_iteration()[j] > 0.0)).collect();
-    let mut held: Vec<&'static str> = (0..8).filter(|j| !active.contains(j)).map(|j| NAMES[j]).collect();
+    let mut active: Vec<usize> =
+        (0..OPERATIONS).filter(|&j| runs.iter().any(|r| r.counts_per_iteration()[j] > 0.0)).collect();
+    let mut held: Vec<&'static str> = (0..OPERATIONS).filter(|j| !active.contains(j)).map(|j| NAMES[j]).collect();
     loop {
         let (n, p) = (runs.len(), active.len());
         if n <= p {

@@ -9,11 +9,13 @@
 //! rays are emitted and walked segment by segment, every segment whose line
 //! passes within R of the camera line searches the sorted centres (two
 //! binary searches, ~2 log₂ S comparisons), and every hit adds a
-//! contribution (a phase-function evaluation). So
+//! contribution (in a Henyey–Greenstein medium with a phase-function
+//! evaluation of its own, costed per hit: the tracer evaluates f once per
+//! hitting segment, a renderer may once per hit). So
 //!
 //! ```text
 //! τ = c_trial + c_ray N_F + c_camera N_B + c_segment N_F ν + c_sphere N_B/q + c_sort E[S log₂ S]
-//!     + c_search N_F ν p_c(R) log₂(1 + N_B/q) + c_hit N_F N_B h(R)/q
+//!     + c_search N_F ν p_c(R) log₂(1 + N_B/q) + (c_hit + c_HG) N_F N_B h(R)/q
 //! ```
 //!
 //! with ν the expected segments of one forward ray, p_c(R) the probability
@@ -34,7 +36,7 @@ pub const OPERATIONS: usize = mcrt_scene::COST_KEYS.len();
 /// costs given by hand), in the order of [`mcrt_scene::COST_KEYS`] and
 /// [`IterationCounts::as_array`]: per iteration, forward ray, camera ray,
 /// forward segment, sphere, unit of S log₂ S (sorting), searching segment
-/// and unit of log₂(1 + S), hit, Henyey–Greenstein evaluation.
+/// and unit of log₂(1 + S), hit, hit in a Henyey–Greenstein medium.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CostTable {
     /// The operations' names (`trial_ns`, …), for reports.
@@ -129,7 +131,8 @@ pub struct IterationCounts {
     pub search_work: f64,
     /// N_F N_B h(R)/q.
     pub hits: f64,
-    /// Henyey–Greenstein evaluations: the hits in such a medium, else 0.
+    /// Hits in a Henyey–Greenstein medium (the extra cost of evaluating
+    /// its phase function for a contribution), else 0.
     pub hg_evaluations: f64,
 }
 

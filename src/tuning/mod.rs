@@ -10,6 +10,9 @@
 //! - [`objective`]: RMSE = √(b(R)² + Var L/M) after the budget, M = T/τ;
 //! - [`search`]: the search over (q, N_F, N_B) at one R, explicit in them;
 //! - [`radii`]: the model and rates per radius, computed once;
+//! - [`alternatives`]: the comparisons beside the optimum;
+//! - [`sensitivity`]: each parameter's range within 10 % of the best;
+//! - [`maps`]: the RMSE over (q, R) and (q, N_B/N_F);
 //! - [`optimize`] (here): the search over R, the comparisons (q = 1,
 //!   several spheres per camera ray (q ≤ 1/2), the cylinder limit, the
 //!   scene's own parameters, the asymptotic rule's R, N_B = 1) and the
@@ -19,6 +22,7 @@
 //! light), the bias is not predicted: R is held at the scene's and only
 //! (q, N_F, N_B) are chosen, for the noise alone.
 
+pub mod alternatives;
 pub mod calibration;
 pub mod cost;
 pub mod maps;
@@ -31,7 +35,7 @@ pub mod sensitivity;
 
 use crate::model::OracleError;
 use crate::quad::Budget;
-use cost::{CostTable, Parameters};
+use cost::{CostTable, IterationCounts};
 use mcrt_scene::Scene;
 use radii::RadiusCache;
 use search::{golden, Constraints, Radius, Scored};
@@ -145,6 +149,15 @@ pub fn optimize(scene: &Scene, opts: &Options) -> Result<Optimum, TuningError> {
 pub fn optimize_with(scene: &Scene, opts: &Options, cache: &mut RadiusCache) -> Result<Optimum, TuningError> {
     check_options(opts)?;
     let own = cache.at(scene.estimator.radius)?;
+    // Not one iteration in the budget: say so before any search.
+    let least = IterationCounts::predict(scene, &own.rates, 1.0, 1.0, 1.0);
+    let tau_min = opts.costs.seconds(&least).0;
+    if tau_min > opts.budget {
+        return Err(TuningError::Option(format!(
+            "--budget {}: must be at least one iteration, {tau_min:.3e} s with N_F = N_B = 1, q = 1 at these costs",
+            opts.budget
+        )));
+    }
     let bias_predicted = own.model.bias.is_some();
     let sigma = scene.medium.sigma_ext;
     let range = opts.radius_range.unwrap_or((1e-3 / sigma, 0.5 / sigma));
@@ -154,8 +167,8 @@ pub fn optimize_with(scene: &Scene, opts: &Options, cache: &mut RadiusCache) -> 
     } else {
         own.best(scene, &opts.costs, &free).ok_or_else(|| infeasible(opts, scene))?
     };
-    let alternatives = alternatives(scene, opts, cache, &best, range, bias_predicted)?;
-    let sensitivity = sensitivity::of(scene, opts, cache, &best, bias_predicted)?;
+    let alternatives = alternatives::alternatives(scene, opts, cache, &best, range, bias_predicted)?;
+    let sensitivity = sensitivity::of(scene, opts, cache, &best, bias_predicted, range)?;
     Ok(Optimum {
         model: own.model.model,
         bias_predicted,
@@ -197,7 +210,7 @@ fn infeasible(opts: &Options, scene: &Scene) -> TuningError {
 
 /// The best point over R: a grid of 4 radii per decade over `range`, then
 /// golden section on log R around the best grid point.
-fn best_over_radii(
+pub(crate) fn best_over_radii(
     scene: &Scene,
     opts: &Options,
     cache: &mut RadiusCache,
@@ -240,116 +253,4 @@ fn best_over_radii(
         Some(s) if s.rmse.relative < best.rmse.relative => s,
         _ => best,
     })
-}
-
-/// The comparisons: q = 1, the cylinder limit, the scene's own parameters,
-/// the asymptotic rule's R, N_B = 1.
-fn alternatives(
-    scene: &Scene,
-    opts: &Options,
-    cache: &mut RadiusCache,
-    best: &Scored,
-    range: (f64, f64),
-    bias_predicted: bool,
-) -> Result<Vec<Alternative>, TuningError> {
-    let free = Constraints::free(opts.budget, opts.max_spheres);
-    let fixed_r = |cache: &mut RadiusCache, c: &Constraints| -> Result<Option<Scored>, TuningError> {
-        if bias_predicted {
-            best_over_radii(scene, opts, cache, c, range).map(Some).or_else(|e| match e {
-                TuningError::Infeasible(_) => Ok(None),
-                e => Err(e),
-            })
-        } else {
-            Ok(cache.at(scene.estimator.radius)?.best(scene, &opts.costs, c))
-        }
-    };
-    let none = |what: &str| format!("no {what} parameters fit the budget");
-    let mut out = Vec::new();
-    let q1 = fixed_r(cache, &Constraints { q: Some(1.0), ..free })?;
-    out.push(Alternative {
-        name: "q = 1 (one sphere per camera ray, the standard method)".into(),
-        scored: q1.ok_or_else(|| none("q = 1")),
-        note: "R, N_F, N_B optimised with q held at 1".into(),
-    });
-    let several = fixed_r(cache, &Constraints { q_max: Some(0.5), ..free })?;
-    out.push(Alternative {
-        name: "several spheres per camera ray (q ≤ 1/2)".into(),
-        scored: several.ok_or_else(|| none("q ≤ 1/2")),
-        note: "R, q, N_F, N_B optimised with q at most 1/2 (at least two spheres per camera ray on average)".into(),
-    });
-    let cyl = fixed_r(cache, &Constraints { cylinder: true, ..free })?;
-    out.push(Alternative {
-        name: "q → 0 (the cylinder limit)".into(),
-        scored: cyl.ok_or_else(|| none("cylinder")),
-        note: "Var L at q = 0 in closed form ((7)–(9) with q = 0); cost of one integration volume per camera \
-               ray and one contribution per crossing segment (the sphere method itself would need 1/q → ∞ \
-               spheres); R, N_F, N_B optimised"
-            .into(),
-    });
-    let own = Parameters::of(scene);
-    let at_own = cache.at(own.radius)?;
-    out.push(Alternative {
-        name: "the scene's own parameters".into(),
-        scored: at_own
-            .scored_at(scene, &opts.costs, &free, &own)
-            .ok_or_else(|| "the scene's own parameters do not fit the budget".to_string()),
-        note: format!("q = {}, R = {}, N_F = {}, N_B = {}", own.q, own.radius, own.forward_rays, own.camera_rays),
-    });
-    if bias_predicted {
-        out.push(asymptotic_rule(scene, opts, cache, best, range)?);
-    }
-    let nb1 = fixed_r(cache, &Constraints { camera_rays: Some(1), ..free })?;
-    out.push(Alternative {
-        name: "N_B = 1 (one camera ray per iteration)".into(),
-        scored: nb1.ok_or_else(|| none("N_B = 1")),
-        note: "R, q, N_F optimised with N_B held at 1".into(),
-    });
-    Ok(out)
-}
-
-/// The R an asymptotic rule picks (bias ≈ b₂R², noise ≈ V₂/R²): with b₂ =
-/// b(R_lo)/R_lo² at the smallest radius searched and V₂ = q M₂R²/(N_F N_B)
-/// (the small-sphere M₂ ∝ 1/R²) at the optimum's q, N_F, N_B, τ and T,
-/// RMSE² ≈ b₂²R⁴ + V₂τ/(R²T) is least at R⁶ = V₂τ/(2b₂²T). Scored by the
-/// exact model with the optimum's other parameters.
-fn asymptotic_rule(
-    scene: &Scene,
-    opts: &Options,
-    cache: &mut RadiusCache,
-    best: &Scored,
-    range: (f64, f64),
-) -> Result<Alternative, TuningError> {
-    let small = cache.at(range.0)?;
-    let b2 = small.model.bias.map_or(0.0, |b| b.value) / (range.0 * range.0);
-    let p = best.parameters;
-    // The small-sphere M₂ ∝ 1/R²: M₂R² is the same at every radius.
-    let m2_r2 = small.model.small_sphere_m2.value * range.0 * range.0;
-    let v2 = p.q * m2_r2 / (p.forward_rays as f64 * p.camera_rays as f64);
-    let r6 = v2 * best.rmse.seconds_per_iteration / (2.0 * b2 * b2 * opts.budget);
-    let r = r6.powf(1.0 / 6.0);
-    let name = "R of the asymptotic rule (bias ∝ R², noise ∝ 1/R²)".to_string();
-    if !(r.is_finite() && r > 0.0) {
-        return Ok(Alternative { name, scored: Err(format!("b₂ = {b2:e}: no finite R")), note: String::new() });
-    }
-    let at = cache.at(r)?;
-    let params = Parameters { radius: r, ..p };
-    Ok(Alternative {
-        name,
-        scored: at
-            .scored_at(scene, &opts.costs, &Constraints::free(opts.budget, opts.max_spheres), &params)
-            .ok_or_else(|| format!("R = {r:e} does not fit the budget")),
-        note: format!(
-            "R = (V₂τ/(2b₂²T))^(1/6) = {r:.4e} with b₂ = {b2:.4e} (b(R)/R² at R = {:.1e}) and V₂ = {v2:.4e}; \
-             q, N_F, N_B the optimum's",
-            range.0
-        ),
-    })
-}
-
-impl Radius {
-    /// The score of exactly `p` (its R must be this radius').
-    pub fn scored_at(&self, scene: &Scene, costs: &CostTable, c: &Constraints, p: &Parameters) -> Option<Scored> {
-        let (rmse, counts) = self.score(scene, costs, c, p.q, p.forward_rays as f64, p.camera_rays as f64)?;
-        Some(Scored { parameters: Parameters { radius: self.model.radius, ..*p }, rmse, counts })
-    }
 }

@@ -111,41 +111,55 @@ impl ModelAtRadius {
 pub struct Rmse {
     /// √(b² + Var/M)/μ(0), the relative RMSE.
     pub relative: f64,
-    /// Its bar: the integrals' bars and the cost model's standard error
-    /// carried through (the cost model's own error, validated in
-    /// docs/choosing-parameters.md, is not in it).
+    /// Its bar: the integrals' bars and the time's standard error (the
+    /// costs' and the rates') carried through (the cost model's own error,
+    /// validated in docs/choosing-parameters.md, is not in it).
     pub error: f64,
-    /// |b(R)|/μ(0) (0 where the bias is not predicted).
-    pub relative_bias: f64,
+    /// |b(R)|/μ(0); `None` where the bias is not predicted.
+    pub relative_bias: Option<f64>,
+    /// Its bar (the integrals').
+    pub relative_bias_error: Option<f64>,
     /// √(Var L/M)/μ(0).
     pub relative_noise: f64,
-    /// M = T/τ, iterations in the budget.
-    pub iterations: f64,
+    /// Its bar: Var L's and the time's.
+    pub relative_noise_error: f64,
+    /// M = ⌊T/τ⌋, the whole iterations in the budget (≥ 1).
+    pub iterations: u64,
     /// τ, predicted seconds per iteration.
     pub seconds_per_iteration: f64,
+    /// Its standard error (costs and rates).
+    pub seconds_per_iteration_error: f64,
 }
 
 impl Rmse {
     /// The RMSE of `model` with Var L = `variance` after `budget` seconds at
-    /// `tau` = (seconds per iteration, its standard error).
-    pub fn of(model: &ModelAtRadius, variance: ValueWithBar, tau: (f64, f64), budget: f64) -> Rmse {
+    /// `tau` = (seconds per iteration, its standard error); `None` if not
+    /// one whole iteration fits.
+    pub fn of(model: &ModelAtRadius, variance: ValueWithBar, tau: (f64, f64), budget: f64) -> Option<Rmse> {
         let mu0 = model.mean_at_zero.value;
-        let m = budget / tau.0;
-        let b = model.bias.map_or(0.0, |b| b.value);
-        let noise2 = variance.value / m;
-        let total = (b * b + noise2).max(0.0).sqrt();
-        // d(total²) = 2b db + dVar/M + Var dτ/T.
-        let d_total2 =
-            2.0 * b.abs() * model.bias.map_or(0.0, |b| b.error) + variance.error / m + variance.value * tau.1 / budget;
-        let error = if total > 0.0 { d_total2 / (2.0 * total) } else { f64::INFINITY };
-        let rel_mu = model.mean_at_zero.error / mu0;
-        Rmse {
-            relative: total / mu0,
-            error: error / mu0 + total / mu0 * rel_mu,
-            relative_bias: b.abs() / mu0,
-            relative_noise: noise2.max(0.0).sqrt() / mu0,
-            iterations: m,
-            seconds_per_iteration: tau.0,
+        let whole = (budget / tau.0).floor();
+        if !(whole >= 1.0 && whole.is_finite()) {
+            return None;
         }
+        let m = whole;
+        let b = model.bias.map_or(0.0, |b| b.value);
+        let noise2 = variance.value.max(0.0) / m;
+        let total = (b * b + noise2).sqrt();
+        // d(noise²) = dVar/M + noise²·dτ/τ (M ∝ 1/τ, continuous); d(total²) = 2|b| db + d(noise²).
+        let d_noise2 = variance.error / m + noise2 * tau.1 / tau.0;
+        let d_total2 = 2.0 * b.abs() * model.bias.map_or(0.0, |b| b.error) + d_noise2;
+        let rel_mu = model.mean_at_zero.error / mu0;
+        let half = |v: f64, dv: f64| if v > 0.0 { dv / (2.0 * v.sqrt()) } else { dv.sqrt() };
+        Some(Rmse {
+            relative: total / mu0,
+            error: half(total * total, d_total2) / mu0 + total / mu0 * rel_mu,
+            relative_bias: model.bias.map(|_| b.abs() / mu0),
+            relative_bias_error: model.bias.map(|e| e.error / mu0 + b.abs() / mu0 * rel_mu),
+            relative_noise: noise2.sqrt() / mu0,
+            relative_noise_error: half(noise2, d_noise2) / mu0 + noise2.sqrt() / mu0 * rel_mu,
+            iterations: m as u64,
+            seconds_per_iteration: tau.0,
+            seconds_per_iteration_error: tau.1,
+        })
     }
 }

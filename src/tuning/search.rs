@@ -8,8 +8,10 @@
 //! evaluated. (q, N_B) run over a grid (log-spaced q with q = 1, integer N_B
 //! log-spaced), and the best point is refined: q by golden section between
 //! its grid neighbours, N_B over its integer neighbourhood. Only R needs new
-//! integrals (`Radius`), so it is searched over a log grid and refined by
-//! golden section on log R.
+//! integrals (and a pilot walk for the rates, `Radius`), so it is searched
+//! over a log grid and refined by golden section on log R. M = ⌊T/τ⌋ whole
+//! iterations: besides the integers around N_F*, the largest N_F that keeps
+//! its number of iterations (and one more) is tried.
 //!
 //! Bounds: the scene's (q ≥ 10⁻⁶, N_F ≤ 10⁸, N_B ≤ 10⁶) and the reference
 //! tracer's (≤ 2²⁰ spheres and ≤ 2²⁴ segments per iteration), so that
@@ -100,12 +102,37 @@ impl Radius {
             return None;
         }
         let counts = self.counts(scene, c, q, n_f, n_b);
-        let tau = costs.seconds(&counts);
+        let tau = self.seconds(scene, costs, c, &counts, q, n_f, n_b);
         if !(tau.0 > 0.0 && tau.0 <= c.budget) {
             return None;
         }
         let var = self.model.variance(if c.cylinder { 0.0 } else { q }, n_f, n_b);
-        Some((Rmse::of(&self.model, var, tau, c.budget), counts))
+        Some((Rmse::of(&self.model, var, tau, c.budget)?, counts))
+    }
+
+    /// τ and its standard error: the costs' (`CostTable::seconds`) and the
+    /// rates' sampling errors, added in quadrature (τ is linear in each rate).
+    #[allow(clippy::too_many_arguments)]
+    fn seconds(
+        &self,
+        scene: &Scene,
+        costs: &CostTable,
+        c: &Constraints,
+        counts: &IterationCounts,
+        q: f64,
+        n_f: f64,
+        n_b: f64,
+    ) -> (f64, f64) {
+        let (t, e) = costs.seconds(counts);
+        let shifted = |pc: f64, h: f64| {
+            let mut r = *self;
+            r.rates.candidate_fraction.value += pc;
+            r.rates.hit_measure.value += h;
+            costs.seconds(&r.counts(scene, c, q, n_f, n_b)).0 - t
+        };
+        let d_pc = shifted(self.rates.candidate_fraction.error, 0.0);
+        let d_h = shifted(0.0, self.rates.hit_measure.error);
+        (t, (e * e + d_pc * d_pc + d_h * d_h).sqrt())
     }
 
     /// The expected counts of one iteration (the cylinder's when `c.cylinder`).
@@ -122,6 +149,12 @@ impl Radius {
         counts
     }
 
+    /// The score of exactly `p` (its R must be this radius').
+    pub fn scored_at(&self, scene: &Scene, costs: &CostTable, c: &Constraints, p: &Parameters) -> Option<Scored> {
+        let (rmse, counts) = self.score(scene, costs, c, p.q, p.forward_rays as f64, p.camera_rays as f64)?;
+        Some(Scored { parameters: Parameters { radius: self.model.radius, ..*p }, rmse, counts })
+    }
+
     /// The scored integer point (q, N_F, N_B) at this radius.
     fn scored(&self, scene: &Scene, costs: &CostTable, c: &Constraints, q: f64, n_f: u64, n_b: u64) -> Option<Scored> {
         let (rmse, counts) = self.score(scene, costs, c, q, n_f as f64, n_b as f64)?;
@@ -132,15 +165,21 @@ impl Radius {
     /// The best N_F for (q, N_B): the integers around N_F* (and the largest
     /// N_F that fits the budget when N_F* does not).
     fn best_n_f(&self, scene: &Scene, costs: &CostTable, c: &Constraints, q: f64, n_b: u64) -> Option<Scored> {
-        // Var = X + Y/N_F and τ = U + V N_F, read off at N_F = 1 and 2.
-        let var = |n_f: f64| self.model.variance(q, n_f, n_b as f64).value;
+        // Var = X + Y/N_F and τ = U + V N_F, read off at N_F = 1 and 2
+        // (Var at q = 0 in the cylinder limit, as `score` has it).
+        let q_var = if c.cylinder { 0.0 } else { q };
+        let var = |n_f: f64| self.model.variance(q_var, n_f, n_b as f64).value;
         let tau = |n_f: f64| costs.seconds(&self.counts(scene, c, q, n_f, n_b as f64)).0;
         let (y, x) = (2.0 * (var(1.0) - var(2.0)), 2.0 * var(2.0) - var(1.0));
         let (v, u) = (tau(2.0) - tau(1.0), 2.0 * tau(1.0) - tau(2.0));
         let cap = ((c.budget - u) / v).min(MAX_SEGMENTS / self.rates.segments_per_ray).max(1.0);
         let star = if x > 0.0 && y > 0.0 && u > 0.0 && v > 0.0 { (y * u / (x * v)).sqrt() } else { cap };
         let star = star.clamp(1.0, cap.min(mcrt_scene::limits::MAX_FORWARD_RAYS as f64));
-        [star.floor(), star.ceil(), cap.floor()]
+        // M = ⌊T/τ⌋ whole iterations: also the largest N_F that keeps the
+        // count of iterations at N_F*'s, and one more iteration.
+        let k = (c.budget / (u + v * star)).floor().max(1.0);
+        let fits = |k: f64| ((c.budget / k - u) / v).floor();
+        [star.floor(), star.ceil(), cap.floor(), fits(k), fits(k + 1.0)]
             .into_iter()
             .filter(|n| *n >= 1.0)
             .filter_map(|n| self.scored(scene, costs, c, q, n as u64, n_b))

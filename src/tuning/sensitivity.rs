@@ -1,9 +1,10 @@
 //! How fast the RMSE degrades away from the optimum: for each parameter,
 //! the range over which the RMSE stays within 10 % of the best with the
 //! other three held at the optimum (renderers choose round numbers).
-//! Scanned on a fine log grid (q and R: 1/64 decade; N_F, N_B: every
-//! integer up to 64, then ~1.5 % steps) outwards from the optimum until the
-//! RMSE exceeds 1.1 × best or the bound is reached.
+//! Scanned on a fine log grid (q: 1/64 decade; R: 1/32 decade, within the
+//! radii searched; N_F, N_B: every integer up to 64, then ~1.5 % steps)
+//! outwards from the optimum until the RMSE exceeds 1.1 × best or the bound
+//! is reached.
 
 use super::cost::Parameters;
 use super::radii::RadiusCache;
@@ -14,6 +15,31 @@ use serde::Serialize;
 
 /// RMSE within this factor of the best counts as "near the optimum".
 pub const TOLERANCE: f64 = 1.1;
+
+/// The scan's step in q (a factor; 1/64 decade).
+pub fn q_step() -> f64 {
+    10f64.powf(1.0 / 64.0)
+}
+
+/// The next count above `v` the scan visits (+1 up to 64, then +1.5 %).
+/// Ranges are contiguous from the optimum: with M = ⌊T/τ⌋ the RMSE jumps
+/// as M steps down, so it may dip below the tolerance again further out.
+pub fn count_up(v: f64) -> f64 {
+    if v < 64.0 {
+        v + 1.0
+    } else {
+        (v * 1.015).ceil()
+    }
+}
+
+/// The next count below `v` the scan visits.
+pub fn count_down(v: f64) -> f64 {
+    if v <= 64.0 {
+        v - 1.0
+    } else {
+        (v / 1.015).floor()
+    }
+}
 
 /// One parameter's range within [`TOLERANCE`] of the best.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -49,16 +75,16 @@ pub fn of(
     cache: &mut RadiusCache,
     best: &Scored,
     bias_predicted: bool,
+    range: (f64, f64),
 ) -> Result<Sensitivity, TuningError> {
     let c = Constraints::free(opts.budget, opts.max_spheres);
     let limit = best.rmse.relative * TOLERANCE;
     let p0 = best.parameters;
     let at = cache.at(p0.radius)?;
     let score = |p: &Parameters| at.scored_at(scene, &opts.costs, &c, p).map_or(f64::INFINITY, |s| s.rmse.relative);
-    let step = 10f64.powf(1.0 / 64.0);
+    let step = q_step();
     let q = scan(p0.q, MIN_Q, 1.0, |v| v * step, |v| v / step, |v| score(&Parameters { q: v, ..p0 }), limit);
-    let count = |v: f64| if v < 64.0 { v + 1.0 } else { (v * 1.015).ceil() };
-    let down = |v: f64| if v <= 64.0 { v - 1.0 } else { (v / 1.015).floor() };
+    let (count, down) = (count_up, count_down);
     let n_f = scan(
         p0.forward_rays as f64,
         1.0,
@@ -78,8 +104,7 @@ pub fn of(
         limit,
     );
     let radius = if bias_predicted {
-        let (lo_bound, hi_bound) =
-            opts.radius_range.unwrap_or((1e-6 / scene.medium.sigma_ext, 10.0 / scene.medium.sigma_ext));
+        let (lo_bound, hi_bound) = range;
         let mut err = None;
         let cell = std::cell::RefCell::new(&mut *cache);
         let r = scan(

@@ -1,0 +1,128 @@
+//! The alternatives beside the optimum: q = 1 (the standard method),
+//! several spheres per camera ray (q ≤ 1/2), the cylinder limit q → 0, the
+//! scene's own parameters, the R of the asymptotic rule (bias ∝ R², noise ∝
+//! 1/R²) and N_B = 1, each with the other parameters optimised (or, for
+//! the rule, the optimum's).
+
+use super::cost::Parameters;
+use super::radii::RadiusCache;
+use super::search::{Constraints, Scored};
+use super::{best_over_radii, Alternative, Options, TuningError};
+use mcrt_scene::Scene;
+
+/// The comparisons: q = 1, the cylinder limit, the scene's own parameters,
+/// the asymptotic rule's R, N_B = 1.
+pub(crate) fn alternatives(
+    scene: &Scene,
+    opts: &Options,
+    cache: &mut RadiusCache,
+    best: &Scored,
+    range: (f64, f64),
+    bias_predicted: bool,
+) -> Result<Vec<Alternative>, TuningError> {
+    let free = Constraints::free(opts.budget, opts.max_spheres);
+    let fixed_r = |cache: &mut RadiusCache, c: &Constraints| -> Result<Option<Scored>, TuningError> {
+        if bias_predicted {
+            best_over_radii(scene, opts, cache, c, range).map(Some).or_else(|e| match e {
+                TuningError::Infeasible(_) => Ok(None),
+                e => Err(e),
+            })
+        } else {
+            Ok(cache.at(scene.estimator.radius)?.best(scene, &opts.costs, c))
+        }
+    };
+    let none = |what: &str| format!("no {what} parameters fit the budget");
+    let mut out = Vec::new();
+    let q1 = fixed_r(cache, &Constraints { q: Some(1.0), ..free })?;
+    out.push(Alternative {
+        name: "q = 1 (one sphere per camera ray, the standard method)".into(),
+        scored: q1.ok_or_else(|| none("q = 1")),
+        note: "R, N_F, N_B optimised with q held at 1".into(),
+    });
+    let several = fixed_r(cache, &Constraints { q_max: Some(0.5), ..free })?;
+    out.push(Alternative {
+        name: "several spheres per camera ray (q ≤ 1/2)".into(),
+        scored: several.ok_or_else(|| none("q ≤ 1/2")),
+        note: "R, q, N_F, N_B optimised with q at most 1/2 (at least two spheres per camera ray on average)".into(),
+    });
+    let cyl = fixed_r(cache, &Constraints { cylinder: true, ..free })?;
+    out.push(Alternative {
+        name: "q → 0 (the cylinder limit)".into(),
+        scored: cyl.ok_or_else(|| none("cylinder")),
+        note: "Var L at q = 0 in closed form ((7)–(9) with q = 0); cost of one integration volume per camera \
+               ray and one contribution per crossing segment (the sphere method itself would need 1/q → ∞ \
+               spheres); R, N_F, N_B optimised"
+            .into(),
+    });
+    let own = Parameters::of(scene);
+    let at_own = cache.at(own.radius)?;
+    out.push(Alternative {
+        name: "the scene's own parameters".into(),
+        scored: at_own
+            .scored_at(scene, &opts.costs, &free, &own)
+            .ok_or_else(|| "the scene's own parameters do not fit the budget".to_string()),
+        note: format!("q = {}, R = {}, N_F = {}, N_B = {}", own.q, own.radius, own.forward_rays, own.camera_rays),
+    });
+    if bias_predicted {
+        out.push(asymptotic_rule(scene, opts, cache, best, range)?);
+    }
+    let nb1 = fixed_r(cache, &Constraints { camera_rays: Some(1), ..free })?;
+    out.push(Alternative {
+        name: "N_B = 1 (one camera ray per iteration)".into(),
+        scored: nb1.ok_or_else(|| none("N_B = 1")),
+        note: "R, q, N_F optimised with N_B held at 1".into(),
+    });
+    Ok(out)
+}
+
+/// The R an asymptotic rule picks (bias ≈ b₂R², noise ≈ V₂/R²): with b₂ =
+/// b(R_lo)/R_lo² at the smallest radius searched and V₂ = q M₂R²/(N_F N_B)
+/// (the small-sphere M₂ ∝ 1/R²) at the optimum's q, N_F, N_B, τ and T,
+/// RMSE² ≈ b₂²R⁴ + V₂τ/(R²T) is least at R⁶ = V₂τ/(2b₂²T). Scored by the
+/// exact model with the optimum's other parameters.
+fn asymptotic_rule(
+    scene: &Scene,
+    opts: &Options,
+    cache: &mut RadiusCache,
+    best: &Scored,
+    range: (f64, f64),
+) -> Result<Alternative, TuningError> {
+    let name = "R of the asymptotic rule (bias ∝ R², noise ∝ 1/R²)".to_string();
+    let small = cache.at(range.0)?;
+    let bias = small.model.bias.ok_or_else(|| TuningError::Radius(range.0, "no bias predicted".into()))?;
+    if !(bias.value.abs() > bias.error) {
+        let why = format!("b(R) at R = {:.1e} is {:e} ± {:e}: not resolved, so no b₂", range.0, bias.value, bias.error);
+        return Ok(Alternative { name, scored: Err(why), note: String::new() });
+    }
+    let b2 = bias.value / (range.0 * range.0);
+    let p = best.parameters;
+    // The small-sphere M₂ ∝ 1/R²: M₂R² is the same at every radius.
+    let m2_r2 = small.model.small_sphere_m2.value * range.0 * range.0;
+    let v2 = p.q * m2_r2 / (p.forward_rays as f64 * p.camera_rays as f64);
+    let r6 = v2 * best.rmse.seconds_per_iteration / (2.0 * b2 * b2 * opts.budget);
+    let r = r6.powf(1.0 / 6.0);
+    if !(r.is_finite() && r > 0.0) {
+        return Ok(Alternative { name, scored: Err(format!("b₂ = {b2:e}: no finite R")), note: String::new() });
+    }
+    // The rule's R may lie where the scene cannot take it (σR beyond its
+    // bounds): then it has no score, and the optimisation goes on.
+    let at = match cache.at(r) {
+        Ok(at) => at,
+        Err(TuningError::Radius(_, why)) => {
+            return Ok(Alternative { name, scored: Err(format!("R = {r:.4e}: {why}")), note: String::new() })
+        }
+        Err(e) => return Err(e),
+    };
+    let params = Parameters { radius: r, ..p };
+    Ok(Alternative {
+        name,
+        scored: at
+            .scored_at(scene, &opts.costs, &Constraints::free(opts.budget, opts.max_spheres), &params)
+            .ok_or_else(|| format!("R = {r:e} does not fit the budget")),
+        note: format!(
+            "R = (V₂τ/(2b₂²T))^(1/6) = {r:.4e} with b₂ = {b2:.4e} (b(R)/R² at R = {:.1e}) and V₂ = {v2:.4e}; \
+             q, N_F, N_B the optimum's",
+            range.0
+        ),
+    })
+}
