@@ -30,11 +30,11 @@ pub struct Rates {
     /// ν, expected segments of one forward ray (exact, `limits::Work`).
     pub segments_per_ray: f64,
     /// p_c(R): the probability that a segment's hit interval is not empty,
-    /// with its standard error.
+    /// with its standard error (3/(nν) when no segment of the n rays searched).
     pub candidate_fraction: ValueWithBar,
     /// h(R) = E[Σ over a ray's segments of ∫ σe^{−σs} ds over the hit
     /// interval ∩ [0, ∞)]: one forward ray hits h(R)/q of one camera ray's
-    /// spheres on average. With its standard error.
+    /// spheres on average. With its standard error (3ν/n when no ray hit).
     pub hit_measure: ValueWithBar,
     /// Forward rays walked.
     pub rays: u64,
@@ -75,6 +75,11 @@ impl Rates {
         let nu = Work::of(scene).segments / scene.estimator.forward_rays as f64;
         let (c, c_se) = mean_se(c1, c2);
         let (h, h_se) = mean_se(h1, h2);
+        // None seen in n rays is no proof of none: the "rule of three"
+        // bound (95 %) as the bar, 3/n searching segments or hits per ray
+        // (a ray's hit measure is at most ν, one per segment).
+        let c_se = if c1 == 0.0 { 3.0 / n } else { c_se };
+        let h_se = if h1 == 0.0 { 3.0 * nu / n } else { h_se };
         Ok(Rates {
             radius: scene.estimator.radius,
             segments_per_ray: nu,
