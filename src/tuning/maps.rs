@@ -22,7 +22,7 @@ pub struct Map {
     pub x: Vec<f64>,
     /// y values (ascending).
     pub y: Vec<f64>,
-    /// rel. RMSE at (x[i], y[j]) as `values[j][i]`.
+    /// rel. RMSE at (`x[i]`, `y[j]`) as `values[j][i]`.
     pub values: Vec<Vec<Option<f64>>>,
     /// Where the optimum lies, (x, y).
     pub optimum: (f64, f64),
