@@ -4,7 +4,7 @@
 mod common;
 
 use mcrt_reference::moments::PowerSums;
-use mcrt_reference::{merge, trace, HitMethod, Run, Tracer};
+use mcrt_reference::{merge, trace, HitMethod, Run, Shard, Tracer};
 
 fn run(tracer: &Tracer, range: std::ops::Range<u64>) -> Run {
     trace(tracer, 9, range, HitMethod::Sorted, &|_| {})
@@ -108,12 +108,7 @@ fn shards_are_validated_field_by_field() {
     let tracer = Tracer::new(&common::scene("point-isotropic", &[("radius = 0.01", "radius = 0.2")])).unwrap();
     let good = run(&tracer, 0..100).to_shard();
     assert!(Run::from_shard(&good).is_ok());
-    let check = |edit: &dyn Fn(&mut mcrt_reference::Shard), needle: &str| {
-        let mut shard = good.clone();
-        edit(&mut shard);
-        let err = Run::from_shard(&shard).unwrap_err();
-        assert!(err.contains(needle), "{needle}: {err}");
-    };
+    let check = |edit: &dyn Fn(&mut Shard), needle: &str| common::assert_shard_refused(&good, edit, needle);
     check(&|s| s.sums[0] = "@inf@".into(), "sums[0]");
     check(&|s| s.sums[2] = "@nan@".into(), "sums[2]");
     check(&|s| s.sums[1] = "0".into(), "sums: not the power sums");

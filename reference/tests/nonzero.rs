@@ -6,7 +6,7 @@
 mod common;
 
 use mcrt_reference::moments::PowerSums;
-use mcrt_reference::{merge, trace, HitMethod, Run, Tracer, MIN_NONZERO_TRIALS};
+use mcrt_reference::{merge, trace, HitMethod, Run, Shard, Tracer, MIN_NONZERO_TRIALS};
 
 fn run(tracer: &Tracer, seed: u64, range: std::ops::Range<u64>) -> Run {
     trace(tracer, seed, range, HitMethod::Sorted, &|_| {})
@@ -108,12 +108,7 @@ fn shards_with_sums_no_non_negative_values_have_are_refused() {
     assert!(Run::from_shard(&good).is_ok());
     let k = good.counters.nonzero_trials;
     let hex = |sums: [f64; 4]| PowerSums::from_f64_sums(2000, sums).unwrap().to_hex();
-    let check = |edit: &dyn Fn(&mut mcrt_reference::Shard), needle: &str| {
-        let mut shard = good.clone();
-        edit(&mut shard);
-        let err = Run::from_shard(&shard).unwrap_err();
-        assert!(err.contains(needle), "{needle}: {err}");
-    };
+    let check = |edit: &dyn Fn(&mut Shard), needle: &str| common::assert_shard_refused(&good, edit, needle);
     check(&|s| s.sums[0] = format!("-{}", s.sums[0]), "sums[0] (Σ L)");
     check(&|s| s.sums[2] = format!("-{}", s.sums[2]), "sums[2] (Σ L³)");
     check(&|s| s.sums = hex([1.0, 2.0, 1.0, 16.0]), "(Σ L²)² <= Σ L · Σ L³");
@@ -136,12 +131,7 @@ fn shards_with_a_wrong_nonzero_count_are_refused() {
     let tracer = Tracer::new(&common::scene("point-isotropic", &[("radius = 0.01", "radius = 0.05")])).unwrap();
     let good = run(&tracer, 2, 0..2000).to_shard();
     assert!(Run::from_shard(&good).is_ok());
-    let check = |edit: &dyn Fn(&mut mcrt_reference::Shard), needle: &str| {
-        let mut shard = good.clone();
-        edit(&mut shard);
-        let err = Run::from_shard(&shard).unwrap_err();
-        assert!(err.contains(needle), "{needle}: {err}");
-    };
+    let check = |edit: &dyn Fn(&mut Shard), needle: &str| common::assert_shard_refused(&good, edit, needle);
     check(&|s| s.counters.nonzero_trials = s.counters.trials + 1, "at most counters.trials");
     check(&|s| s.counters.nonzero_trials = s.counters.hits + 1, "at most counters.hits");
     check(&|s| s.counters.nonzero_trials = 0, "counters.nonzero_trials = 0");

@@ -84,25 +84,16 @@ pub fn of(
     let score = |p: &Parameters| at.scored_at(scene, &opts.costs, &c, p).map_or(f64::INFINITY, |s| s.rmse.relative);
     let step = q_step();
     let q = scan(p0.q, MIN_Q, 1.0, |v| v * step, |v| v / step, |v| score(&Parameters { q: v, ..p0 }), limit);
-    let (count, down) = (count_up, count_down);
-    let n_f = scan(
-        p0.forward_rays as f64,
-        1.0,
-        mcrt_scene::limits::MAX_FORWARD_RAYS as f64,
-        count,
-        down,
-        |v| score(&Parameters { forward_rays: v as u64, ..p0 }),
-        limit,
-    );
-    let n_b = scan(
-        p0.camera_rays as f64,
-        1.0,
-        mcrt_scene::limits::MAX_CAMERA_RAYS as f64,
-        count,
-        down,
-        |v| score(&Parameters { camera_rays: v as u64, ..p0 }),
-        limit,
-    );
+    // A ray count from `start` within [1, max], stepped by count_up/count_down.
+    let ray_count = |start: u64, max: f64, with: &dyn Fn(u64) -> Parameters| {
+        scan(start as f64, 1.0, max, count_up, count_down, |v| score(&with(v as u64)), limit)
+    };
+    let n_f = ray_count(p0.forward_rays, mcrt_scene::limits::MAX_FORWARD_RAYS as f64, &|n| Parameters {
+        forward_rays: n,
+        ..p0
+    });
+    let n_b =
+        ray_count(p0.camera_rays, mcrt_scene::limits::MAX_CAMERA_RAYS as f64, &|n| Parameters { camera_rays: n, ..p0 });
     let radius = if bias_predicted {
         let (lo_bound, hi_bound) = range;
         let mut err = None;

@@ -1,7 +1,9 @@
-//! Scenes for the tracer's tests: the bundled ones, edited.
+//! Scenes for the tracer's tests (the bundled ones, edited) and the
+//! shard-refusal check they share.
 
 #![allow(dead_code)]
 
+use mcrt_reference::{Run, Shard};
 use mcrt_scene::Scene;
 use std::path::Path;
 
@@ -14,4 +16,13 @@ pub fn scene(name: &str, edits: &[(&str, &str)]) -> Scene {
         text = text.replacen(from, to, 1);
     }
     Scene::from_toml_str(&text).unwrap()
+}
+
+/// `good` with `edit` applied must be refused on read, with an error that
+/// contains `needle` (the field or rule it breaks).
+pub fn assert_shard_refused(good: &Shard, edit: &dyn Fn(&mut Shard), needle: &str) {
+    let mut shard = good.clone();
+    edit(&mut shard);
+    let err = Run::from_shard(&shard).unwrap_err();
+    assert!(err.contains(needle), "{needle}: {err}");
 }
