@@ -118,29 +118,41 @@ enum Command {
         #[command(flatten)]
         run: TraceArgs,
     },
-    /// Check a renderer's per-iteration pixel values against the prediction: z-scores, pass/fail at a stated false-alarm rate, and the smallest error the values could detect. Exit 0 pass, 1 fail, 2 bad input.
+    /// Check a renderer's per-iteration pixel values against the prediction: PASS, FAIL or NOT RESOLVED at a stated false-alarm rate, with the errors a pass would have caught; or, with --plan, how many values a check needs. Exit 0 pass (or a plan made), 1 fail or not resolved (or a pilot that fails), 2 bad input.
     Check {
         scene: PathBuf,
-        /// The renderer's values: one L per line (`#` comments allowed), a JSON array, or power sums as JSON
-        /// `{"count": M, "sums": [ΣL, ΣL², ΣL³, ΣL⁴], "sums_relative_error": ε, "nonzero": N}` (ε defaults to (M + 2)·2⁻⁵³;
-        /// N, the number of nonzero values, is optional: without it sparsity is not checked); `-` reads stdin.
+        /// The renderer's values, each >= 0: one L per line (`#` comments allowed), a JSON array, or power sums as JSON
+        /// `{"count": M, "sums": [ΣL, ΣL², ΣL³, ΣL⁴, ΣL⁵, ΣL⁶], "sums_relative_error": ε, "nonzero": N, "min": a, "max": b}` (ε defaults to
+        /// (M + 2)·2⁻⁵³; N, the number of nonzero values, is optional: without it sparsity is not checked; a and b, the smallest
+        /// and largest value, are required); `-` reads stdin.
         #[arg(long)]
         values: PathBuf,
-        /// Family-wise probability that a correct renderer fails (both quantities together).
+        /// Family-wise probability that a correct renderer fails (all tests together), in [1e-300, 0.5].
         #[arg(long, default_value_t = 1e-3, allow_negative_numbers = true)]
         false_alarm_rate: f64,
-        /// Probability with which an error of the reported detectable size fails.
+        /// Probability with which an error of the reported detectable size fails, in [0.5, 1).
         #[arg(long, default_value_t = 0.9, allow_negative_numbers = true)]
         power: f64,
-        /// Fail unless the values can detect this relative error in the mean.
+        /// Relative error of the mean the values must be able to detect, else NOT RESOLVED (default 0.1).
         #[arg(long, allow_negative_numbers = true)]
         target_mean: Option<f64>,
-        /// Fail unless the values can detect this relative error in Var L.
+        /// Relative error of Var L the values must be able to detect, else NOT RESOLVED (default 0.2).
         #[arg(long, allow_negative_numbers = true)]
         target_variance: Option<f64>,
+        /// Treat the values as a pilot: print how many samples the check needs for the targets (and the pilot's verdict).
+        #[arg(long)]
+        plan: bool,
         /// One JSON object instead of the text.
         #[arg(long)]
         json: bool,
+    },
+    /// Regenerate the check's calibration table in docs/library.md: thousands of independent tracer runs checked where the model is exact, false alarms against the binomial 99 % interval of the stated rate (~30 min on two cores).
+    CheckCalibration {
+        #[arg(long, default_value = "docs/library.md")]
+        out: PathBuf,
+        /// Divide every case's runs by this factor, in [1, 1000] (a quick look; the documented table uses 1).
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=1000))]
+        reduce: u64,
     },
     /// Regenerate docs/asymptotic-checks.md (and its SVG figures) from the bundled scenes.
     AsymptoticChecks {
@@ -346,16 +358,18 @@ fn run(command: Command) -> Result<(), CliError> {
         Command::Calibrate { seconds, out, scenes, json } => {
             cli::tuning_cmd::calibrate_cmd(&scenes, seconds, out.as_deref(), json)
         }
-        Command::Check { scene, values, false_alarm_rate, power, target_mean, target_variance, json } => {
+        Command::Check { scene, values, false_alarm_rate, power, target_mean, target_variance, plan, json } => {
             let args = cli::check_cmd::CheckArgs {
                 values: &values,
                 false_alarm_rate,
                 power,
                 targets: (target_mean, target_variance),
+                plan,
                 json,
             };
             cli::check_cmd::check_cmd(&load(&scene)?, &args)
         }
+        Command::CheckCalibration { out, reduce } => check_calibration(&out, reduce),
         Command::AsymptoticChecks { out, scenes } => {
             let figures = figures_beside(&out);
             generate(Some(&scenes), Some(out), || {
@@ -515,6 +529,40 @@ fn figures_beside(out: &Path) -> PathBuf {
 /// `--out` writable, both checked before the generation (which takes
 /// minutes; exit 2 naming the flag). A failure of the generation itself is
 /// computed (exit 1); the text goes to `--out`, or to standard output.
+/// `check-calibration`: runs the documented cases (runs divided by
+/// `reduce`), prints the block and writes it into `out` between its markers.
+fn check_calibration(out: &Path, reduce: u64) -> Result<(), CliError> {
+    use mcrt_noise::reports::check_calibration as cal;
+    let document = std::fs::read_to_string(out)
+        .map_err(|e| CliError::usage(format!("--out {}: cannot be read: {e}", out.display())))?;
+    cal::replace_block(&document, "").map_err(|e| CliError::usage(format!("--out {}: {e}", out.display())))?;
+    writable(out)?;
+    let mut outcomes = Vec::new();
+    for mut case in cal::documented_cases() {
+        case.runs = (case.runs / reduce).max(1);
+        eprintln!(
+            "check-calibration: {} at M = {}, α = {}, {} runs …",
+            case.label, case.samples, case.false_alarm_rate, case.runs
+        );
+        let outcome = cal::run(&case).map_err(CliError::Computed)?;
+        eprintln!(
+            "  {} FAIL (interval [{}, {}]), {} NOT RESOLVED, {} PASS, {:.0} s",
+            outcome.fails,
+            outcome.interval.0,
+            outcome.interval.1,
+            outcome.not_resolved,
+            outcome.passes,
+            outcome.seconds
+        );
+        outcomes.push(outcome);
+    }
+    let block = cal::markdown(&outcomes);
+    print!("{block}");
+    let updated = cal::replace_block(&document, &block).map_err(CliError::Computed)?;
+    std::fs::write(out, updated)
+        .map_err(|e| CliError::usage(format!("--out {}: cannot be written: {e}", out.display())))
+}
+
 fn generate(
     scenes: Option<&Path>,
     out: Option<PathBuf>,

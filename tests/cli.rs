@@ -271,9 +271,20 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     let array = dir.join("values.json");
     std::fs::write(&array, serde_json::to_string(&good).unwrap()).unwrap();
     let from_array: serde_json::Value = serde_json::from_slice(&run(&array, &["--json"]).stdout).unwrap();
-    let sums: Vec<f64> = (1..=4).map(|k| good.iter().map(|v| v.powi(k)).sum()).collect();
+    let sums: Vec<f64> = (1..=6).map(|k| good.iter().map(|v| v.powi(k)).sum()).collect();
+    let (lo, hi) = good.iter().fold((f64::MAX, 0f64), |(a, b), v| (a.min(*v), b.max(*v)));
     let sums_file = dir.join("sums.json");
-    std::fs::write(&sums_file, serde_json::json!({"count": good.len(), "sums": sums}).to_string()).unwrap();
+    let sums_json = serde_json::json!({"count": good.len(), "sums": sums, "min": lo, "max": hi});
+    std::fs::write(&sums_file, sums_json.to_string()).unwrap();
+    // Pretty-printed past 4096 bytes (padded with spaces), the same; anything
+    // after the object is refused.
+    let padded = dir.join("sums-padded.json");
+    let pretty = serde_json::to_string_pretty(&sums_json).unwrap().replace('\n', &format!("\n{}", " ".repeat(600)));
+    assert!(pretty.len() > 4096);
+    std::fs::write(&padded, &pretty).unwrap();
+    assert_eq!(run(&padded, &[]).stdout, run(&sums_file, &[]).stdout);
+    let trailing = dir.join("sums-trailing.json");
+    std::fs::write(&trailing, format!("{pretty}\n{{\"count\": 1}}")).unwrap();
     let from_sums: serde_json::Value = serde_json::from_slice(&run(&sums_file, &["--json"]).stdout).unwrap();
     assert_eq!(from_array["pass"], true);
     assert_eq!(from_sums["pass"], true);
@@ -293,14 +304,17 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     let sparse_sums = dir.join("sparse-sums.json");
     let count = good.len();
     let hits: Vec<f64> = good.iter().copied().filter(|v| *v != 0.0).take(37).collect();
-    let hit_sums: Vec<f64> = (1..=4).map(|k| hits.iter().map(|v| v.powi(k)).sum()).collect();
-    std::fs::write(&sparse_sums, serde_json::json!({"count": count, "sums": hit_sums, "nonzero": 37}).to_string())
-        .unwrap();
+    let hit_sums: Vec<f64> = (1..=6).map(|k| hits.iter().map(|v| v.powi(k)).sum()).collect();
+    let largest = hits.iter().copied().fold(0.0, f64::max);
+    let sparse_json = serde_json::json!({"count": count, "sums": hit_sums, "nonzero": 37, "min": 0.0, "max": largest});
+    std::fs::write(&sparse_sums, sparse_json.to_string()).unwrap();
     let out = run(&sparse_sums, &[]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{text}{}", String::from_utf8_lossy(&out.stderr));
     assert!(
-        text.contains(&format!("not resolved: only 37 of the {count} values are nonzero (fewer than 100)")),
+        text.contains(&format!(
+            "not resolved: mean L and Var L: only 37 of the {count} values are nonzero (fewer than 100)"
+        )),
         "{text}"
     );
     for k in 0..2 {
@@ -317,18 +331,31 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     assert!(text.starts_with("FAIL") && text.contains("fails: mean L"), "{text}");
     assert_eq!(text.matches("FAIL").count(), 1);
     assert!(out.stderr.is_empty(), "{}", String::from_utf8_lossy(&out.stderr));
-    // A target the samples cannot resolve: fail with the samples that would.
+    // A target the samples cannot resolve: not resolved, with the samples that would.
     let out = run(&lines, &["--target-variance", "0.001"]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(text.starts_with("NOT RESOLVED"), "{text}");
     assert!(text.contains("too few samples to resolve the target 0.100 %") && text.contains("samples would"), "{text}");
+    // A plan from a pilot of these values: exit 0, the count, the pilot's verdict.
+    let pilot = dir.join("pilot.txt");
+    std::fs::write(&pilot, good[..10_000].iter().map(|v| format!("{v:e}\n")).collect::<String>()).unwrap();
+    let out = run(&pilot, &["--plan"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.starts_with("PLAN: about ") && text.contains("pilot's verdict"), "{text}");
+    let plan: serde_json::Value = serde_json::from_slice(&run(&pilot, &["--plan", "--json"]).stdout).unwrap();
+    assert!(plan["samples"].as_f64().unwrap() > 10_000.0 && plan["pilot"]["status"].is_string(), "{plan}");
     // Five zeros: not resolved (exit 1), zero spread named, no "0 ± 0" row.
     let zeros = dir.join("zeros.txt");
     std::fs::write(&zeros, "0\n0\n0\n0\n0\n").unwrap();
     let out = run(&zeros, &[]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{text}");
-    assert!(text.contains("not resolved: all 5 values are equal (0.000000e0): zero spread"), "{text}");
+    assert!(
+        text.contains("not resolved: mean L and Var L: all 5 values are equal (0.000000e0): zero spread"),
+        "{text}"
+    );
     assert!(!text.contains("± 0.0e0 (s.e.)") && !text.contains("too large"), "{text}");
     let json: serde_json::Value = serde_json::from_slice(&run(&zeros, &["--json"]).stdout).unwrap();
     assert!(json["checks"][0]["measured"].is_null() && json["checks"][1]["not_resolved"].is_string(), "{json}");
@@ -340,16 +367,35 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     let long_line = dir.join("long.txt");
     std::fs::write(&long_line, "1".repeat(5000)).unwrap();
     let nonsense_sums = dir.join("nonsense.json");
-    std::fs::write(&nonsense_sums, r#"{"count": 10, "sums": [10.0, 1.0, 1.0, 1.0]}"#).unwrap();
+    std::fs::write(&nonsense_sums, r#"{"count": 10, "sums": [10.0, 1.0, 1.0, 1.0, 1.0, 1.0], "min": 0, "max": 1}"#)
+        .unwrap();
     // The adversarial probe's sums: Σ L⁴ far above (Σ L²)² (they passed once).
     let huge_fourth = dir.join("huge-fourth.json");
-    std::fs::write(&huge_fourth, r#"{"count": 10000, "sums": [11.1, 0.8, 0.5, 1e10]}"#).unwrap();
+    std::fs::write(&huge_fourth, r#"{"count": 10000, "sums": [11.1, 0.8, 0.5, 1e10, 1e10, 1e21], "min": 0, "max": 1}"#)
+        .unwrap();
     let huge_fourth_300 = dir.join("huge-fourth-300.json");
-    std::fs::write(&huge_fourth_300, r#"{"count": 100, "sums": [0.1, 0.01, 0.001, 1e300]}"#).unwrap();
+    std::fs::write(
+        &huge_fourth_300,
+        r#"{"count": 100, "sums": [0.1, 0.01, 0.001, 1e300, 1e300, 1e300], "min": 0, "max": 1}"#,
+    )
+    .unwrap();
     let too_many_nonzero = dir.join("too-many-nonzero.json");
-    std::fs::write(&too_many_nonzero, r#"{"count": 10, "nonzero": 20, "sums": [3.0, 3.0, 3.0, 3.0]}"#).unwrap();
+    std::fs::write(
+        &too_many_nonzero,
+        r#"{"count": 10, "nonzero": 20, "sums": [3, 3, 3, 3, 3, 3], "min": 0, "max": 1}"#,
+    )
+    .unwrap();
     let too_few_nonzero = dir.join("too-few-nonzero.json");
-    std::fs::write(&too_few_nonzero, r#"{"count": 10, "nonzero": 2, "sums": [3.0, 3.0, 3.0, 3.0]}"#).unwrap();
+    std::fs::write(&too_few_nonzero, r#"{"count": 10, "nonzero": 2, "sums": [3, 3, 3, 3, 3, 3], "min": 0, "max": 1}"#)
+        .unwrap();
+    let four_sums = dir.join("four-sums.json");
+    std::fs::write(&four_sums, r#"{"count": 4, "sums": [10.0, 30.0, 100.0, 354.0], "min": 1, "max": 4}"#).unwrap();
+    let no_range = dir.join("no-range.json");
+    std::fs::write(&no_range, r#"{"count": 4, "sums": [10.0, 30.0, 100.0, 354.0, 1300.0, 4890.0]}"#).unwrap();
+    let negative = dir.join("negative.txt");
+    std::fs::write(&negative, "1e-3\n# a comment\n-2e-3\n").unwrap();
+    let negative_array = dir.join("negative.json");
+    std::fs::write(&negative_array, "[1e-3, 0, -0.5]").unwrap();
     for (values, extra, needle) in [
         (&not_number, &[][..], "line 3: sample 2 = NaN: must be finite"),
         (&nonsense_sums, &[][..], "not the power sums of real numbers: (Σ L)² ≤ N·Σ L² must hold (N = count = 10"),
@@ -364,7 +410,13 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
         (&string_in_array, &[][..], "JSON array: invalid type: string"),
         (&long_line, &[][..], "line 1 is longer than 4096 bytes"),
         (&dir.join("missing.txt"), &[][..], "missing.txt"),
-        (&lines, &["--false-alarm-rate", "0"][..], "--false-alarm-rate = 0: must be in (0, 0.5]"),
+        (&lines, &["--false-alarm-rate", "0"][..], "--false-alarm-rate = 0: must be in [1e-300, 0.5]"),
+        (&lines, &["--false-alarm-rate", "1e-301"][..], "--false-alarm-rate = 1e-301: must be in [1e-300, 0.5]"),
+        (&four_sums, &[][..], "\"sums\" has 4 entries: must have 6"),
+        (&no_range, &[][..], "\"min\" and \"max\" (the smallest and largest value) are required"),
+        (&negative, &[][..], "line 3: sample 1 = -2e-3: must be >= 0"),
+        (&negative_array, &[][..], "JSON array: sample 2 = -5e-1: must be >= 0"),
+        (&trailing, &[][..], "power sums JSON: trailing characters"),
         (&lines, &["--target-mean", "-1"][..], "--target-mean = -1: must be finite and > 0"),
     ] {
         let out = run(values, extra);

@@ -1,22 +1,48 @@
 //! Testing a renderer against the oracle: [`predict`] what one iteration of
 //! the pixel must give, accumulate the renderer's values in [`Samples`],
-//! and [`check`] them, with a [`Verdict`] that says what a pass proves.
+//! [`check`] them, and get a [`Verdict`] that passes, fails or says it
+//! cannot tell yet ([`Status`]); [`plan`] how many values a check needs
+//! from a pilot run.
 //!
-//! The check is two z-tests (mean and Var L), the prediction's bars
-//! (quadrature, and for the small-sphere model its measured model error)
-//! subtracted before dividing by the standard error, at a family-wise
-//! false-alarm rate split between them by Šidák's correction. Beside
-//! pass/fail it reports the smallest relative error in each quantity that
-//! would have failed with the stated power: a pass with a detectable error
-//! of 30 % proves little, and a stated target turns that into a failure.
-//! Calibration: `tests/check.rs` runs it 400 times on the reference tracer
-//! where the model is exact. Details and the profile settings a dependent
-//! crate needs: `docs/library.md`.
+//! The verdict runs three tests at a family-wise false-alarm rate: the
+//! largest value against bounds that hold for any distribution, the mean
+//! with the *predicted* Var L as its scale, and Var L by the
+//! Wilson–Hilferty cube root of s²/Var L with the samples' kurtosis. A
+//! quantity is resolved only when no single value moves its z by more than
+//! [`MAX_INFLUENCE`] and at least [`MIN_NONZERO`] values are nonzero; a
+//! pass must detect the resolution targets (default 10 % of the mean, 20 %
+//! of Var L), else the samples are NOT RESOLVED with the count that would
+//! be. Calibration and derivations: `docs/library.md`.
+//!
+//! Modules, in the order a check flows: `predict` (the prediction and its
+//! bars), `samples` (exact power sums to the sixth, extremes;
+//! `realisable`: which sums real values can have), `shape` (standardised
+//! moments, and with one value deleted), `options` (rates, power, targets,
+//! named constants), `statistics` (the z-scores, detectable errors, tail
+//! bound), `family` (the limit for correlated z-scores), `influence` (of
+//! one value), `verdict` (the decision), `display` (the verdict in words),
+//! `plan` (samples needed).
 
+mod display;
+mod family;
+mod influence;
+mod options;
+mod plan;
 mod predict;
+mod realisable;
 mod samples;
+mod shape;
+mod statistics;
 mod verdict;
 
+pub use options::{
+    CheckOptions, CHECKS, DEFAULT_TARGET_MEAN, DEFAULT_TARGET_VARIANCE, MAX_INFLUENCE, MIN_EFFECTIVE_COUNT,
+    MIN_FALSE_ALARM_RATE, TAIL_SHARE,
+};
+pub use plan::{plan, Plan};
 pub use predict::{predict, predict_with, Model, PredictError, Predicted, Prediction};
-pub use samples::{Measured, SampleError, Samples, SumsInequality};
-pub use verdict::{check, CheckOptions, QuantityCheck, Ratio, Verdict, CHECKS, MIN_NONZERO, MIN_SAMPLES};
+pub use realisable::SumsInequality;
+pub use samples::{Measured, SampleError, Samples};
+pub use shape::Shape;
+pub use statistics::{Normaliser, Null};
+pub use verdict::{check, QuantityCheck, Ratio, Status, TailCheck, Verdict, MIN_NONZERO, MIN_SAMPLES};

@@ -1,6 +1,10 @@
 //! A renderer's per-iteration pixel values, accumulated exactly.
 
+use super::realisable::{realisable, SumsInequality};
+use super::shape::Shape;
 use mcrt_reference::moments::PowerSums;
+use rug::ops::Pow;
+use rug::Float;
 use serde::Serialize;
 use std::fmt;
 
@@ -39,17 +43,50 @@ pub struct Measured {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Samples {
     sums: PowerSums,
+    /// Σ L⁵ and Σ L⁶, exact at [`HIGHER_BITS`] (for the skewness of the
+    /// squared deviations, which Var L's test corrects for).
+    higher: [Float; 2],
     /// Relative error bound of the sums (0 when accumulated here).
     sums_relative_error: f64,
     /// How many of the values are nonzero: exact when pushed here, `None`
     /// for power sums given without it.
     nonzero: Option<u64>,
+    /// The smallest and largest value: exact when pushed here (`None`
+    /// before the first), unknown for power sums given without them.
+    range: Range,
+}
+
+/// The smallest and largest of the values, as far as known.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Range {
+    /// No values yet.
+    Empty,
+    /// [smallest, largest], exact.
+    Known(f64, f64),
+    /// Power sums given without their extremes.
+    Unknown,
+}
+
+impl Range {
+    fn union(self, other: Range) -> Range {
+        match (self, other) {
+            (Range::Empty, r) | (r, Range::Empty) => r,
+            (Range::Known(a, b), Range::Known(c, d)) => Range::Known(a.min(c), b.max(d)),
+            _ => Range::Unknown,
+        }
+    }
 }
 
 impl Default for Samples {
     /// No samples (none of them nonzero).
     fn default() -> Self {
-        Samples { sums: PowerSums::default(), sums_relative_error: 0.0, nonzero: Some(0) }
+        Samples {
+            sums: PowerSums::default(),
+            higher: [Float::new(HIGHER_BITS), Float::new(HIGHER_BITS)],
+            sums_relative_error: 0.0,
+            nonzero: Some(0),
+            range: Range::Empty,
+        }
     }
 }
 
@@ -59,6 +96,15 @@ pub enum SampleError {
     /// L or L⁴ is not a finite double (|L| ≥ ~10⁷⁷: rescale the light's flux,
     /// L is linear in it).
     NotFinite {
+        /// Index of the value among those pushed (0-based, counting accepted ones).
+        index: u64,
+        /// The value.
+        value: f64,
+    },
+    /// L is negative: a pixel's L is a sum of non-negative contributions
+    /// (flux, transmittance, phase function and the estimator's weights
+    /// are all ≥ 0), so a negative value is a bug upstream of the check.
+    Negative {
         /// Index of the value among those pushed (0-based, counting accepted ones).
         index: u64,
         /// The value.
@@ -74,8 +120,8 @@ pub enum SampleError {
         count: u64,
         /// How many of them are nonzero, if stated.
         nonzero: Option<u64>,
-        /// Σ L, Σ L², Σ L³, Σ L⁴ as given.
-        sums: [f64; 4],
+        /// Σ L … Σ L⁶ as given.
+        sums: Vec<f64>,
         /// Their stated relative error.
         sums_relative_error: f64,
         /// The inequality that fails.
@@ -86,66 +132,16 @@ pub enum SampleError {
     },
 }
 
-/// A necessary condition on the power sums S_k = Σ L^k of M real numbers of
-/// which N are nonzero (N = M when the nonzero count is not stated), in the
-/// central moments μ_k = Σ (L − S₁/M)^k / M where it is about spread.
-/// `Samples::from_power_sums` derives each one in its source; the check
-/// allows for the sums' stated relative error, so only sums that are
-/// impossible by more than their rounding are refused.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub enum SumsInequality {
-    /// (Σ L)² ≤ N Σ L² (Cauchy–Schwarz; with N = M: s² ≥ 0).
-    SquareOfSumAtMostNTimesSumOfSquares,
-    /// (Σ L²)² ≤ N Σ L⁴ (Cauchy–Schwarz).
-    SquareOfSumOfSquaresAtMostNTimesFourthSum,
-    /// (Σ L³)² ≤ Σ L² · Σ L⁴ (Cauchy–Schwarz).
-    SquareOfThirdSumAtMostSecondTimesFourth,
-    /// Σ L⁴ ≤ (Σ L²)² (no L² exceeds Σ L²).
-    FourthSumAtMostSquareOfSecond,
-    /// μ₄ ≥ μ₂² (the variance of (L − mean)² is not negative).
-    CentralFourthAtLeastSquareOfSecond,
-    /// μ₂ μ₄ ≥ μ₃² + μ₂³ (Pearson: the moment matrix of 1, L, L² is
-    /// positive semi-definite).
-    Pearson,
-    /// μ₄ ≤ (M − 1) μ₂² (no squared deviation exceeds (M − 1)/M of their sum).
-    CentralFourthAtMostMMinusOneTimesSquare,
-    /// N ≥ 1 nonzero values need Σ L² > 0.
-    NonzeroValuesNeedPositiveSquares,
-}
-
-impl fmt::Display for SumsInequality {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            SumsInequality::SquareOfSumAtMostNTimesSumOfSquares => "(Σ L)² ≤ N·Σ L²",
-            SumsInequality::SquareOfSumOfSquaresAtMostNTimesFourthSum => "(Σ L²)² ≤ N·Σ L⁴",
-            SumsInequality::SquareOfThirdSumAtMostSecondTimesFourth => "(Σ L³)² ≤ Σ L²·Σ L⁴",
-            SumsInequality::FourthSumAtMostSquareOfSecond => "Σ L⁴ ≤ (Σ L²)²",
-            SumsInequality::CentralFourthAtLeastSquareOfSecond => "μ₄ ≥ μ₂² (central moments)",
-            SumsInequality::Pearson => "μ₂·μ₄ ≥ μ₃² + μ₂³ (central moments; Pearson)",
-            SumsInequality::CentralFourthAtMostMMinusOneTimesSquare => "μ₄ ≤ (M − 1)·μ₂² (central moments)",
-            SumsInequality::NonzeroValuesNeedPositiveSquares => "Σ L² > 0 when N ≥ 1",
-        })
-    }
-}
-
-impl SumsInequality {
-    /// Whether the inequality involves N, the number of nonzero values.
-    fn uses_nonzero(self) -> bool {
-        matches!(
-            self,
-            SumsInequality::SquareOfSumAtMostNTimesSumOfSquares
-                | SumsInequality::SquareOfSumOfSquaresAtMostNTimesFourthSum
-                | SumsInequality::NonzeroValuesNeedPositiveSquares
-        )
-    }
-}
-
 impl fmt::Display for SampleError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             SampleError::NotFinite { index, value } => write!(
                 f,
                 "sample {index} = {value:e}: must be finite with a finite fourth power (|L| < 1e77; rescale the flux)"
+            ),
+            SampleError::Negative { index, value } => write!(
+                f,
+                "sample {index} = {value:e}: must be >= 0 (a pixel's L is a sum of non-negative contributions)"
             ),
             SampleError::InvalidSums(why) => write!(f, "power sums: {why}"),
             SampleError::Unrealisable { count, nonzero, sums, sums_relative_error, violated, sides } => {
@@ -180,7 +176,7 @@ impl Samples {
     }
 
     /// Power sums accumulated elsewhere (for instance by a renderer in
-    /// another language): `count` values and Σ Lᵏ for k = 1…4, with a bound
+    /// another language): `count` values and Σ Lᵏ for k = 1…6, with a bound
     /// on their relative error (`sums_relative_error`, in [0, 10⁻³): 0 if
     /// they are exact; about (count + 2) · 2⁻⁵³ for plain f64 summation of
     /// powers formed by multiplication; compensated summation gives a few
@@ -194,18 +190,19 @@ impl Samples {
     ///
     /// ```
     /// use mcrt_noise::{SampleError, Samples, SumsInequality};
-    /// let s = Samples::from_power_sums(4, [10.0, 30.0, 100.0, 354.0], 0.0)?;
+    /// // The values 1, 2, 3, 4.
+    /// let s = Samples::from_power_sums(4, [10.0, 30.0, 100.0, 354.0, 1300.0, 4890.0], 0.0)?;
     /// assert_eq!(s.mean().unwrap().value, 2.5);
     /// assert_eq!(s.nonzero(), None);
-    /// assert!(Samples::from_power_sums(4, [10.0, 1.0, 100.0, 354.0], 0.0).is_err());
-    /// let err = Samples::from_power_sums(10_000, [11.1, 0.8, 0.5, 1e10], 1e-12).unwrap_err();
+    /// assert!(Samples::from_power_sums(4, [10.0, 1.0, 100.0, 354.0, 1300.0, 4890.0], 0.0).is_err());
+    /// let err = Samples::from_power_sums(10_000, [11.1, 0.8, 0.5, 1e10, 1e10, 1e20], 1e-12).unwrap_err();
     /// assert!(matches!(
     ///     err,
     ///     SampleError::Unrealisable { violated: SumsInequality::FourthSumAtMostSquareOfSecond, .. }
     /// ));
     /// # Ok::<(), mcrt_noise::SampleError>(())
     /// ```
-    pub fn from_power_sums(count: u64, sums: [f64; 4], sums_relative_error: f64) -> Result<Samples, SampleError> {
+    pub fn from_power_sums(count: u64, sums: [f64; 6], sums_relative_error: f64) -> Result<Samples, SampleError> {
         if !(0.0..1e-3).contains(&sums_relative_error) {
             return Err(SampleError::InvalidSums(format!(
                 "sums_relative_error = {sums_relative_error:e}: must be in [0, 1e-3)"
@@ -214,9 +211,12 @@ impl Samples {
         if count == 0 {
             return Err(SampleError::InvalidSums("count = 0: must be >= 1".into()));
         }
-        let power_sums = PowerSums::from_f64_sums(count, sums)
+        let first = [sums[0], sums[1], sums[2], sums[3]];
+        let power_sums = PowerSums::from_f64_sums(count, first)
+            .filter(|_| sums[4].is_finite() && sums[5].is_finite())
             .ok_or_else(|| SampleError::InvalidSums(format!("sums = {sums:?}: must be finite")))?;
-        let samples = Samples { sums: power_sums, sums_relative_error, nonzero: None };
+        let higher = [sums[4], sums[5]].map(|x| Float::with_val(HIGHER_BITS, x));
+        let samples = Samples { sums: power_sums, higher, sums_relative_error, nonzero: None, range: Range::Unknown };
         samples.realisable(None)?;
         Ok(samples)
     }
@@ -230,12 +230,12 @@ impl Samples {
     ///
     /// ```
     /// use mcrt_noise::Samples;
-    /// let s = Samples::from_power_sums(10, [3.0, 3.0, 3.0, 3.0], 0.0)?.with_nonzero(3)?;
+    /// let s = Samples::from_power_sums(10, [3.0, 3.0, 3.0, 3.0, 3.0, 3.0], 0.0)?.with_nonzero(3)?;
     /// assert_eq!(s.nonzero(), Some(3));
     /// // Three ones cannot be two nonzero values: (Σ L)² = 9 > 2·Σ L² = 6.
-    /// let err = Samples::from_power_sums(10, [3.0, 3.0, 3.0, 3.0], 0.0)?.with_nonzero(2).unwrap_err();
+    /// let err = Samples::from_power_sums(10, [3.0, 3.0, 3.0, 3.0, 3.0, 3.0], 0.0)?.with_nonzero(2).unwrap_err();
     /// assert!(err.to_string().contains("(Σ L)² ≤ N·Σ L²"), "{err}");
-    /// assert!(Samples::from_power_sums(10, [3.0, 3.0, 3.0, 3.0], 0.0)?.with_nonzero(11).is_err());
+    /// assert!(Samples::from_power_sums(10, [3.0, 3.0, 3.0, 3.0, 3.0, 3.0], 0.0)?.with_nonzero(11).is_err());
     /// # Ok::<(), mcrt_noise::SampleError>(())
     /// ```
     pub fn with_nonzero(self, nonzero: u64) -> Result<Samples, SampleError> {
@@ -256,6 +256,132 @@ impl Samples {
         Ok(Samples { nonzero: Some(nonzero), ..self })
     }
 
+    /// These power sums with the smallest and largest of their values
+    /// stated (0 ≤ `smallest` ≤ `largest`, both finite). With them the
+    /// check measures the influence of one value on the verdict over the
+    /// values' range, and tests the largest value itself against the tail
+    /// bound. Without them no quantity is resolved: the power sums alone
+    /// allow one value to carry the whole fourth moment, so they cannot
+    /// bound one value's influence (the tail test then uses a lower bound
+    /// of the largest value, √(Σ L⁴/Σ L²)). Refused when the sums could not
+    /// come from values in [smallest, largest] (M·smallest ≤ Σ L ≤
+    /// M·largest, Σ L⁴ ≤ largest²·Σ L², largest² ≤ Σ L², allowing for the
+    /// sums' stated relative error). For samples pushed one by one the
+    /// extremes are already exact, and must agree.
+    ///
+    /// ```
+    /// use mcrt_noise::Samples;
+    /// let sums = [10.0, 30.0, 100.0, 354.0, 1300.0, 4890.0]; // 1, 2, 3, 4
+    /// let s = Samples::from_power_sums(4, sums, 0.0)?.with_range(1.0, 4.0)?;
+    /// assert_eq!(s.range(), Some((1.0, 4.0)));
+    /// assert!(Samples::from_power_sums(4, sums, 0.0)?.with_range(1.0, 3.0).is_err());
+    /// # Ok::<(), mcrt_noise::SampleError>(())
+    /// ```
+    pub fn with_range(self, smallest: f64, largest: f64) -> Result<Samples, SampleError> {
+        let invalid = |why: String| Err(SampleError::InvalidSums(why));
+        if !(smallest >= 0.0 && smallest.is_finite()) {
+            return invalid(format!("min = {smallest:e}: must be finite and >= 0 (L is never negative)"));
+        }
+        if !(largest >= smallest && largest.is_finite() && (largest * largest).is_finite()) {
+            return invalid(format!("max = {largest:e}: must be finite, >= min = {smallest:e}, with a finite square"));
+        }
+        if let Range::Known(lo, hi) = self.range {
+            if (lo, hi) != (smallest, largest) {
+                return invalid(format!(
+                    "min = {smallest:e}, max = {largest:e}: these samples were pushed one by one, and their smallest \
+                     and largest values are {lo:e} and {hi:e}"
+                ));
+            }
+            return Ok(self);
+        }
+        let n = self.count() as f64;
+        let [s1, s2, _, s4, _, _] = self.exact_sums().map(|x| x.to_f64());
+        // Each side off by at most the sums' error and a few roundings here.
+        let slack = 1.0 + 1.01 * self.sums_relative_error + 8.0 * f64::EPSILON;
+        let fails = [
+            (n * smallest > s1 * slack, "count·min <= Σ L"),
+            (s1 > n * largest * slack, "Σ L <= count·max"),
+            (s4 > largest * largest * s2 * slack, "Σ L⁴ <= max²·Σ L²"),
+            (largest * largest > s2 * slack, "max² <= Σ L²"),
+        ];
+        if let Some((_, rule)) = fails.iter().find(|(fails, _)| *fails) {
+            return invalid(format!(
+                "min = {smallest:e}, max = {largest:e}: the sums cannot come from values in [min, max]: {rule} fails"
+            ));
+        }
+        Ok(Samples { range: Range::Known(smallest, largest), ..self })
+    }
+
+    /// The smallest and largest value: exact for values pushed here (and
+    /// merges of such), `None` for power sums given without them
+    /// ([`Samples::with_range`]) and for no values.
+    pub fn range(&self) -> Option<(f64, f64)> {
+        match self.range {
+            Range::Known(lo, hi) => Some((lo, hi)),
+            _ => None,
+        }
+    }
+
+    /// The samples' shape (mean, standard deviation, skewness, kurtosis;
+    /// central moments formed exactly from the sums, then rounded), or
+    /// `None` below 4 values, without spread, or when the mean or the
+    /// deviation is not a normal double ([`Samples::estimates`] says which).
+    pub(crate) fn shape(&self) -> Option<Shape> {
+        if self.count() < 4 || self.all_equal() {
+            return None;
+        }
+        // Σ (L − mean)^k = Σ_j C(k, j)(−mean)^{k−j} S_j (S₀ = M), with the
+        // mean S₁/M at 8 192 bits: the cancellation of the expansion loses
+        // at most (mean/spread)⁶ ≤ 2⁶·⁵³, far inside that width.
+        const P: u32 = 8192;
+        let n = Float::with_val(P, self.count());
+        let s = self.exact_sums().map(|x| Float::with_val(P, x));
+        let mean = Float::with_val(P, &s[0] / &n);
+        let minus_mean = Float::with_val(P, -&mean);
+        let central = |k: usize| {
+            let power = |e: usize| Float::with_val(P, (&minus_mean).pow(e as u32));
+            let mut total = Float::with_val(P, &n * power(k));
+            let mut binomial = 1u64;
+            for j in 1..=k {
+                binomial = binomial * (k - j + 1) as u64 / j as u64;
+                total += Float::with_val(P, &s[j - 1] * power(k - j)) * binomial;
+            }
+            total / &n
+        };
+        let m2 = central(2);
+        if !m2.is_sign_positive() || m2.is_zero() {
+            return None;
+        }
+        let sd = Float::with_val(P, m2.sqrt_ref());
+        let standard = |k: usize| Float::with_val(P, central(k) / Float::with_val(P, (&sd).pow(k as u32))).to_f64();
+        let sd = sd.to_f64();
+        let mean = mean.to_f64();
+        // 1 ≤ κ ≤ M − 1 (μ₄ ≥ μ₂², μ₄ ≤ (M − 1)μ₂²), against the sums' rounding.
+        let kurtosis = standard(4).clamp(1.0, self.count() as f64 - 1.0);
+        let normal = |x: f64| x == 0.0 || x.is_normal();
+        (normal(mean) && sd.is_normal()).then(|| Shape {
+            count: self.count(),
+            mean,
+            sd,
+            skewness: standard(3),
+            kurtosis,
+            fifth: standard(5),
+            sixth: standard(6),
+        })
+    }
+
+    /// The largest value, or when unknown a lower bound of it from the
+    /// sums, √(Σ L⁴/Σ L²) (every L² ≤ max², so Σ L⁴ ≤ max²·Σ L²), less the
+    /// sums' relative error; and whether it is exact.
+    pub(crate) fn largest(&self) -> (f64, bool) {
+        if let Range::Known(_, hi) = self.range {
+            return (hi, true);
+        }
+        let [_, s2, _, s4, _, _] = self.exact_sums();
+        let bound = if s2.is_zero() { 0.0 } else { rug::Float::with_val(SUM_BITS, &s4 / &s2).sqrt().to_f64() };
+        (bound * (1.0 - 2.02 * self.sums_relative_error), false)
+    }
+
     /// Whether these sums can be those of real numbers (`nonzero` of them
     /// nonzero, if stated).
     fn realisable(&self, nonzero: Option<u64>) -> Result<(), SampleError> {
@@ -264,7 +390,7 @@ impl Samples {
             SampleError::Unrealisable {
                 count: self.count(),
                 nonzero,
-                sums: sums.each_ref().map(rug::Float::to_f64),
+                sums: sums.iter().map(rug::Float::to_f64).collect(),
                 sums_relative_error: self.sums_relative_error,
                 violated,
                 sides,
@@ -272,14 +398,25 @@ impl Samples {
         })
     }
 
-    /// Adds one iteration's L.
+    /// Adds one iteration's L (finite, ≥ 0, with a finite fourth power).
     pub fn push(&mut self, l: f64) -> Result<(), SampleError> {
         let fourth = (l * l) * (l * l);
         if !(l.is_finite() && fourth.is_finite()) {
             return Err(SampleError::NotFinite { index: self.sums.count, value: l });
         }
+        if l < 0.0 {
+            return Err(SampleError::Negative { index: self.sums.count, value: l });
+        }
+        // −0 is 0 (and kept as +0 in the range).
+        let l = l.abs();
         self.sums.push(l);
+        let x = Float::with_val(HIGHER_POWER_BITS, l);
+        let x2 = Float::with_val(HIGHER_POWER_BITS, &x * &x);
+        let x3 = Float::with_val(HIGHER_POWER_BITS, &x2 * &x);
+        self.higher[0] += Float::with_val(HIGHER_POWER_BITS, &x3 * &x2);
+        self.higher[1] += Float::with_val(HIGHER_POWER_BITS, &x3 * &x3);
         self.nonzero = self.nonzero.map(|k| k + u64::from(l != 0.0));
+        self.range = self.range.union(Range::Known(l, l));
         Ok(())
     }
 
@@ -291,7 +428,11 @@ impl Samples {
     /// These samples and `other`'s together (exact: the order does not matter).
     pub fn merge(mut self, other: &Samples) -> Samples {
         self.nonzero = self.nonzero.zip(other.nonzero).map(|(a, b)| a + b);
+        self.range = self.range.union(other.range);
         self.sums = self.sums.merge(&other.sums);
+        for (a, b) in self.higher.iter_mut().zip(&other.higher) {
+            *a += b;
+        }
         self.sums_relative_error = self.sums_relative_error.max(other.sums_relative_error);
         self
     }
@@ -350,18 +491,20 @@ impl Samples {
 
     /// Whether every value is the same: M·Σ L² = (Σ L)², exactly.
     fn all_equal(&self) -> bool {
-        use rug::Float;
-        let [s1, s2, _, _] = self.exact_sums();
+        let [s1, s2, _, _, _, _] = self.exact_sums();
         let p = 2 * SUM_BITS + 128;
         Float::with_val(p, &s2 * self.count()) == Float::with_val(p, &s1 * &s1)
     }
 
-    /// The exact sums, read back from [`PowerSums::to_hex`].
-    fn exact_sums(&self) -> [rug::Float; 4] {
-        self.sums.to_hex().map(|hex| {
-            let parsed = rug::Float::parse_radix(&hex, 16).expect("PowerSums::to_hex is MPFR's own format");
-            rug::Float::with_val(SUM_BITS, parsed)
-        })
+    /// The exact sums Σ L … Σ L⁶ (the first four read back from
+    /// [`PowerSums::to_hex`]).
+    fn exact_sums(&self) -> [Float; 6] {
+        let [a, b, c, d] = self.sums.to_hex().map(|hex| {
+            let parsed = Float::parse_radix(&hex, 16).expect("PowerSums::to_hex is MPFR's own format");
+            Float::with_val(SUM_BITS, parsed)
+        });
+        let [e, f] = self.higher.clone();
+        [a, b, c, d, e, f]
     }
 
     /// Bounds on the error of the mean and of s² caused by the sums'
@@ -386,128 +529,12 @@ impl Samples {
 
 /// Width of the power sums as read back from [`PowerSums::to_hex`] (that of
 /// the exact sums).
-const SUM_BITS: u32 = 2300;
+pub(super) const SUM_BITS: u32 = 2300;
 
-/// Whether power sums S₁…S₄ of M = `count` numbers, N = `nonzero` of them
-/// nonzero (N = M if not stated), can come from real numbers, each sum known
-/// to relative error ε = `eps`. Each inequality is necessary (derived below);
-/// the sums are refused only if it fails for every set of sums within ε of
-/// those given (the returned sides are formed from the sums as given).
-///
-/// The raw inequalities take each sum as an interval Ŝ_k ± ε'|Ŝ_k|, ε' =
-/// 1.01 ε (|S − Ŝ| ≤ ε|S| ≤ ε|Ŝ|/(1 − ε), ε < 10⁻³), and each side at its
-/// most favourable end. The central sums c₂ = MS₂ − S₁² (= M²μ₂), c₃ =
-/// M²S₃ − 3MS₂S₁ + 2S₁³ (= M³μ₃), c₄ = M³S₄ − 4M²S₃S₁ + 6MS₂S₁² − 3S₁⁴
-/// (= M⁴μ₄) are polynomials whose terms are products of k sums, each off by
-/// at most ~kε of itself (`1.01` covers the higher orders); their bounds
-/// ĉ ± e are then used as intervals the same way. Everything is formed at
-/// 14 400 bits, room for products of six 2 300-bit sums: a rounding there
-/// lies far below any stated ε.
-///
-/// Derivations, for real L₁…L_M:
-/// 1. (Σ L)² ≤ N Σ L²: Cauchy–Schwarz over the N nonzero values, (Σ 1·L)² ≤
-///    (Σ 1)(Σ L²). With N = M this is c₂ ≥ 0.
-/// 2. (Σ L²)² ≤ N Σ L⁴: the same with L² in place of L.
-/// 3. (Σ L³)² ≤ Σ L² · Σ L⁴: Cauchy–Schwarz on the vectors (L_i) and (L_i²).
-/// 4. Σ L⁴ ≤ (Σ L²)²: every L_i² ≤ Σ_j L_j², so Σ L_i⁴ = Σ L_i²·L_i² ≤
-///    (Σ L_j²)·Σ L_i².
-/// 5. μ₄ ≥ μ₂², i.e. c₄ ≥ c₂²: the mean of d² (d = L − mean) squared is at
-///    most the mean of d⁴ (the variance of d² is not negative).
-/// 6. μ₂μ₄ ≥ μ₃² + μ₂³, i.e. c₂c₄ ≥ c₃² + c₂³ (Pearson): the matrix
-///    Σ_i vᵢvᵢᵀ, vᵢ = (1, dᵢ, dᵢ²), is positive semi-definite; its
-///    determinant is M³(μ₂μ₄ − μ₃² − μ₂³). (It implies 5 when μ₂ > 0.)
-/// 7. μ₄ ≤ (M − 1)μ₂², i.e. c₄ ≤ (M − 1)c₂²: the deviations sum to 0, so
-///    dᵢ = −Σ_{j≠i} d_j and, by Cauchy–Schwarz, dᵢ² ≤ (M − 1)(Σ d² − dᵢ²),
-///    i.e. dᵢ² ≤ (M − 1)/M · Σ d²; then Σ d⁴ ≤ max dᵢ² · Σ d² ≤
-///    (M − 1)/M (Σ d²)², which is the inequality (Σ d² = Mμ₂, Σ d⁴ = Mμ₄).
-///    It binds at M = 1 (μ₂ = 0) and M = 2 (μ₄ = μ₂²).
-/// 8. N ≥ 1 needs S₂ > 0 (a nonzero L has L² > 0; with ε < 1 a sum within
-///    ε of 0 relative is 0).
-fn realisable(
-    count: u64,
-    nonzero: Option<u64>,
-    sums: &[rug::Float; 4],
-    eps: f64,
-) -> Result<(), (SumsInequality, (String, String))> {
-    use rug::Float;
-    use SumsInequality as I;
-    const P: u32 = 6 * SUM_BITS + 6 * 64 + 216;
-    let f = |x: &Float| Float::with_val(P, x);
-    let n = Float::with_val(P, count);
-    let k = Float::with_val(P, nonzero.unwrap_or(count));
-    let [s1, s2, s3, s4] = sums.each_ref().map(f);
-    let zero = Float::new(P);
-    let eps1 = eps * 1.01;
-    // An interval's ends, and its smallest and largest |x|.
-    let hi = |x: &Float, e: &Float| Float::with_val(P, x + e);
-    let lo = |x: &Float, e: &Float| Float::with_val(P, x - e);
-    let min_abs = |x: &Float, e: &Float| Float::with_val(P, Float::with_val(P, x.abs_ref()) - e).max(&zero);
-    let max_abs = |x: &Float, e: &Float| Float::with_val(P, Float::with_val(P, x.abs_ref()) + e);
-    let raw_err = |x: &Float| Float::with_val(P, x.abs_ref()) * eps1;
-    let [e1, e2, e3, e4] = [&s1, &s2, &s3, &s4].map(raw_err);
-    let sq = |x: &Float| Float::with_val(P, x * x);
-    let mul = |a: &Float, b: &Float| Float::with_val(P, a * b);
-    let show = |x: Float| format!("{x:.6e}");
-    let fail = |which, l: Float, r: Float| Err((which, (show(l), show(r))));
-    // 1, 2, 3, 4: raw sums.
-    if sq(&min_abs(&s1, &e1)) > mul(&k, &hi(&s2, &e2)) {
-        return fail(I::SquareOfSumAtMostNTimesSumOfSquares, sq(&s1), mul(&k, &s2));
-    }
-    if sq(&min_abs(&s2, &e2)) > mul(&k, &hi(&s4, &e4)) {
-        return fail(I::SquareOfSumOfSquaresAtMostNTimesFourthSum, sq(&s2), mul(&k, &s4));
-    }
-    let (s2_hi, s4_hi) = (hi(&s2, &e2).max(&zero), hi(&s4, &e4).max(&zero));
-    if sq(&min_abs(&s3, &e3)) > mul(&s2_hi, &s4_hi) {
-        return fail(I::SquareOfThirdSumAtMostSecondTimesFourth, sq(&s3), mul(&s2, &s4));
-    }
-    if lo(&s4, &e4) > sq(&max_abs(&s2, &e2)) {
-        return fail(I::FourthSumAtMostSquareOfSecond, s4.clone(), sq(&s2));
-    }
-    if nonzero.is_some_and(|k| k >= 1) && s2.is_zero() {
-        return fail(I::NonzeroValuesNeedPositiveSquares, s2.clone(), zero.clone());
-    }
-    // 5, 6, 7: central sums, each with the bound of its terms' rounding.
-    let s1sq = sq(&s1);
-    let n2 = sq(&n);
-    let central = |terms: &[(Float, u32)]| {
-        let value = terms.iter().fold(Float::new(P), |acc, (t, _)| acc + t);
-        let err = terms
-            .iter()
-            .fold(Float::new(P), |acc, (t, k)| acc + Float::with_val(P, t.abs_ref()) * (eps1 * f64::from(*k)));
-        (value, err)
-    };
-    let (c2, ec2) = central(&[(mul(&n, &s2), 1), (-s1sq.clone(), 2)]);
-    let (c3, ec3) = central(&[(mul(&n2, &s3), 1), (mul(&mul(&n, &s2), &s1) * -3i32, 2), (mul(&s1sq, &s1) * 2u32, 3)]);
-    let (c4, ec4) = central(&[
-        (mul(&mul(&n2, &n), &s4), 1),
-        (mul(&mul(&n2, &s3), &s1) * -4i32, 2),
-        (mul(&mul(&n, &s2), &s1sq) * 6u32, 3),
-        (sq(&s1sq) * -3i32, 4),
-    ]);
-    let c2_lo = lo(&c2, &ec2).max(&zero);
-    let c2_hi = hi(&c2, &ec2).max(&zero);
-    let c4_hi = hi(&c4, &ec4);
-    if c4_hi < sq(&c2_lo) {
-        // Shown as μ₄ and μ₂² (c₄/M⁴, c₂²/M⁴).
-        let m4 = sq(&n2);
-        return fail(I::CentralFourthAtLeastSquareOfSecond, Float::with_val(P, &c4 / &m4), sq(&c2) / m4);
-    }
-    // max over the intervals of c₂(c₄ − c₂²) − c₃² ≤ c₂_hi (c₄_hi − c₂_lo²) − min c₃²
-    // (both factors ≥ 0 here).
-    let spread = Float::with_val(P, &c4_hi - sq(&c2_lo));
-    if mul(&c2_hi, &spread) < sq(&min_abs(&c3, &ec3)) {
-        // Shown as μ₂μ₄ and μ₃² + μ₂³ (each over M⁶).
-        let m6 = mul(&sq(&n2), &n2);
-        let left = mul(&c2, &c4) / &m6;
-        let right = Float::with_val(P, sq(&c3) + mul(&sq(&c2), &c2)) / &m6;
-        return fail(I::Pearson, left, right);
-    }
-    let m_minus_1 = Float::with_val(P, &n - 1u32);
-    if lo(&c4, &ec4) > mul(&m_minus_1, &sq(&max_abs(&c2, &ec2))) {
-        // Shown as μ₄ and (M − 1)μ₂².
-        let m4 = sq(&n2);
-        let right = mul(&m_minus_1, &sq(&c2)) / &m4;
-        return fail(I::CentralFourthAtMostMMinusOneTimesSquare, Float::with_val(P, &c4 / &m4), right);
-    }
-    Ok(())
-}
+/// Width of the exact Σ L⁵ and Σ L⁶ (the powers have 265 and 318 bits and
+/// six times the exponent range of L: room for as wide a spread of values
+/// as the first four sums hold).
+const HIGHER_BITS: u32 = 3456;
+
+/// Width of one value's fifth and sixth powers: exact for any double L.
+const HIGHER_POWER_BITS: u32 = 6 * 53;

@@ -1,158 +1,108 @@
-//! The check of a renderer's samples against a prediction, and what a pass
-//! proves.
+//! The check of a renderer's samples against a prediction: which tests
+//! run, what makes a quantity resolved, and the verdict's three outcomes.
 
+use super::family::{z_correlation, z_limit_for};
+use super::influence::influence;
+use super::options::{CheckOptions, MAX_INFLUENCE, MIN_EFFECTIVE_COUNT};
 use super::predict::{Model, Predicted, Prediction};
 use super::samples::{Measured, Samples};
-use mcrt_scene::FieldError;
+use super::shape::Shape;
+use super::statistics::{self, Null};
 use serde::Serialize;
-use statrs::distribution::{ContinuousCDF, Normal};
-use std::fmt;
 
-/// The checks made on one set of samples: the mean and Var L.
-pub const CHECKS: u32 = 2;
-
-/// How strict a check is, and what it must be able to resolve.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct CheckOptions {
-    false_alarm_rate: f64,
-    power: f64,
-    targets: (Option<f64>, Option<f64>),
+/// What a check concluded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Status {
+    /// Every quantity resolved, within its limit, and able to detect its
+    /// target: the renderer agrees with the prediction to the stated
+    /// detectable errors.
+    Pass,
+    /// Evidence of a bug: a resolved quantity beyond its z limit, or a value
+    /// larger than any correct renderer produces at the tail test's rate.
+    Fail,
+    /// The samples cannot tell: too few, too sparse, without spread, carried
+    /// by a few values, or unable to detect a target. The reasons say what
+    /// would resolve it.
+    NotResolved,
 }
 
-impl Default for CheckOptions {
-    /// Family-wise false-alarm rate 10⁻³, power 0.9, no resolution target.
-    fn default() -> Self {
-        CheckOptions { false_alarm_rate: 1e-3, power: 0.9, targets: (None, None) }
-    }
-}
-
-fn invalid(field: &str, value: f64, allowed: &str) -> FieldError {
-    FieldError { field: field.into(), value: value.to_string(), allowed: allowed.into() }
-}
-
-impl CheckOptions {
-    /// Options with the family-wise false-alarm rate `false_alarm_rate`
-    /// (in (0, 0.5]): the probability that a correct renderer fails the
-    /// check, over both quantities together (Šidák-corrected per quantity).
-    ///
-    /// ```
-    /// use mcrt_noise::CheckOptions;
-    /// let strict = CheckOptions::new(1e-4)?.with_power(0.99)?.with_targets(0.01, 0.05)?;
-    /// assert_eq!(strict.false_alarm_rate(), 1e-4);
-    /// assert!(CheckOptions::new(0.0).unwrap_err().to_string().contains("false_alarm_rate = 0"));
-    /// # Ok::<(), mcrt_noise::scene::FieldError>(())
-    /// ```
-    pub fn new(false_alarm_rate: f64) -> Result<CheckOptions, FieldError> {
-        if !(false_alarm_rate > 0.0 && false_alarm_rate <= 0.5) {
-            return Err(invalid("false_alarm_rate", false_alarm_rate, "in (0, 0.5]"));
+impl Status {
+    /// `PASS`, `FAIL` or `NOT RESOLVED`.
+    pub fn label(self) -> &'static str {
+        match self {
+            Status::Pass => "PASS",
+            Status::Fail => "FAIL",
+            Status::NotResolved => "NOT RESOLVED",
         }
-        Ok(CheckOptions { false_alarm_rate, ..CheckOptions::default() })
-    }
-
-    /// The power at which the detectable error is stated (in [0.5, 1)):
-    /// an error of the detectable size fails the check with at least this
-    /// probability. Default 0.9.
-    pub fn with_power(self, power: f64) -> Result<CheckOptions, FieldError> {
-        if !(0.5..1.0).contains(&power) {
-            return Err(invalid("power", power, "in [0.5, 1)"));
-        }
-        Ok(CheckOptions { power, ..self })
-    }
-
-    /// Relative errors of the mean and of Var L the samples must be able to
-    /// detect (each finite and > 0). A check whose detectable error exceeds
-    /// a target fails, saying how many samples would do.
-    pub fn with_targets(self, mean: f64, variance: f64) -> Result<CheckOptions, FieldError> {
-        self.with_mean_target(mean)?.with_variance_target(variance)
-    }
-
-    /// A resolution target for the mean alone (see [`CheckOptions::with_targets`]).
-    pub fn with_mean_target(self, mean: f64) -> Result<CheckOptions, FieldError> {
-        Ok(CheckOptions { targets: (Some(target("target_mean", mean)?), self.targets.1), ..self })
-    }
-
-    /// A resolution target for Var L alone (see [`CheckOptions::with_targets`]).
-    pub fn with_variance_target(self, variance: f64) -> Result<CheckOptions, FieldError> {
-        Ok(CheckOptions { targets: (self.targets.0, Some(target("target_variance", variance)?)), ..self })
-    }
-
-    /// The family-wise false-alarm rate.
-    pub fn false_alarm_rate(&self) -> f64 {
-        self.false_alarm_rate
-    }
-
-    /// The power of the detectable-error statement.
-    pub fn power(&self) -> f64 {
-        self.power
-    }
-
-    /// The resolution targets (mean, Var L), relative.
-    pub fn targets(&self) -> (Option<f64>, Option<f64>) {
-        self.targets
-    }
-
-    /// The per-quantity false-alarm rate, 1 − (1 − α)^{1/2} (Šidák).
-    pub fn per_check_rate(&self) -> f64 {
-        -(-self.false_alarm_rate).ln_1p().mul_add(1.0 / CHECKS as f64, 0.0).exp_m1()
-    }
-
-    /// The |z| beyond which a quantity fails: the two-sided normal quantile
-    /// of the per-check rate.
-    pub fn z_limit(&self) -> f64 {
-        standard_normal().inverse_cdf(1.0 - self.per_check_rate() / 2.0)
     }
 }
 
-fn target(field: &str, v: f64) -> Result<f64, FieldError> {
-    if v > 0.0 && v.is_finite() {
-        Ok(v)
-    } else {
-        Err(invalid(field, v, "finite and > 0 (a relative error)"))
-    }
-}
-
-fn standard_normal() -> Normal {
-    Normal::standard()
-}
-
-/// One quantity checked: prediction, measurement, z, and what it could detect.
+/// One quantity checked: prediction, measurement, z, the influence of one
+/// value on it, and what it could detect.
 #[derive(Debug, Clone, Serialize)]
 pub struct QuantityCheck {
     /// `"mean L"` or `"Var L"`.
     pub name: &'static str,
     /// The oracle's value with its bars.
     pub predicted: Predicted,
-    /// The renderer's value with its standard error; `None` when it has no
-    /// standard error a z-test can use (all values equal, or beyond the
-    /// range of a double: `not_resolved` says which).
+    /// The renderer's value with its own standard error (√(s²/M) for the
+    /// mean, s²·a for Var L); `None` when it has none a test can use (all
+    /// values equal, or beyond the range of a double: `not_resolved` says
+    /// which).
     pub measured: Option<Measured>,
     /// Bound on the measurement's error from inexact power sums (0 when
     /// the samples were accumulated exactly).
     pub rounding_bar: f64,
-    /// z = sign(d)·max(0, |d| − bars)/se, d = measured − predicted, bars =
-    /// quadrature + model + rounding bars; `None` when the quantity is not
-    /// resolved (`not_resolved` says why), or when |z| is beyond the range
-    /// of a double (the quantity then fails, its reason saying so).
+    /// The z-score (mean: null-scaled by the predicted Var L; Var L:
+    /// Wilson–Hilferty cube root; both with the bars taken off first);
+    /// `None` when the quantity is not resolved, or when |z| is beyond the
+    /// range of a double (the quantity then fails, its reason saying so).
     pub z: Option<f64>,
     /// measured/predicted with its standard error and bar (`None` when
     /// the measurement is not resolved, or when the ratio is beyond the
     /// range of a double: the row and the failure's reason say so).
     pub ratio: Option<Ratio>,
-    /// The smallest relative error δ of the renderer in this quantity that
-    /// fails the check with probability ≥ the stated power: the solution of
-    /// δ|P| = (z_limit + z_power)·se·(1 + δ) + bars, the standard error
-    /// growing with the error as it does when a bug scales L. `None` when
-    /// no error is certain to be caught (`undetectable` says why).
+    /// The largest change of z when one value in the samples' range is
+    /// deleted (`None` when there is no z, or when deleting one value
+    /// removes nearly all of the spread: `not_resolved` says so); above
+    /// [`MAX_INFLUENCE`](super::MAX_INFLUENCE) the quantity is not resolved.
+    pub influence: Option<f64>,
+    /// The smallest relative error of the renderer in this quantity, either
+    /// way, that fails the check with probability ≥ the stated power (for a
+    /// bug that scales L). Stated for resolved quantities within their
+    /// limit only: for a failing one it would describe a renderer already
+    /// shown wrong. `None` also when no error is certain to be caught
+    /// (`undetectable` says why).
     pub detectable_relative_error: Option<f64>,
-    /// Why the quantity has no z-score (and no detectable error): the reason
-    /// it is not resolved, or `None` when it is.
+    /// Why the quantity is not resolved (has no usable z), or `None`.
     pub not_resolved: Option<String>,
-    /// Why a resolved quantity has no detectable error: the standard error
-    /// is too large for any δ, (z_limit + z_power)·se ≥ |P|.
+    /// Why a resolved quantity within its limit has no detectable error.
     pub undetectable: Option<String>,
-    /// The target resolution, if one was stated.
-    pub target_relative_error: Option<f64>,
-    /// |z| within the limit (and the target met, if any).
+    /// The resolution target (the default's unless one was stated).
+    pub target_relative_error: f64,
+    /// About how many samples would make the detectable error meet the
+    /// target (`None` when the bars alone exceed it, or no estimate).
+    pub samples_for_target: Option<f64>,
+    /// Resolved, within its limit, and meeting its target.
+    pub pass: bool,
+}
+
+/// The tail test: the largest value against the bound on its probability
+/// for a correct renderer (Markov and Cantelli with the predicted mean and
+/// variance; any distribution).
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct TailCheck {
+    /// The largest value, or a lower bound of it from the power sums.
+    pub largest: f64,
+    /// Whether `largest` is the exact largest value.
+    pub largest_exact: bool,
+    /// Bound on the probability that a correct renderer's largest of these
+    /// M values is as large.
+    pub probability_bound: f64,
+    /// The rate the bound is tested at.
+    pub rate: f64,
+    /// The bound above the rate.
     pub pass: bool,
 }
 
@@ -202,27 +152,13 @@ impl Ratio {
     }
 }
 
-impl fmt::Display for Ratio {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{} ± {:.1e} (s.e.) ± {:.1e} (bars)", fixed(self.value, 5), self.standard_error, self.bar)
-    }
-}
-
-/// `x` with `decimals` decimals where that shows its leading digits (|x| in
-/// [10⁻², 10⁵)), else in exponent notation with as many.
-fn fixed(x: f64, decimals: usize) -> String {
-    if (1e-2..1e5).contains(&x.abs()) {
-        format!("{x:.decimals$}")
-    } else {
-        format!("{x:.decimals$e}")
-    }
-}
-
-/// The outcome of [`check`]: pass or fail, each quantity's numbers, and
-/// what the samples could have detected.
+/// The outcome of [`check`]: pass, fail or not resolved, each quantity's
+/// numbers, and what the samples showed.
 #[derive(Debug, Clone, Serialize)]
 pub struct Verdict {
-    /// Every quantity within its limit, every target met.
+    /// Pass, fail or not resolved.
+    pub status: Status,
+    /// `status == Status::Pass`.
     pub pass: bool,
     /// The model the prediction came from.
     pub model: Model,
@@ -233,17 +169,33 @@ pub struct Verdict {
     pub nonzero: Option<u64>,
     /// The family-wise false-alarm rate.
     pub false_alarm_rate: f64,
-    /// The per-quantity rate (Šidák over [`CHECKS`]).
+    /// The estimated correlation of the two z-scores under the null
+    /// hypothesis, γ/√(κ − 1) from the samples' skewness and kurtosis (0
+    /// without a shape).
+    pub z_correlation: f64,
+    /// The rate of each z-test alone, 2Φ̄(z_limit): the two together fail
+    /// a correct renderer with the family-wise rate less the tail test's
+    /// share, for z-scores correlated by `z_correlation`.
     pub per_check_rate: f64,
     /// |z| limit of each quantity.
     pub z_limit: f64,
     /// Power of the detectable-error figures.
     pub power: f64,
+    /// The samples' shape (mean, standard deviation, skewness, kurtosis;
+    /// `None` without spread or beyond the range of a double).
+    pub shape: Option<Shape>,
+    /// M/κ: about how many values carry the spread.
+    pub effective_count: Option<f64>,
+    /// The tail test (`None` below 4 samples).
+    pub tail: Option<TailCheck>,
     /// Mean and Var L (empty below 4 samples).
     pub checks: Vec<QuantityCheck>,
-    /// Why it failed, one sentence each (empty on a pass).
-    pub reasons: Vec<String>,
-    /// What a pass shows, in words.
+    /// Why it failed, one sentence each (empty unless it failed).
+    pub failures: Vec<String>,
+    /// What is not resolved, and what would resolve it, one sentence each
+    /// (empty on a pass; beside the failures on a fail).
+    pub unresolved: Vec<String>,
+    /// What the check shows, in words.
     pub statement: String,
 }
 
@@ -252,31 +204,39 @@ pub struct Verdict {
 pub const MIN_SAMPLES: u64 = 4;
 
 /// Fewest nonzero values for which the z-tests mean anything; below it both
-/// quantities are not resolved (the verdict fails, saying so). A renderer's
-/// L is mostly 0 where hits are rare, and then the k nonzero values carry
-/// the whole measurement: the relative standard error of the mean is ≈
-/// 1/√k, and the variance's standard error comes from the fourth moment,
-/// which a handful of values does not pin down (a low s² comes with a low
-/// standard error). With fewer than 100 nonzero values the normal
-/// approximation behind the z-tests is meaningless, whatever the number of
-/// zeros beside them. The same rule as the reference tracer's (`compare`
+/// quantities are not resolved. A renderer's L is mostly 0 where hits are
+/// rare, and then the k nonzero values carry the whole measurement: the
+/// relative standard error of the mean is ≈ 1/√k, and the variance's
+/// standard error comes from the fourth moment, which a handful of values
+/// does not pin down. The same rule as the reference tracer's (`compare`
 /// and `trace`), defined once there.
 pub const MIN_NONZERO: u64 = mcrt_reference::MIN_NONZERO_TRIALS;
 
 /// Checks a renderer's per-iteration values of one pixel against the
-/// prediction: z-scores of the mean and of Var L (Var's standard error from
-/// the fourth moment), the prediction's bars subtracted first, at the
-/// family-wise false-alarm rate of `options`; and the smallest relative
-/// error in each that these samples could detect. Fewer than
-/// [`MIN_SAMPLES`] samples, fewer than [`MIN_NONZERO`] nonzero values, a
-/// quantity without a usable standard error (all values equal, or beyond
-/// the range of a double), or a detectable error above a stated target
-/// fail, with the reason. Power sums without a nonzero count
-/// ([`Samples::with_nonzero`]) are checked, and the statement says that
-/// their sparsity could not be.
+/// prediction.
+///
+/// Three tests at the family-wise false-alarm rate α of `options`:
+/// - the **tail test** ([`TAIL_SHARE`](super::TAIL_SHARE) of α): a largest
+///   value no correct renderer reaches but with probability below that
+///   share (Markov and Cantelli bounds: no assumption on the distribution)
+///   fails;
+/// - the **mean's z**, scaled by the predicted Var L (null-scaled);
+/// - **Var L's z**, Wilson–Hilferty's cube root of s²/Var L with the
+///   samples' kurtosis;
+///
+/// the two z-tests Šidák-corrected over the rest of α, the prediction's
+/// bars taken off before dividing. A quantity is *resolved* when it has
+/// a measurement with spread, at least [`MIN_NONZERO`] nonzero values,
+/// and no single value moves its z by more than
+/// [`MAX_INFLUENCE`](super::MAX_INFLUENCE). The verdict FAILS on a failed
+/// tail test or a resolved quantity beyond its limit; it is NOT RESOLVED
+/// when a quantity is not resolved or cannot detect its target (the
+/// reasons name the sample count that would); otherwise it PASSES, and
+/// states the relative errors it would have caught.
 ///
 /// ```
 /// use mcrt_noise::{check, predict, CheckOptions, Samples, Scene};
+/// use mcrt_noise::check::Status;
 ///
 /// let scene = Scene::builder()
 ///     .medium(1.0, 0.8)
@@ -289,28 +249,35 @@ pub const MIN_NONZERO: u64 = mcrt_reference::MIN_NONZERO_TRIALS;
 /// let mut samples = Samples::new();
 /// samples.extend(std::iter::repeat(prediction.mean.value).take(1000))?;
 /// let verdict = check(&prediction, &samples, &CheckOptions::default());
-/// assert!(!verdict.pass);
-/// assert!(verdict.reasons.iter().any(|r| r.contains("Var L") && r.contains("not resolved")));
+/// assert_eq!(verdict.status, Status::NotResolved);
+/// assert!(verdict.unresolved.iter().any(|r| r.starts_with("mean L and Var L: all 1000 values are equal")));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions) -> Verdict {
-    let z_limit = options.z_limit();
-    let z_power = standard_normal().inverse_cdf(options.power);
+    let shape = samples.shape();
+    let z_correlation = shape.map_or(0.0, |s| z_correlation(&s));
+    let z_limit = z_limit_for(options.z_tests_rate(), z_correlation);
     let mut verdict = Verdict {
+        status: Status::NotResolved,
         pass: false,
         model: prediction.model,
         samples: samples.count(),
         nonzero: samples.nonzero(),
-        false_alarm_rate: options.false_alarm_rate,
-        per_check_rate: options.per_check_rate(),
+        false_alarm_rate: options.false_alarm_rate(),
+        z_correlation,
+        per_check_rate: 2.0 * (0.5 * statrs::function::erf::erfc(z_limit / std::f64::consts::SQRT_2)),
         z_limit,
-        power: options.power,
+        power: options.power(),
+        shape: None,
+        effective_count: None,
+        tail: None,
         checks: Vec::new(),
-        reasons: Vec::new(),
+        failures: Vec::new(),
+        unresolved: Vec::new(),
         statement: String::new(),
     };
     let Some((mean, variance)) = samples.estimates() else {
-        verdict.reasons.push(format!(
+        verdict.unresolved.push(format!(
             "{} samples: at least {MIN_SAMPLES} are needed for the variance and its standard error",
             samples.count()
         ));
@@ -318,59 +285,90 @@ pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions)
         return verdict;
     };
     let (round_mean, round_var) = samples.rounding_bounds();
+    let null = Null {
+        mean: prediction.mean.value,
+        mean_bar: prediction.mean.total_bar() + round_mean,
+        variance: prediction.variance.value,
+        variance_bar: prediction.variance.total_bar() + round_var,
+    };
+    verdict.shape = shape;
+    verdict.effective_count = shape.map(|s| s.effective_count());
+    let tail = tail_check(samples, &null, options.tail_rate());
+    verdict.tail = Some(tail);
     let sparse = samples.nonzero().filter(|k| *k < MIN_NONZERO).map(|k| sparse_reason(k, samples.count()));
-    let targets = options.targets;
+    let z_power = options.z_power();
+    let unbounded = samples.range().is_none().then(|| {
+        "the values' smallest and largest were not given (Samples::with_range, or \"min\" and \"max\" in the \
+         power-sums file): the power sums alone allow one value to carry the whole spread, so one value's influence \
+         on the verdict cannot be bounded"
+            .to_string()
+    });
+    let dominated = shape.filter(|s| s.effective_count() < MIN_EFFECTIVE_COUNT).map(|s| dominated_reason(&s));
+    let context =
+        Context { z_limit, z_power, null, shape, range: samples.range(), sparse: sparse.or(dominated).or(unbounded) };
     let quantities = [
-        ("mean L", prediction.mean, mean, round_mean, targets.0),
-        ("Var L", prediction.variance, variance, round_var, targets.1),
+        (Quantity::Mean, prediction.mean, mean, round_mean, options.targets().0),
+        (Quantity::Variance, prediction.variance, variance, round_var, options.targets().1),
     ];
-    for (name, predicted, measured, rounding_bar, target) in quantities {
-        let q = quantity(name, predicted, measured, sparse.as_deref(), rounding_bar, target, (z_limit, z_power));
-        verdict.reasons.extend(disagreement(&q, z_limit));
-        verdict.checks.push(q);
-    }
-    verdict.reasons.extend(unresolved(&verdict.checks));
-    // Unmet targets matter when nothing disagrees: they stop a weak pass.
-    if verdict.reasons.is_empty() {
-        let n = samples.count();
-        verdict.reasons.extend(verdict.checks.iter().filter_map(|q| unmet_target(q, z_limit + z_power, n)));
-    }
-    verdict.pass = verdict.reasons.is_empty();
-    verdict.statement = statement(&verdict);
-    if verdict.nonzero.is_none() {
-        verdict.statement.push_str(&format!(
-            "; sparsity could not be checked: the power sums came without the number of nonzero values, so this \
-             verdict may rest on fewer than {MIN_NONZERO} of them (give \"nonzero\" in the power-sums file, or \
-             Samples::with_nonzero)"
-        ));
-    }
-    if verdict.samples < CALIBRATED_SAMPLES {
-        verdict.statement.push_str(&format!(
-            "; but with {} samples (< {CALIBRATED_SAMPLES}) the stated false-alarm rate is not calibrated: a \
-             correct renderer's skewed L makes s² and its standard error too small too often (measured on the \
-             README's scene: 20 % false alarms at 30 samples, 5.5 % at 100, 0.7 % at 1000, against a stated 0.1 %)",
-            verdict.samples
-        ));
-    }
+    verdict.checks =
+        quantities.into_iter().map(|(which, p, m, r, target)| quantity(which, p, m, r, target, &context)).collect();
+    decide(&mut verdict, &null);
     verdict
 }
 
-/// Samples below which the normal approximation of the z-tests was measured
-/// not to hold its stated false-alarm rate on skewed renderer output
-/// (`docs/library.md`, Calibration); the verdict then says so.
-pub const CALIBRATED_SAMPLES: u64 = 10_000;
+/// The two quantities tested.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Quantity {
+    Mean,
+    Variance,
+}
+
+impl Quantity {
+    fn name(self) -> &'static str {
+        match self {
+            Quantity::Mean => "mean L",
+            Quantity::Variance => "Var L",
+        }
+    }
+
+    fn z(self, shape: &Shape, null: &Null) -> f64 {
+        match self {
+            Quantity::Mean => statistics::z_mean(shape, null),
+            Quantity::Variance => statistics::z_variance(shape, null),
+        }
+    }
+}
+
+/// What every quantity's check needs besides its own numbers.
+struct Context {
+    /// The |z| limit (for the estimated correlation of the z-scores).
+    z_limit: f64,
+    /// Φ⁻¹(power).
+    z_power: f64,
+    null: Null,
+    shape: Option<Shape>,
+    /// The smallest and largest value (every value lies between).
+    range: Option<(f64, f64)>,
+    /// Why nothing is resolved whatever the z-scores: the values are sparse,
+    /// or their extremes unknown.
+    sparse: Option<String>,
+}
+
+fn tail_check(samples: &Samples, null: &Null, rate: f64) -> TailCheck {
+    let (largest, largest_exact) = samples.largest();
+    let probability_bound = statistics::tail_probability(samples.count(), largest, null);
+    TailCheck { largest, largest_exact, probability_bound, rate, pass: probability_bound > rate }
+}
 
 fn quantity(
-    name: &'static str,
+    which: Quantity,
     predicted: Predicted,
     measured: Result<Measured, String>,
-    sparse: Option<&str>,
     rounding_bar: f64,
-    target: Option<f64>,
-    (z_limit, z_power): (f64, f64),
+    target: f64,
+    cx: &Context,
 ) -> QuantityCheck {
     let bars = predicted.total_bar() + rounding_bar;
-    let scale = predicted.value.abs();
     let (measured, mut not_resolved) = match measured {
         Ok(m) => (Some(m), None),
         Err(why) => (None, Some(why)),
@@ -378,47 +376,115 @@ fn quantity(
     let ratio = measured
         .and_then(|m| Ratio::new(m.value, m.standard_error, predicted.value, predicted.total_bar(), rounding_bar));
     if measured.is_some() {
-        not_resolved = sparse.map(str::to_string);
+        not_resolved = cx.sparse.clone();
     }
-    if measured.is_some() && ratio.is_none() && predicted.total_bar() >= scale {
+    if measured.is_some() && bars >= predicted.value.abs() {
         not_resolved = Some(format!(
-            "the prediction's bars ({:.2e}) are not below its value ({:.6e}): there is nothing to check against",
-            predicted.total_bar(),
+            "the bars ({bars:.2e}) are not below the predicted value ({:.6e}): there is nothing to check against",
             predicted.value
         ));
     }
-    let resolved = measured.filter(|_| not_resolved.is_none());
-    // A z beyond the range of a double (a tiny standard error far from the
-    // prediction) is left out; `disagreement` states the failure instead.
-    let z = resolved
-        .map(|m| {
-            let diff = m.value - predicted.value;
-            (diff.abs() - bars).max(0.0).copysign(diff) / m.standard_error
-        })
-        .filter(|z| z.is_finite());
-    let noise = resolved.map(|m| (z_limit + z_power) * m.standard_error);
-    let detectable_relative_error = noise.filter(|n| *n < scale).map(|n| (n + bars) / (scale - n));
-    let undetectable = noise.filter(|n| *n >= scale).map(|n| {
-        format!(
-            "no error of any size is certain to be caught: (z limit + z power)·s.e. = {n:.2e} is not below the \
-             predicted {scale:.2e}"
-        )
+    let shape = cx.shape.filter(|_| measured.is_some() && not_resolved.is_none());
+    let (z_limit, z_power) = (cx.z_limit, cx.z_power);
+    let z = shape.map(|s| which.z(&s, &cx.null));
+    let influence = shape.zip(cx.range).map(|(s, range)| influence(&s, range, |s| which.z(s, &cx.null)));
+    if let (Some(s), Some(z), Some(i)) = (shape, z, influence) {
+        not_resolved = undecided(z, i, z_limit, &s);
+    }
+    let resolved = not_resolved.is_none() && z.is_some();
+    // A z beyond the range of a double is left out; `disagreement` states
+    // the failure instead.
+    let z = z.filter(|z| z.is_finite() && resolved);
+    let within = resolved && z.is_some_and(|z| z.abs() <= z_limit);
+    let detectable = shape.filter(|_| within).map(|s| match which {
+        Quantity::Mean => statistics::detectable_mean(&s, &cx.null, z_limit, z_power),
+        Quantity::Variance => statistics::detectable_variance(&s, &cx.null, z_limit, z_power),
     });
-    let within = z.is_some_and(|z| z.abs() <= z_limit);
-    let target_met = target.is_none_or(|t| detectable_relative_error.is_some_and(|d| d <= t));
+    let undetectable = match detectable {
+        Some(None) => Some(
+            "no error of any size is certain to be caught: the standard error is as large as the prediction".into(),
+        ),
+        _ => None,
+    };
+    let detectable_relative_error = detectable.flatten();
+    let samples_for_target = shape.and_then(|s| match which {
+        Quantity::Mean => statistics::samples_for_mean(target, &s, &cx.null, z_limit, z_power),
+        Quantity::Variance => statistics::samples_for_variance(target, &s, &cx.null, z_limit, z_power),
+    });
+    let target_met = detectable_relative_error.is_some_and(|d| d <= target);
     QuantityCheck {
-        name,
+        name: which.name(),
         predicted,
         measured,
         rounding_bar,
         z,
         ratio,
+        influence: influence.filter(|i| i.is_finite()),
         detectable_relative_error,
         not_resolved,
         undetectable,
         target_relative_error: target,
+        samples_for_target,
         pass: within && target_met,
     }
+}
+
+/// Why a quantity with z-score `z` is not decided by its samples, if it
+/// is not: `z` is not a number; or one value moves `z` by more than
+/// [`MAX_INFLUENCE`] and `z` is not beyond the limit by more than that
+/// (the verdict, pass or fail, would rest on that value). A z beyond the
+/// limit by more than its influence fails whichever single value is
+/// deleted; an infinite one fails.
+fn undecided(z: f64, influence: f64, z_limit: f64, shape: &Shape) -> Option<String> {
+    if z.is_nan() {
+        return Some("its z is not a number: the values lie beyond the range of a double".into());
+    }
+    let beyond = z.abs() > z_limit;
+    let decided = influence <= MAX_INFLUENCE || z.is_infinite() || z.abs() - influence > z_limit;
+    (!decided).then(|| influence_reason(influence, shape, beyond.then_some(z)))
+}
+
+/// Why a quantity whose z one value moves by `influence` is not resolved
+/// (`beyond`: its z, when beyond the limit by less than that).
+fn influence_reason(influence: f64, shape: &Shape, beyond: Option<f64>) -> String {
+    let moved = match (influence.is_finite(), beyond) {
+        (true, None) => format!("deleting one value moves its z by {influence:.2}, more than {MAX_INFLUENCE}"),
+        (true, Some(z)) => format!(
+            "its z = {z:+.2} is beyond the limit by less than deleting one value moves it ({influence:.2}), so the \
+             failure would rest on that value as much as on the renderer"
+        ),
+        (false, _) => "deleting one value removes nearly all of the spread".to_string(),
+    };
+    let more = if influence.is_finite() {
+        let needed = shape.count as f64 * (influence / MAX_INFLUENCE).powi(2);
+        format!(
+            "; if the large values are the renderer's rare but legitimate ones, about {} samples would bring one \
+             value's influence below {MAX_INFLUENCE} (it falls like 1/√M for values of this size)",
+            count_text(needed.ceil())
+        )
+    } else {
+        String::new()
+    };
+    format!(
+        "{moved}: the verdict would rest on a single value (fireflies, or a tail these samples do not resolve: \
+         about {:.0} of the {} values carry the spread, M/kurtosis){more}",
+        shape.effective_count(),
+        shape.count
+    )
+}
+
+/// Why values whose spread a few of them carry (M/κ below
+/// [`MIN_EFFECTIVE_COUNT`]) resolve nothing.
+fn dominated_reason(shape: &Shape) -> String {
+    let effective = shape.effective_count();
+    format!(
+        "about {effective:.1} of the {} values carry the spread (M/kurtosis, fewer than {MIN_EFFECTIVE_COUNT}): the \
+         moments are dominated by a few values (fireflies, or a tail these samples do not resolve), so Var L's \
+         standard error is itself unreliable; if the large values are the renderer's rare but legitimate ones, about \
+         {} samples would give {MIN_EFFECTIVE_COUNT}",
+        shape.count,
+        count_text((shape.count as f64 * MIN_EFFECTIVE_COUNT / effective).ceil())
+    )
 }
 
 /// Why values with only `nonzero` of `count` nonzero (fewer than
@@ -433,229 +499,53 @@ fn sparse_reason(nonzero: u64, count: u64) -> String {
         if nonzero == 0 {
             String::new()
         } else {
-            format!(" (about {needed:.1e} samples would give {MIN_NONZERO} nonzero values)")
+            format!(" (about {} samples would give {MIN_NONZERO} nonzero values)", count_text(needed))
         }
     )
 }
 
-/// Why quantities are not resolved, one sentence per reason (quantities
-/// sharing a reason named together).
-fn unresolved(checks: &[QuantityCheck]) -> Vec<String> {
-    let mut out: Vec<(Vec<&str>, &str)> = Vec::new();
-    for q in checks {
-        if let Some(why) = &q.not_resolved {
-            match out.iter_mut().find(|(_, w)| *w == why.as_str()) {
-                Some((names, _)) => names.push(q.name),
-                None => out.push((vec![q.name], why)),
-            }
-        }
+/// A sample count: an integer below 10⁶, else three significant digits.
+pub(crate) fn count_text(n: f64) -> String {
+    if n < 1e6 {
+        format!("{n:.0}")
+    } else if n.is_finite() {
+        format!("{n:.2e}")
+    } else {
+        format!("more than {:.1e}", f64::MAX)
     }
-    out.into_iter().map(|(names, why)| format!("{}: not resolved: {why}", names.join(" and "))).collect()
 }
 
 /// Whether `q` is resolved and its z lies beyond the limit (or beyond the
 /// range of a double).
-fn disagrees(q: &QuantityCheck, z_limit: f64) -> bool {
+pub(crate) fn disagrees(q: &QuantityCheck, z_limit: f64) -> bool {
     q.not_resolved.is_none() && q.measured.is_some() && q.z.is_none_or(|z| z.abs() > z_limit)
 }
 
-/// Why `q` disagrees with the prediction, if it does.
-fn disagreement(q: &QuantityCheck, z_limit: f64) -> Option<String> {
-    let m = q.measured?;
-    disagrees(q, z_limit).then(|| {
-        let z = q.z.map_or(format!("|z| beyond the range of a double ({:.1e}), far beyond", f64::MAX), |z| {
-            format!("z = {}, beyond", z_text(z))
-        });
-        let ratio = ratio_text(q.ratio, m, q.predicted);
-        format!(
-            "{}: measured {:.6e} ± {:.2e} (s.e.) against predicted {:.6e} ± {:.1e} (bars) (ratio {ratio}): {z} the \
-             limit ±{z_limit:.2}",
-            q.name,
-            m.value,
-            m.standard_error,
-            q.predicted.value,
-            q.predicted.total_bar() + q.rounding_bar,
-        )
-    })
-}
-
-/// The ratio with its errors, or why it is not given.
-fn ratio_text(ratio: Option<Ratio>, m: Measured, p: Predicted) -> String {
-    ratio.map_or_else(|| format!("beyond the range of a double: {:.3e}/{:.3e}", m.value, p.value), |r| r.to_string())
-}
-
-/// A z-score: two decimals, or in exponent notation when large.
-fn z_text(z: f64) -> String {
-    if z.abs() < 1e4 {
-        format!("{z:+.2}")
-    } else {
-        format!("{z:+.3e}")
+/// The status, the reasons and the statement, from the quantities and the
+/// tail test.
+fn decide(verdict: &mut Verdict, null: &Null) {
+    use super::display::{disagreement, statement, tail_failure, unmet_target, unresolved};
+    let z_limit = verdict.z_limit;
+    let tail = verdict.tail.expect("the tail test runs whenever the quantities do");
+    if !tail.pass {
+        verdict.failures.push(tail_failure(&tail, verdict.samples, null));
     }
-}
-
-/// The reason of `q`'s unmet target, if it has one.
-fn unmet_target(q: &QuantityCheck, z_sum: f64, n: u64) -> Option<String> {
-    let target = q.target_relative_error?;
-    q.detectable_relative_error.is_none_or(|d| d > target).then(|| too_few(q, target, z_sum, n))
-}
-
-/// The reason of an unmet target, with the samples that would meet it.
-fn too_few(q: &QuantityCheck, target: f64, z_sum: f64, n: u64) -> String {
-    let scale = q.predicted.value.abs();
-    let bars_rel = (q.predicted.total_bar() + q.rounding_bar) / scale;
-    // Only resolved quantities are asked for their target (unresolved ones
-    // already fail with their reason).
-    let se_rel = q.measured.map_or(f64::INFINITY, |m| m.standard_error) / scale;
-    // δ = (k se + b)/(1 − k se) in relative terms; solved for se at δ = target.
-    let need = if bars_rel >= target {
-        format!("the bars alone are {bars_rel:.2e} relative, so no number of samples can")
+    let variance_ratio = verdict.checks[1].ratio.map(|r| r.value);
+    for q in &verdict.checks {
+        verdict.failures.extend(disagreement(q, z_limit, variance_ratio));
+    }
+    verdict.unresolved.extend(unresolved(&verdict.checks));
+    // Unmet targets matter only when nothing else is wrong: they stop a weak pass.
+    if verdict.failures.is_empty() && verdict.unresolved.is_empty() {
+        verdict.unresolved.extend(verdict.checks.iter().filter_map(|q| unmet_target(q, verdict.samples)));
+    }
+    verdict.status = if !verdict.failures.is_empty() {
+        Status::Fail
+    } else if !verdict.unresolved.is_empty() {
+        Status::NotResolved
     } else {
-        let se_needed = (target - bars_rel) / (z_sum * (1.0 + target));
-        let ratio = se_rel / se_needed;
-        let count = (n as f64 * ratio * ratio).ceil();
-        if count.is_finite() {
-            format!("about {count:.2e} samples would (standard errors fall like 1/√M)")
-        } else {
-            format!("more than {:.1e} samples would be needed (standard errors fall like 1/√M)", f64::MAX)
-        }
+        Status::Pass
     };
-    let detects = q.detectable_relative_error.map_or("no error of any size with certainty".to_string(), percent);
-    format!(
-        "{}: too few samples to resolve the target {}: these {n} samples detect {detects}; {need}",
-        q.name,
-        percent(target)
-    )
-}
-
-/// A relative error in per cent: three decimals, or three significant
-/// digits when smaller than 0.01 % (never a bare 0.000 %).
-fn percent(d: f64) -> String {
-    let p = d * 100.0;
-    if p.abs() >= 0.01 {
-        format!("{p:.3} %")
-    } else {
-        format!("{p:.2e} %")
-    }
-}
-
-/// A resolved quantity's detectable error, or why it has none.
-fn detects(q: &QuantityCheck) -> String {
-    q.detectable_relative_error
-        .map_or_else(|| "no error of any size with certainty (the standard error is too large)".to_string(), percent)
-}
-
-fn statement(v: &Verdict) -> String {
-    let [m, var] = [&v.checks[0], &v.checks[1]];
-    let unresolved: Vec<&str> = v.checks.iter().filter(|q| q.not_resolved.is_some()).map(|q| q.name).collect();
-    let disagreeing: Vec<&str> = v.checks.iter().filter(|q| disagrees(q, v.z_limit)).map(|q| q.name).collect();
-    if !unresolved.is_empty() && disagreeing.is_empty() {
-        return format!(
-            "nothing: the {} of these samples {} not resolved (see the reasons)",
-            unresolved.join(" and "),
-            if unresolved.len() == 1 { "is" } else { "are" }
-        );
-    }
-    if !disagreeing.is_empty() {
-        return format!(
-            "the renderer's {} {} from the prediction by more than the bars and chance explain (a correct \
-             renderer fails this check with probability {}, family-wise)",
-            disagreeing.join(" and "),
-            if disagreeing.len() == 1 { "differs" } else { "differ" },
-            v.false_alarm_rate
-        );
-    }
-    if !v.pass {
-        return "nothing at the stated targets: too few samples (see the reasons)".into();
-    }
-    let detects: Vec<String> = [("mean", m), ("Var L", var)]
-        .iter()
-        .filter_map(|(name, q)| {
-            q.detectable_relative_error.map(|d| format!("whose {name} is off by {} or more", percent(d)))
-        })
-        .collect();
-    let undetectable: Vec<&str> = [("mean", m), ("Var L", var)]
-        .iter()
-        .filter(|(_, q)| q.detectable_relative_error.is_none())
-        .map(|(name, _)| *name)
-        .collect();
-    let caught = if detects.is_empty() {
-        "no error of any size is certain to be caught (the standard errors are too large)".to_string()
-    } else {
-        format!(
-            "a renderer {} fails this check with probability ≥ {:.0} %{}",
-            detects.join(", or "),
-            v.power * 100.0,
-            if undetectable.is_empty() {
-                String::new()
-            } else {
-                format!(" (no error of any size in its {} is certain to be caught)", undetectable.join(" and "))
-            }
-        )
-    };
-    format!("{caught}; a correct one fails with probability {} (family-wise)", v.false_alarm_rate)
-}
-
-impl Verdict {
-    /// Panics with the whole verdict unless it passed: the one line a
-    /// renderer's test needs.
-    #[track_caller]
-    pub fn assert_pass(&self) {
-        assert!(self.pass, "{self}");
-    }
-}
-
-impl fmt::Display for Verdict {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(
-            f,
-            "{}: {} samples against the {} model (|z| limit {:.2}: false-alarm rate {} family-wise, Šidák over {} \
-             checks)",
-            if self.pass { "PASS" } else { "FAIL" },
-            self.samples,
-            self.model,
-            self.z_limit,
-            self.false_alarm_rate,
-            CHECKS
-        )?;
-        for q in &self.checks {
-            write!(
-                f,
-                "  {:<6} predicted {:.8e} ± {:.1e} (quadrature)",
-                q.name, q.predicted.value, q.predicted.quadrature_bar
-            )?;
-            // The finite-sphere model's bar is 0 because the model is exact: say so.
-            if q.predicted.model_bar > 0.0 {
-                write!(f, " ± {:.1e} (model)   ", q.predicted.model_bar)?;
-            } else {
-                write!(f, ", model exact   ")?;
-            }
-            let measured = |m: Measured| {
-                let rounding =
-                    if q.rounding_bar > 0.0 { format!(" ± {:.1e} (rounding)", q.rounding_bar) } else { String::new() };
-                format!("measured {:.8e} ± {:.1e} (s.e.){rounding}", m.value, m.standard_error)
-            };
-            match (q.measured, &q.not_resolved) {
-                (Some(m), None) => writeln!(
-                    f,
-                    "{}   ratio {}   z {}   detects {}",
-                    measured(m),
-                    ratio_text(q.ratio, m, q.predicted),
-                    q.z.map_or(format!("beyond ±{:.1e}", f64::MAX), z_text),
-                    detects(q)
-                )?,
-                (Some(m), Some(_)) => writeln!(
-                    f,
-                    "{}   ratio {}   z: not resolved (see the reasons)",
-                    measured(m),
-                    ratio_text(q.ratio, m, q.predicted)
-                )?,
-                (None, Some(why)) => writeln!(f, "measured: not resolved ({why})")?,
-                (None, None) => unreachable!("a quantity without a measurement has its reason"),
-            }
-        }
-        for r in &self.reasons {
-            writeln!(f, "  fails: {r}")?;
-        }
-        write!(f, "  what this check shows: {}", self.statement)
-    }
+    verdict.pass = verdict.status == Status::Pass;
+    verdict.statement = statement(verdict);
 }

@@ -17,32 +17,49 @@ pub struct CheckArgs<'a> {
     pub false_alarm_rate: f64,
     /// Power of the detectable-error figures.
     pub power: f64,
-    /// Relative resolution targets (mean, Var L).
+    /// Relative resolution targets (mean, Var L); the defaults where `None`.
     pub targets: (Option<f64>, Option<f64>),
+    /// Plan a check from these values (a pilot) instead of checking them.
+    pub plan: bool,
     /// One JSON object instead of the text.
     pub json: bool,
 }
 
-/// Power sums as JSON: `{"count": M, "sums": [ΣL, ΣL², ΣL³, ΣL⁴]}`, with
-/// an optional bound on their relative error and an optional count of the
-/// nonzero values (without it the check cannot tell sparse values).
+/// Power sums as JSON: `{"count": M, "sums": [ΣL, ΣL², ΣL³, ΣL⁴, ΣL⁵, ΣL⁶],
+/// "min": a, "max": b}`, with an optional bound on their relative error and
+/// an optional count of the nonzero values (without it the check cannot
+/// tell sparse values).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SumsFile {
     count: u64,
-    sums: [f64; 4],
+    sums: Vec<f64>,
     sums_relative_error: Option<f64>,
     nonzero: Option<u64>,
+    min: Option<f64>,
+    max: Option<f64>,
 }
 
-/// Runs the check: `Ok` on pass; a failed verdict, printed on stdout, is
-/// [`CliError::Stated`] (exit 1); bad input is usage (exit 2), and so is a
-/// scene the prediction does not support; a prediction that did not
-/// converge is computed (exit 1).
+/// Runs the check: `Ok` on pass; a verdict that failed or is not resolved,
+/// printed on stdout, is [`CliError::Stated`] (exit 1); bad input is usage
+/// (exit 2), and so is a scene the prediction does not support; a
+/// prediction that did not converge is computed (exit 1). With `plan`, the
+/// plan is printed, and exit 1 means the pilot already fails or no count
+/// could be estimated.
 pub fn check_cmd(scene: &Scene, args: &CheckArgs) -> Result<(), CliError> {
     let options = options(args).map_err(CliError::Usage)?;
     let samples = read_samples(args.values).map_err(CliError::Usage)?;
     let prediction = predict(scene)?;
+    if args.plan {
+        let plan = mcrt_noise::check::plan(&prediction, &samples, &options);
+        if args.json {
+            println!("{}", to_json(&plan)?);
+        } else {
+            println!("{plan}");
+        }
+        let usable = plan.samples.is_some() && plan.pilot.status != mcrt_noise::check::Status::Fail;
+        return if usable { Ok(()) } else { Err(CliError::Stated) };
+    }
     let verdict = check(&prediction, &samples, &options);
     if args.json {
         println!("{}", to_json(&verdict)?);
@@ -58,6 +75,7 @@ pub fn check_cmd(scene: &Scene, args: &CheckArgs) -> Result<(), CliError> {
 
 fn options(args: &CheckArgs) -> Result<CheckOptions, String> {
     let flag = |name: &str, e: mcrt_noise::scene::FieldError| format!("--{name} = {}: must be {}", e.value, e.allowed);
+    // Refused before anything is read or computed.
     let mut o = CheckOptions::new(args.false_alarm_rate).map_err(|e| flag("false-alarm-rate", e))?;
     o = o.with_power(args.power).map_err(|e| flag("power", e))?;
     if let Some(m) = args.targets.0 {
@@ -69,8 +87,12 @@ fn options(args: &CheckArgs) -> Result<CheckOptions, String> {
     Ok(o)
 }
 
-/// Longest line of a values file, and largest power-sums JSON, in bytes.
+/// Longest line of a values file, in bytes.
 const MAX_LINE: u64 = 4096;
+
+/// Largest power-sums JSON object, in bytes (a pretty-printed one is a few
+/// hundred; anything near this is not power sums).
+const MAX_SUMS_JSON: u64 = 1 << 20;
 
 /// The values: one number per line, a JSON array, or power sums as JSON.
 /// Read as a stream: memory stays bounded whatever the file's size.
@@ -97,7 +119,12 @@ fn read_samples(path: &Path) -> Result<Samples, String> {
     match first {
         Some(b'{') => {
             let mut text = String::new();
-            reader.take(MAX_LINE).read_to_string(&mut text).map_err(io)?;
+            reader.take(MAX_SUMS_JSON + 1).read_to_string(&mut text).map_err(io)?;
+            if text.len() as u64 > MAX_SUMS_JSON {
+                return Err(format!("--values {at}: power sums JSON longer than {MAX_SUMS_JSON} bytes"));
+            }
+            // The whole text: anything after the object (a second object,
+            // garbage) is an error, not ignored.
             let f: SumsFile =
                 serde_json::from_str(&text).map_err(|e| format!("--values {at}: power sums JSON: {e}"))?;
             // The default bounds plain f64 summation of M powers, each formed
@@ -118,11 +145,24 @@ fn read_samples(path: &Path) -> Result<Samples, String> {
                     ))
                 }
             };
-            let samples =
-                Samples::from_power_sums(f.count, f.sums, eps).map_err(|e| format!("--values {at}: {e}"))?;
-            match f.nonzero {
-                Some(k) => samples.with_nonzero(k).map_err(|e| format!("--values {at}: {e}")),
-                None => Ok(samples),
+            let bad = |e: mcrt_noise::SampleError| format!("--values {at}: {e}");
+            let sums: [f64; 6] = f.sums.as_slice().try_into().map_err(|_| {
+                format!(
+                    "--values {at}: power sums JSON: \"sums\" has {} entries: must have 6, [ΣL, ΣL², ΣL³, ΣL⁴, ΣL⁵, \
+                     ΣL⁶] (Var L's test corrects its skewness with the sixth moment)",
+                    f.sums.len()
+                )
+            })?;
+            let mut samples = Samples::from_power_sums(f.count, sums, eps).map_err(bad)?;
+            if let Some(k) = f.nonzero {
+                samples = samples.with_nonzero(k).map_err(bad)?;
+            }
+            match (f.min, f.max) {
+                (Some(lo), Some(hi)) => samples.with_range(lo, hi).map_err(bad),
+                _ => Err(format!(
+                    "--values {at}: power sums JSON: \"min\" and \"max\" (the smallest and largest value) are \
+                     required: without them one value's influence on the verdict cannot be bounded"
+                )),
             }
         }
         Some(b'[') => {

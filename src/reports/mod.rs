@@ -4,6 +4,7 @@
 
 pub mod accuracy;
 pub mod calibrate;
+pub mod check_calibration;
 pub mod choosing;
 pub mod compare;
 pub mod cost;

@@ -45,7 +45,8 @@ fn the_correct_renderer_passes_and_each_planted_bug_fails() {
     for bug in Bug::ALL.into_iter().filter(|b| *b != Bug::None) {
         let v = verdict(&prediction, bug);
         assert!(!v.pass, "{bug:?} passed:\n{v}");
-        // Caught by a z-test (unmet targets are only reported when nothing disagrees).
-        assert!(!v.reasons.is_empty() && v.reasons.iter().all(|r| r.contains("beyond the limit")), "{bug:?}:\n{v}");
+        // Caught by a z-test: a failure, not a verdict that could not tell.
+        assert_eq!(v.status, mcrt_noise::check::Status::Fail, "{bug:?}:\n{v}");
+        assert!(v.failures.iter().all(|r| r.contains("beyond the limit")), "{bug:?}:\n{v}");
     }
 }

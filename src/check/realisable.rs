@@ -1,0 +1,229 @@
+//! Whether power sums can be those of real, non-negative numbers: the
+//! necessary inequalities, each derived, checked allowing for the sums'
+//! stated relative error.
+
+use super::samples::SUM_BITS;
+use serde::Serialize;
+use std::fmt;
+
+/// A necessary condition on the power sums S_k = Σ L^k (k = 1…6) of M real numbers of
+/// which N are nonzero (N = M when the nonzero count is not stated), in the
+/// central moments μ_k = Σ (L − S₁/M)^k / M where it is about spread.
+/// `Samples::from_power_sums` derives each one in its source; the check
+/// allows for the sums' stated relative error, so only sums that are
+/// impossible by more than their rounding are refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum SumsInequality {
+    /// (Σ L)² ≤ N Σ L² (Cauchy–Schwarz; with N = M: s² ≥ 0).
+    SquareOfSumAtMostNTimesSumOfSquares,
+    /// (Σ L²)² ≤ N Σ L⁴ (Cauchy–Schwarz).
+    SquareOfSumOfSquaresAtMostNTimesFourthSum,
+    /// (Σ L³)² ≤ Σ L² · Σ L⁴ (Cauchy–Schwarz).
+    SquareOfThirdSumAtMostSecondTimesFourth,
+    /// Σ L⁴ ≤ (Σ L²)² (no L² exceeds Σ L²).
+    FourthSumAtMostSquareOfSecond,
+    /// μ₄ ≥ μ₂² (the variance of (L − mean)² is not negative).
+    CentralFourthAtLeastSquareOfSecond,
+    /// μ₂ μ₄ ≥ μ₃² + μ₂³ (Pearson: the moment matrix of 1, L, L² is
+    /// positive semi-definite).
+    Pearson,
+    /// μ₄ ≤ (M − 1) μ₂² (no squared deviation exceeds (M − 1)/M of their sum).
+    CentralFourthAtMostMMinusOneTimesSquare,
+    /// N ≥ 1 nonzero values need Σ L² > 0.
+    NonzeroValuesNeedPositiveSquares,
+    /// Σ L ≥ 0 and Σ L³ ≥ 0 (every L ≥ 0).
+    OddSumsNonNegative,
+    /// (Σ L²)² ≤ Σ L · Σ L³ (Cauchy–Schwarz on √L and L^{3/2}, L ≥ 0).
+    SquareOfSecondAtMostFirstTimesThird,
+    /// Σ L⁵ ≥ 0 and Σ L⁶ ≥ 0 (every L ≥ 0).
+    HigherSumsNonNegative,
+    /// (Σ L⁴)² ≤ Σ L² · Σ L⁶ (Cauchy–Schwarz on L and L³).
+    SquareOfFourthAtMostSecondTimesSixth,
+    /// (Σ L⁵)² ≤ Σ L⁴ · Σ L⁶ (Cauchy–Schwarz on L² and L³).
+    SquareOfFifthAtMostFourthTimesSixth,
+}
+
+impl fmt::Display for SumsInequality {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            SumsInequality::SquareOfSumAtMostNTimesSumOfSquares => "(Σ L)² ≤ N·Σ L²",
+            SumsInequality::SquareOfSumOfSquaresAtMostNTimesFourthSum => "(Σ L²)² ≤ N·Σ L⁴",
+            SumsInequality::SquareOfThirdSumAtMostSecondTimesFourth => "(Σ L³)² ≤ Σ L²·Σ L⁴",
+            SumsInequality::FourthSumAtMostSquareOfSecond => "Σ L⁴ ≤ (Σ L²)²",
+            SumsInequality::CentralFourthAtLeastSquareOfSecond => "μ₄ ≥ μ₂² (central moments)",
+            SumsInequality::Pearson => "μ₂·μ₄ ≥ μ₃² + μ₂³ (central moments; Pearson)",
+            SumsInequality::CentralFourthAtMostMMinusOneTimesSquare => "μ₄ ≤ (M − 1)·μ₂² (central moments)",
+            SumsInequality::NonzeroValuesNeedPositiveSquares => "Σ L² > 0 when N ≥ 1",
+            SumsInequality::OddSumsNonNegative => "Σ L ≥ 0 and Σ L³ ≥ 0 (L ≥ 0)",
+            SumsInequality::SquareOfSecondAtMostFirstTimesThird => "(Σ L²)² ≤ Σ L·Σ L³ (L ≥ 0)",
+            SumsInequality::HigherSumsNonNegative => "Σ L⁵ ≥ 0 and Σ L⁶ ≥ 0 (L ≥ 0)",
+            SumsInequality::SquareOfFourthAtMostSecondTimesSixth => "(Σ L⁴)² ≤ Σ L²·Σ L⁶",
+            SumsInequality::SquareOfFifthAtMostFourthTimesSixth => "(Σ L⁵)² ≤ Σ L⁴·Σ L⁶",
+        })
+    }
+}
+
+impl SumsInequality {
+    /// Whether the inequality involves N, the number of nonzero values.
+    pub(super) fn uses_nonzero(self) -> bool {
+        matches!(
+            self,
+            SumsInequality::SquareOfSumAtMostNTimesSumOfSquares
+                | SumsInequality::SquareOfSumOfSquaresAtMostNTimesFourthSum
+                | SumsInequality::NonzeroValuesNeedPositiveSquares
+        )
+    }
+}
+
+/// Whether power sums S₁…S₆ of M = `count` numbers, N = `nonzero` of them
+/// nonzero (N = M if not stated), can come from real numbers, each sum known
+/// to relative error ε = `eps`. Each inequality is necessary (derived below);
+/// the sums are refused only if it fails for every set of sums within ε of
+/// those given (the returned sides are formed from the sums as given).
+///
+/// The raw inequalities take each sum as an interval Ŝ_k ± ε'|Ŝ_k|, ε' =
+/// 1.01 ε (|S − Ŝ| ≤ ε|S| ≤ ε|Ŝ|/(1 − ε), ε < 10⁻³), and each side at its
+/// most favourable end. The central sums c₂ = MS₂ − S₁² (= M²μ₂), c₃ =
+/// M²S₃ − 3MS₂S₁ + 2S₁³ (= M³μ₃), c₄ = M³S₄ − 4M²S₃S₁ + 6MS₂S₁² − 3S₁⁴
+/// (= M⁴μ₄) are polynomials whose terms are products of k sums, each off by
+/// at most ~kε of itself (`1.01` covers the higher orders); their bounds
+/// ĉ ± e are then used as intervals the same way. Everything is formed at
+/// 14 400 bits, room for products of six 2 300-bit sums: a rounding there
+/// lies far below any stated ε.
+///
+/// Derivations, for real L₁…L_M:
+/// 1. (Σ L)² ≤ N Σ L²: Cauchy–Schwarz over the N nonzero values, (Σ 1·L)² ≤
+///    (Σ 1)(Σ L²). With N = M this is c₂ ≥ 0.
+/// 2. (Σ L²)² ≤ N Σ L⁴: the same with L² in place of L.
+/// 3. (Σ L³)² ≤ Σ L² · Σ L⁴: Cauchy–Schwarz on the vectors (L_i) and (L_i²).
+/// 4. Σ L⁴ ≤ (Σ L²)²: every L_i² ≤ Σ_j L_j², so Σ L_i⁴ = Σ L_i²·L_i² ≤
+///    (Σ L_j²)·Σ L_i².
+/// 5. μ₄ ≥ μ₂², i.e. c₄ ≥ c₂²: the mean of d² (d = L − mean) squared is at
+///    most the mean of d⁴ (the variance of d² is not negative).
+/// 6. μ₂μ₄ ≥ μ₃² + μ₂³, i.e. c₂c₄ ≥ c₃² + c₂³ (Pearson): the matrix
+///    Σ_i vᵢvᵢᵀ, vᵢ = (1, dᵢ, dᵢ²), is positive semi-definite; its
+///    determinant is M³(μ₂μ₄ − μ₃² − μ₂³). (It implies 5 when μ₂ > 0.)
+/// 7. μ₄ ≤ (M − 1)μ₂², i.e. c₄ ≤ (M − 1)c₂²: the deviations sum to 0, so
+///    dᵢ = −Σ_{j≠i} d_j and, by Cauchy–Schwarz, dᵢ² ≤ (M − 1)(Σ d² − dᵢ²),
+///    i.e. dᵢ² ≤ (M − 1)/M · Σ d²; then Σ d⁴ ≤ max dᵢ² · Σ d² ≤
+///    (M − 1)/M (Σ d²)², which is the inequality (Σ d² = Mμ₂, Σ d⁴ = Mμ₄).
+///    It binds at M = 1 (μ₂ = 0) and M = 2 (μ₄ = μ₂²).
+/// 8. N ≥ 1 needs S₂ > 0 (a nonzero L has L² > 0; with ε < 1 a sum within
+///    ε of 0 relative is 0).
+/// 9. S₁ ≥ 0 and S₃ ≥ 0: every L ≥ 0 (a pixel's L is a sum of non-negative
+///    contributions; `Samples::push` refuses negative values too).
+/// 10. S₂² ≤ S₁S₃: Cauchy–Schwarz on the vectors (√Lᵢ) and (Lᵢ^{3/2}),
+///     real for L ≥ 0.
+/// 11. S₅ ≥ 0 and S₆ ≥ 0 (L ≥ 0); S₄² ≤ S₂S₆ and S₅² ≤ S₄S₆: Cauchy–Schwarz
+///     on (Lᵢ), (Lᵢ³) and on (Lᵢ²), (Lᵢ³).
+pub(super) fn realisable(
+    count: u64,
+    nonzero: Option<u64>,
+    sums: &[rug::Float; 6],
+    eps: f64,
+) -> Result<(), (SumsInequality, (String, String))> {
+    use rug::Float;
+    use SumsInequality as I;
+    const P: u32 = 6 * SUM_BITS + 6 * 64 + 216;
+    let f = |x: &Float| Float::with_val(P, x);
+    let n = Float::with_val(P, count);
+    let k = Float::with_val(P, nonzero.unwrap_or(count));
+    let [s1, s2, s3, s4, s5, s6] = sums.each_ref().map(f);
+    let zero = Float::new(P);
+    let eps1 = eps * 1.01;
+    // An interval's ends, and its smallest and largest |x|.
+    let hi = |x: &Float, e: &Float| Float::with_val(P, x + e);
+    let lo = |x: &Float, e: &Float| Float::with_val(P, x - e);
+    let min_abs = |x: &Float, e: &Float| Float::with_val(P, Float::with_val(P, x.abs_ref()) - e).max(&zero);
+    let max_abs = |x: &Float, e: &Float| Float::with_val(P, Float::with_val(P, x.abs_ref()) + e);
+    let raw_err = |x: &Float| Float::with_val(P, x.abs_ref()) * eps1;
+    let [e1, e2, e3, e4] = [&s1, &s2, &s3, &s4].map(raw_err);
+    let sq = |x: &Float| Float::with_val(P, x * x);
+    let mul = |a: &Float, b: &Float| Float::with_val(P, a * b);
+    let show = |x: Float| format!("{x:.6e}");
+    let fail = |which, l: Float, r: Float| Err((which, (show(l), show(r))));
+    // 1, 2, 3, 4: raw sums.
+    if sq(&min_abs(&s1, &e1)) > mul(&k, &hi(&s2, &e2)) {
+        return fail(I::SquareOfSumAtMostNTimesSumOfSquares, sq(&s1), mul(&k, &s2));
+    }
+    if sq(&min_abs(&s2, &e2)) > mul(&k, &hi(&s4, &e4)) {
+        return fail(I::SquareOfSumOfSquaresAtMostNTimesFourthSum, sq(&s2), mul(&k, &s4));
+    }
+    let (s2_hi, s4_hi) = (hi(&s2, &e2).max(&zero), hi(&s4, &e4).max(&zero));
+    if sq(&min_abs(&s3, &e3)) > mul(&s2_hi, &s4_hi) {
+        return fail(I::SquareOfThirdSumAtMostSecondTimesFourth, sq(&s3), mul(&s2, &s4));
+    }
+    if lo(&s4, &e4) > sq(&max_abs(&s2, &e2)) {
+        return fail(I::FourthSumAtMostSquareOfSecond, s4.clone(), sq(&s2));
+    }
+    if nonzero.is_some_and(|k| k >= 1) && s2.is_zero() {
+        return fail(I::NonzeroValuesNeedPositiveSquares, s2.clone(), zero.clone());
+    }
+    // 9, 10: non-negative values.
+    for s in [&s1, &s3] {
+        if hi(s, &raw_err(s)) < zero {
+            return fail(I::OddSumsNonNegative, s.clone(), zero.clone());
+        }
+    }
+    if sq(&min_abs(&s2, &e2)) > mul(&hi(&s1, &e1).max(&zero), &hi(&s3, &e3).max(&zero)) {
+        return fail(I::SquareOfSecondAtMostFirstTimesThird, sq(&s2), mul(&s1, &s3));
+    }
+    // 11: the fifth and sixth sums.
+    let [e5, e6] = [&s5, &s6].map(raw_err);
+    for (s, e) in [(&s5, &e5), (&s6, &e6)] {
+        if hi(s, e) < zero {
+            return fail(I::HigherSumsNonNegative, s.clone(), zero.clone());
+        }
+    }
+    let s6_hi = hi(&s6, &e6).max(&zero);
+    if sq(&min_abs(&s4, &e4)) > mul(&s2_hi, &s6_hi) {
+        return fail(I::SquareOfFourthAtMostSecondTimesSixth, sq(&s4), mul(&s2, &s6));
+    }
+    if sq(&min_abs(&s5, &e5)) > mul(&s4_hi, &s6_hi) {
+        return fail(I::SquareOfFifthAtMostFourthTimesSixth, sq(&s5), mul(&s4, &s6));
+    }
+    // 5, 6, 7: central sums, each with the bound of its terms' rounding.
+    let s1sq = sq(&s1);
+    let n2 = sq(&n);
+    let central = |terms: &[(Float, u32)]| {
+        let value = terms.iter().fold(Float::new(P), |acc, (t, _)| acc + t);
+        let err = terms
+            .iter()
+            .fold(Float::new(P), |acc, (t, k)| acc + Float::with_val(P, t.abs_ref()) * (eps1 * f64::from(*k)));
+        (value, err)
+    };
+    let (c2, ec2) = central(&[(mul(&n, &s2), 1), (-s1sq.clone(), 2)]);
+    let (c3, ec3) = central(&[(mul(&n2, &s3), 1), (mul(&mul(&n, &s2), &s1) * -3i32, 2), (mul(&s1sq, &s1) * 2u32, 3)]);
+    let (c4, ec4) = central(&[
+        (mul(&mul(&n2, &n), &s4), 1),
+        (mul(&mul(&n2, &s3), &s1) * -4i32, 2),
+        (mul(&mul(&n, &s2), &s1sq) * 6u32, 3),
+        (sq(&s1sq) * -3i32, 4),
+    ]);
+    let c2_lo = lo(&c2, &ec2).max(&zero);
+    let c2_hi = hi(&c2, &ec2).max(&zero);
+    let c4_hi = hi(&c4, &ec4);
+    if c4_hi < sq(&c2_lo) {
+        // Shown as μ₄ and μ₂² (c₄/M⁴, c₂²/M⁴).
+        let m4 = sq(&n2);
+        return fail(I::CentralFourthAtLeastSquareOfSecond, Float::with_val(P, &c4 / &m4), sq(&c2) / m4);
+    }
+    // max over the intervals of c₂(c₄ − c₂²) − c₃² ≤ c₂_hi (c₄_hi − c₂_lo²) − min c₃²
+    // (both factors ≥ 0 here).
+    let spread = Float::with_val(P, &c4_hi - sq(&c2_lo));
+    if mul(&c2_hi, &spread) < sq(&min_abs(&c3, &ec3)) {
+        // Shown as μ₂μ₄ and μ₃² + μ₂³ (each over M⁶).
+        let m6 = mul(&sq(&n2), &n2);
+        let left = mul(&c2, &c4) / &m6;
+        let right = Float::with_val(P, sq(&c3) + mul(&sq(&c2), &c2)) / &m6;
+        return fail(I::Pearson, left, right);
+    }
+    let m_minus_1 = Float::with_val(P, &n - 1u32);
+    if lo(&c4, &ec4) > mul(&m_minus_1, &sq(&max_abs(&c2, &ec2))) {
+        // Shown as μ₄ and (M − 1)μ₂².
+        let m4 = sq(&n2);
+        let right = mul(&m_minus_1, &sq(&c2)) / &m4;
+        return fail(I::CentralFourthAtMostMMinusOneTimesSquare, Float::with_val(P, &c4 / &m4), right);
+    }
+    Ok(())
+}
