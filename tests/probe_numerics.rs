@@ -316,3 +316,44 @@ fn more_lights_than_the_oracle_takes_are_refused_by_name() {
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(out.stdout.is_empty() && err.contains("lights: 101 lights") && err.contains("at most 100"), "{err}");
 }
+
+/// The outside probe, item 6: `kernel --theta 1 --radius 0.001 --max-evals 1`
+/// printed I (exit 0) after 128 evaluations: the series path's quadrature
+/// met its goal at its first step, where the budget was never looked at.
+/// A result that needed more than its budget is a computed failure naming
+/// the budget (exit 1, nothing on standard output); the same computation
+/// with the evaluations it needs (128) prints its value.
+#[test]
+fn the_kernel_honours_its_evaluation_budget_on_every_path() {
+    let base = ["kernel", "--theta", "1", "--radius", "0.001"];
+    for (path, budget) in [(&[][..], "1"), (&[][..], "127"), (&["--nested"][..], "1")] {
+        let out = run(&[&base[..], path, &["--max-evals", budget]].concat());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{path:?} {budget}: {}{err}", stdout(&out));
+        assert!(out.stdout.is_empty(), "{path:?}: printed {}", stdout(&out));
+        assert!(err.contains("NOT CONVERGED") && err.contains(&format!("evaluation budget of {budget} ")), "{err}");
+    }
+    let out = run(&[&base[..], &["--max-evals", "128"]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout(&out).contains("evaluations 128 "), "{}", stdout(&out));
+}
+
+/// The outside probe, item 3: `oracle --precision 1024 --time-limit 5` ran
+/// 48 s (90 s on a busier machine) before saying the limit was spent: the
+/// deadline was looked at between refinement steps only, and one step of
+/// the check rule (512 nodes per panel at 1024 bits, each an inner
+/// integral) takes tens of seconds. Now every level looks every 256 calls
+/// (7.1 s wall for a 5 s limit on the shared 2-core machine, 2.2 s for 1 s).
+/// The bound: the limit, plus one batch of 256 calls at each level and the
+/// Gauss–Legendre nodes (~0.5 s at 1024 bits) being built when it passed,
+/// with a factor 3 for a loaded machine: 2 s + 3 × 2 s.
+#[test]
+fn the_oracle_at_1024_bits_ends_near_its_deadline() {
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml");
+    let (out, secs) = run_within(&["oracle", scene, "--precision", "1024", "--time-limit", "2"], 60.0)
+        .unwrap_or_else(|| panic!("still running after 60 s"));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{}{err}", stdout(&out));
+    assert!(out.stdout.is_empty() && err.contains("time limit of 2 s"), "{err}");
+    assert!(secs <= 2.0 + 3.0 * 2.0, "{secs:.1} s");
+}

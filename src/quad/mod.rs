@@ -41,7 +41,7 @@ mod scan;
 mod tanh_sinh;
 
 use crate::real::Real;
-pub use budget::{Budget, DEFAULT_EVALUATIONS, DEFAULT_EVALUATIONS_MPFR};
+pub use budget::{Budget, CHECK_EVERY, DEFAULT_EVALUATIONS, DEFAULT_EVALUATIONS_MPFR};
 pub use check::CheckRule;
 pub(crate) use mapped::{Mapped, Piece, TailMap};
 pub use nested::{integrate_nested, integrate_within_pass};
@@ -305,10 +305,26 @@ fn integrate_samples<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, 
     validate(domain, opts)?;
     let graded = with_decay_lengths(domain);
     let domain = graded.as_ref().unwrap_or(domain);
-    if let Some(split) = split_tail(domain) {
-        return integrate_split(f, domain, split, opts);
+    let out = match split_tail(domain) {
+        Some(split) => integrate_split(f, domain, split, opts),
+        None => integrate_pieces(f, domain, opts),
+    };
+    out.and_then(|e| within_budget(e, opts))
+}
+
+/// A converged estimate, unless the computation has spent more than its
+/// budget (its first step met the goal between two checks of the budget):
+/// then a failure naming the budget, the estimate as its best guess.
+fn within_budget<T: Real>(e: Estimate<T>, opts: &Options) -> Outcome<T> {
+    match opts.budget.overrun() {
+        None => Ok(e),
+        Some(reason) => Err(Failure {
+            reason: format!("{reason}; the integral met its goal only past it"),
+            best_guess: Some(e.value),
+            error_estimate: Some(e.error),
+            evaluations: e.evaluations,
+        }),
     }
-    integrate_pieces(f, domain, opts)
 }
 
 /// The cuts of a decaying tail, in decay lengths: 1, 4, 16, … 4^K with
