@@ -56,10 +56,10 @@ enum Command {
     },
     /// Kernel of integral (23), I(ϑ, R), at a chosen precision, with error bar and cost.
     Kernel {
-        /// Angle ϑ in radians, in (0, π] (decimal; parsed at the working precision).
+        /// Angle ϑ in radians, in (0, π]: a plain decimal (e.g. 0.5, 1e-3) or `pi`, `pi/2`, read and range-checked at the working precision.
         #[arg(long, allow_hyphen_values = true)]
         theta: String,
-        /// Sphere radius R in units of 1/σ_ext, in [1e-200, 1e300] (decimal).
+        /// Sphere radius R in units of 1/σ_ext, in [1e-200, 1e300]: a plain decimal, read and range-checked at the working precision.
         #[arg(long, allow_hyphen_values = true)]
         radius: String,
         /// `f64` or a number of MPFR bits.
@@ -305,8 +305,8 @@ fn run(command: Command) -> Result<(), CliError> {
                 (true, false) => reports::tables::KernelPath::Nested,
                 (false, false) => reports::tables::KernelPath::Reduced,
             };
-            kernel_args(&theta, &radius)?;
             let precision = Precision::parse(&precision).map_err(CliError::Usage)?;
+            kernel_args(&theta, &radius, precision)?;
             let budget = budget_from_flags(precision, budget);
             Ok(reports::tables::kernel_cli(&theta, &radius, precision, rel_tol, path, &budget)?)
         }
@@ -410,15 +410,15 @@ fn load(path: &PathBuf) -> Result<Scene, CliError> {
     Scene::from_toml_str(&text).map_err(|e| CliError::usage(e).at(path.display()))
 }
 
-/// `kernel --theta`, `--radius`: in range as numbers (`cli::flags`).
-fn kernel_args(theta: &str, radius: &str) -> Result<(), CliError> {
-    if let Ok(t) = theta.trim().parse::<f64>() {
-        cli::flags::check_theta(theta, t).map_err(CliError::Usage)?;
-    }
-    if let Ok(r) = radius.trim().parse::<f64>() {
-        cli::flags::check_kernel_radius(radius, r).map_err(CliError::Usage)?;
-    }
-    Ok(())
+/// `kernel --theta`, `--radius`: plain decimals in range, read at the
+/// working precision (`cli::flags`).
+fn kernel_args(theta: &str, radius: &str, precision: Precision) -> Result<(), CliError> {
+    let bits = match precision {
+        Precision::F64 => None,
+        Precision::Bits(b) => Some(b),
+    };
+    cli::flags::check_theta(theta, bits).map_err(CliError::Usage)?;
+    cli::flags::check_kernel_radius(radius, bits).map_err(CliError::Usage)
 }
 
 /// The scene with estimator.radius replaced, validated as in a scene file
