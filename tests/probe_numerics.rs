@@ -357,3 +357,27 @@ fn the_oracle_at_1024_bits_ends_near_its_deadline() {
     assert!(out.stdout.is_empty() && err.contains("time limit of 2 s"), "{err}");
     assert!(secs <= 2.0 + 3.0 * 2.0, "{secs:.1} s");
 }
+
+/// The outside probe, item 7: `kernel --theta 1 --radius 1e-200 --precision
+/// 1024` printed `error bar 0.000e0`: the bar, 2.8e-507 (a relative 2^-1018
+/// of I ≈ 1.6e-200), was converted to f64, where it underflows. It is now
+/// printed at the working precision: positive, and a bound on the distance
+/// to the 1100-bit series reference.
+#[test]
+fn the_kernel_bar_at_1024_bits_is_positive_and_bounds_the_error() {
+    use mcrt_noise::kernel::{kernel_series_reference, parse_decimal};
+    use rug::Float;
+    let theta = Float::with_val(1100, 1);
+    let r = parse_decimal("1e-200", 1100).unwrap();
+    let reference = kernel_series_reference(&theta.clone().sin(), &theta.cos().abs(), &r, 1100);
+    let out = run(&["kernel", "--theta", "1", "--radius", "1e-200", "--precision", "1024"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = stdout(&out);
+    let value = text.lines().next().unwrap().rsplit("= ").next().unwrap().trim();
+    let bar = text.lines().nth(1).unwrap().split_whitespace().nth(2).unwrap();
+    let parse = |s: &str| Float::with_val(1100, Float::parse(s).unwrap_or_else(|e| panic!("{s:?}: {e}")));
+    let (value, bar) = (parse(value), parse(bar));
+    assert!(bar > 0, "error bar {bar} in\n{text}");
+    let off = Float::with_val(1100, &value - &reference).abs();
+    assert!(off <= bar, "off by {off:e}, bar {bar:e}");
+}

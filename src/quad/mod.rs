@@ -267,7 +267,7 @@ impl<T: Real> fmt::Display for Failure<T> {
         if let Some(v) = &self.best_guess {
             write!(f, " (unreliable best guess {:e}", v.to_f64())?;
             if let Some(e) = &self.error_estimate {
-                write!(f, " ± {:e}", e.to_f64())?;
+                write!(f, " ± {:e}", e.to_f64_up())?;
             }
             write!(f, ")")?;
         }
