@@ -138,7 +138,9 @@ pub fn run_with<T: CheckRule>(
         || Integrals::compute(&field, &r, &opts),
         || finite_field.as_ref().map(|ff| ff.integrals(&opts)).transpose(),
     );
-    let (ints, finite) = (ints?, finite?);
+    // A failure's best guess carries its field's e^{c₀}: in the report's units.
+    let ints = ints.map_err(|e| e.unshifted(field.shift.to_f64()))?;
+    let finite = finite.map_err(|e| e.unshifted(finite_field.as_ref().map_or(0.0, |ff| ff.shift.to_f64())))?;
     if ints.mean.value.is_zero() {
         return Err(OracleError::Unsupported(
             "the mean luminance is exactly 0 (no light reaches the camera ray): Var L = 0 and the relative noise is undefined".into(),
@@ -269,7 +271,10 @@ fn no_light_on_the_camera_ray<T: CheckRule>(scene: &Scene, ff: Option<&FiniteFie
         }
         Light::Point { .. } => true,
     });
-    let grazing = ff.filter(|_| reach).map(|ff| (ff.ray_total(Functional::Mean, opts), (-ff.shift.clone()).exp()));
+    let grazing = ff.filter(|_| reach).map(|ff| {
+        let mean = ff.ray_total(Functional::Mean, opts).map_err(|e| e.unshifted(ff.shift.to_f64()));
+        (mean, (-ff.shift.clone()).exp())
+    });
     let msg = match grazing {
         Some((Ok(m), k)) if !m.value.is_zero() => format!(
             "the camera ray passes outside every light (no beam crosses it in front of its disk), so the \

@@ -277,6 +277,23 @@ impl<T: Real> fmt::Display for Failure<T> {
 
 impl<T: Real> std::error::Error for Failure<T> {}
 
+impl<T: Real> Failure<T> {
+    /// The failure of an integral whose value is scaled by `k`: its best
+    /// guess and error estimate scaled alike (as [`Estimate::scaled`]).
+    pub fn scaled(self, k: &T) -> Failure<T> {
+        Failure {
+            best_guess: self.best_guess.map(|v| v * k.clone()),
+            error_estimate: self.error_estimate.map(|e| e * k.abs()),
+            ..self
+        }
+    }
+
+    /// The failure of one part of a sum: its best guess is not the sum's.
+    pub fn of_a_part(self) -> Failure<T> {
+        Failure { best_guess: None, error_estimate: None, ..self }
+    }
+}
+
 /// Result of an integration.
 pub type Outcome<T> = Result<Estimate<T>, Failure<T>>;
 
