@@ -161,9 +161,9 @@ enum Command {
         /// At most this many spheres per iteration (memory), in [1, 1e7].
         #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::max_spheres)]
         max_spheres: Option<f64>,
-        /// Radii searched, LO,HI (default σ_ext·R in [1e-3, 0.5]; scenes with scattered light keep their R).
-        #[arg(long, value_delimiter = ',', num_args = 2, allow_negative_numbers = true)]
-        radius_range: Option<Vec<f64>>,
+        /// Radii searched, LO,HI (one argument), with σ_ext·LO < σ_ext·HI in [1e-12, 1e3] (default σ_ext·R in [1e-3, 0.5]); a scene with scattered light keeps its R, which must lie in the range.
+        #[arg(long, allow_hyphen_values = true, value_parser = cli::flags::radius_range)]
+        radius_range: Option<(f64, f64)>,
         /// Write SVG maps of the predicted RMSE over (q, R) and (q, N_B/N_F) into this directory.
         #[arg(long)]
         maps: Option<PathBuf>,
@@ -323,15 +323,6 @@ fn run(command: Command) -> Result<(), CliError> {
             cli::trace_cmd::compare_cmd(&scene, &a.trials, a.seed, a.threads, a.json)
         }
         Command::Optimize { scene, budget, costs, max_spheres, radius_range, maps, json } => {
-            let radius_range = match radius_range.as_deref() {
-                None => None,
-                Some([lo, hi]) if lo.is_finite() && hi.is_finite() && *lo > 0.0 && lo < hi => Some((*lo, *hi)),
-                Some(v) => {
-                    return Err(CliError::usage(format!(
-                        "--radius-range {v:?}: must be LO,HI with 0 < LO < HI, both finite"
-                    )))
-                }
-            };
             let args = cli::tuning_cmd::OptimizeArgs {
                 scene: &scene,
                 budget,

@@ -47,12 +47,53 @@ fn optimize_prints_the_best_the_alternatives_and_the_sensitivity() {
     assert_eq!(v.pointer("/bias_predicted").and_then(|x| x.as_bool()), Some(true));
 }
 
+/// With scattered light R is held at the scene's; a `--radius-range`
+/// that holds it is honoured and said not to be searched (the outside
+/// probe, item 2: it was ignored silently), one that does not is refused,
+/// naming the flag and why.
 #[test]
 fn optimize_with_scattered_light_says_the_bias_is_not_predicted() {
-    let out = run(&["optimize", "scenes/point-isotropic-order1.toml", "--budget", "1"]);
+    let out = run(&["optimize", "scenes/point-isotropic-order1.toml", "--budget", "1", "--radius-range", "1e-3,0.5"]);
     let (t, e) = text(&out);
     assert!(out.status.success(), "{e}");
     assert!(t.contains("the bias is NOT predicted") && t.contains("held at the scene's"), "{t}");
+    assert!(t.contains("within --radius-range [1.000e-3, 5.000e-1], which is not searched"), "{t}");
+    let out = run(&["optimize", "scenes/point-isotropic-order1.toml", "--budget", "1", "--radius-range", "0.1,0.5"]);
+    let (t, e) = text(&out);
+    assert_eq!(out.status.code(), Some(2), "{t}{e}");
+    assert!(t.is_empty() && e.contains("--radius-range 1e-1,5e-1") && e.contains("estimator.radius = 0.01"), "{e}");
+}
+
+/// The outside probe, items 1 and 2. `--radius-range 1e-300 1e300` (also
+/// `1e-200 1e200`, `5e-324 1`) panicked with "capacity overflow": the grid
+/// over R, 4 radii per decade, was 10⁶⁰⁰ long. And the documented
+/// `--radius-range LO,HI` was always refused by clap ("2 values required …
+/// but 1 was provided"). Now LO,HI is the form (one argument), searched as
+/// given; radii beyond the scene's bounds (σ_ext·R in [1e-12, 1e3]), or not
+/// a range, are refused naming the flag, the value and the range (exit 2,
+/// nothing on standard output).
+#[test]
+fn the_radius_range_is_lo_comma_hi_within_the_scenes_bounds() {
+    let out = run(&["optimize", "scenes/point-isotropic.toml", "--budget", "0.5", "--radius-range", "0.01,0.1"]);
+    let (t, e) = text(&out);
+    assert!(out.status.success(), "{e}");
+    assert!(t.contains("R searched over [1.000e-2, 1.000e-1]"), "{t}");
+    for (range, needle) in [
+        ("1e-300,1e300", "--radius-range 1e-300,1e300: both radii must be in [1e-12, 1e3]"),
+        ("1e-200,1e200", "--radius-range 1e-200,1e200: both radii must be in [1e-12, 1e3]"),
+        ("5e-324,1", "--radius-range 5e-324,1e0: both radii must be in [1e-12, 1e3]"),
+        ("1e-3,1e4", "--radius-range 1e-3,1e4: both radii must be in [1e-12, 1e3]"),
+        ("0.1,0.01", "'--radius-range <RADIUS_RANGE>': 0.1,0.01 is not a range of radii"),
+        ("-1,2", "'--radius-range <RADIUS_RANGE>': -1,2 is not a range of radii"),
+        ("1,2,3", "'--radius-range <RADIUS_RANGE>': 1,2,3 is 3 value(s), not two radii"),
+        ("1e-3,abc", "'--radius-range <RADIUS_RANGE>': 1e-3,abc has \"abc\", not a number"),
+        ("nan,1", "'--radius-range <RADIUS_RANGE>': nan,1 is not a range of radii"),
+    ] {
+        let out = run(&["optimize", "scenes/point-isotropic.toml", "--budget", "10", "--radius-range", range]);
+        let (t, e) = text(&out);
+        assert_eq!(out.status.code(), Some(2), "{range}: {t}{e}");
+        assert!(t.is_empty() && e.contains(needle) && !e.contains("panicked"), "{range}: {needle:?} not in {e}");
+    }
 }
 
 #[test]

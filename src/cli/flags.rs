@@ -86,6 +86,24 @@ pub fn max_spheres(text: &str) -> Result<f64, String> {
     closed(text, (1.0, mcrt_scene::limits::MAX_SPHERES_PER_ITERATION))
 }
 
+/// `optimize --radius-range LO,HI`: two radii in one argument (so that a
+/// negative `-1,2` is named with the flag, not taken for a flag itself),
+/// LO < HI, both finite and > 0. Their bound, σ_ext·R in [1e-12, 1e3], is
+/// the scene's (`tuning::optimize` checks it with the scene).
+pub fn radius_range(text: &str) -> Result<(f64, f64), String> {
+    let bad = |why: &str| format!("{} {why}; give LO,HI with 0 < LO < HI, e.g. 1e-3,0.5", text.trim());
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [lo, hi] = parts[..] else {
+        return Err(bad(&format!("is {} value(s), not two radii", parts.len())));
+    };
+    let number = |t: &str| t.parse::<f64>().map_err(|_| bad(&format!("has {t:?}, not a number")));
+    let (lo, hi) = (number(lo)?, number(hi)?);
+    if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo < hi) {
+        return Err(bad("is not a range of radii"));
+    }
+    Ok((lo, hi))
+}
+
 /// `--threads`.
 pub fn threads(text: &str) -> Result<usize, String> {
     count(text, THREADS)
