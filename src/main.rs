@@ -1,6 +1,7 @@
 //! `mcrt-noise` command-line interface.
 
 use clap::{Parser, Subcommand};
+use cli::paths::Needed;
 use cli::CliError;
 use mcrt_noise::oracle::Precision;
 use mcrt_noise::quad::Budget;
@@ -256,8 +257,9 @@ Exit codes:
      variance are not resolved (fewer than 100 trials with hits); the reason on standard error, or with the verdict
      or the tracer's report on standard output
   2  usage or bad input: a bad flag, an unreadable or invalid scene file or shard, a value out of range, a scene the
-     model does not support, an output path that cannot be written or is an input; the message names the flag,
-     field or line";
+     model does not support, an output path that cannot be written or is an input, a --scenes directory that is
+     missing, empty or holds an invalid scene (all checked before the run); the message names the flag, field or
+     line";
 
 /// Runs one command. Exit codes (stated here once; `--help` and README.md
 /// repeat them, [`cli::CliError`] carries the kind):
@@ -273,7 +275,8 @@ Exit codes:
 ///   unreadable or invalid scene file or shard, an invalid trial range, a
 ///   value out of range, a scene the model does not support
 ///   (`OracleError::Unsupported`), an output path that cannot be written
-///   or is one of the command's inputs.
+///   or is one of the command's inputs, a `--scenes` directory that is
+///   missing, empty or holds an invalid scene (`cli::paths`).
 ///
 /// Every message names the flag, field or line, the value and the range;
 /// it goes to standard error, except a verdict's or a tracer report's
@@ -349,26 +352,34 @@ fn run(command: Command) -> Result<(), CliError> {
         }
         Command::AsymptoticChecks { out, scenes } => {
             let figures = figures_beside(&out);
-            generate(Some(&scenes), Some(out), || {
-                mcrt_noise::reports::sweep::asymptotic_checks_markdown(&scenes, &figures)
-            })
+            let inputs = Inputs { scenes: Some((&scenes, Needed::All)), figures: Some(&figures) };
+            generate(inputs, Some(out), || mcrt_noise::reports::sweep::asymptotic_checks_markdown(&scenes, &figures))
         }
         Command::ChoosingParameters { out, scenes } => {
             let figures = figures_beside(&out);
-            generate(Some(&scenes), Some(out), || mcrt_noise::reports::choosing::markdown(&scenes, &figures))
+            let names = mcrt_noise::reports::choosing::scene_names();
+            let inputs = Inputs { scenes: Some((&scenes, Needed::Named(&names))), figures: Some(&figures) };
+            generate(inputs, Some(out), || mcrt_noise::reports::choosing::markdown(&scenes, &figures))
         }
         Command::ModelError { out, scenes } => {
             let figures = figures_beside(&out);
-            generate(Some(&scenes), Some(out), || mcrt_noise::reports::model_error::markdown(&scenes, &figures))
+            let names = mcrt_noise::reports::model_error::scene_names();
+            let inputs = Inputs { scenes: Some((&scenes, Needed::Named(&names))), figures: Some(&figures) };
+            generate(inputs, Some(out), || mcrt_noise::reports::model_error::markdown(&scenes, &figures))
         }
         Command::TracerChecks { out, scenes } => {
             let figures = figures_beside(&out);
-            generate(Some(&scenes), Some(out), || mcrt_noise::reports::tracer_checks::markdown(&scenes, &figures))
+            let names = mcrt_noise::reports::tracer_checks::SCENE_NAMES;
+            let inputs = Inputs { scenes: Some((&scenes, Needed::Named(&names))), figures: Some(&figures) };
+            generate(inputs, Some(out), || mcrt_noise::reports::tracer_checks::markdown(&scenes, &figures))
         }
-        Command::Accuracy { points, out } => generate(None, out, || reports::accuracy::accuracy_markdown(points)),
+        Command::Accuracy { points, out } => {
+            generate(Inputs { scenes: None, figures: None }, out, || reports::accuracy::accuracy_markdown(points))
+        }
         Command::Cost { out, repeats } => {
             let figures = out.as_deref().and_then(|o| o.parent()).unwrap_or(Path::new(".")).join("figures");
-            generate(None, out, || reports::cost::cost_markdown(repeats, &figures))
+            let inputs = Inputs { scenes: None, figures: Some(&figures) };
+            generate(inputs, out, || reports::cost::cost_markdown(repeats, &figures))
         }
     }
 }
@@ -502,22 +513,32 @@ fn figures_beside(out: &Path) -> PathBuf {
     out.parent().unwrap_or(Path::new(".")).join("figures")
 }
 
-/// A generated document or table: `--scenes` must be a directory and
-/// `--out` writable, both checked before the generation (which takes
-/// minutes; exit 2 naming the flag). A failure of the generation itself is
-/// computed (exit 1); the text goes to `--out`, or to standard output.
+/// What a generated document reads and writes besides `--out`: its
+/// `--scenes` directory and the scenes it needs there, its figures directory.
+struct Inputs<'a> {
+    scenes: Option<(&'a Path, Needed<'a>)>,
+    figures: Option<&'a Path>,
+}
+
+/// A generated document or table: the scenes it reads must be there and
+/// valid, `--out` and the figures directory writable, all checked before
+/// the generation (which takes minutes; exit 2 naming the flag and the
+/// path, `cli::paths`). A failure of the generation itself is computed
+/// (exit 1); the text goes to `--out`, or to standard output.
 fn generate(
-    scenes: Option<&Path>,
+    inputs: Inputs<'_>,
     out: Option<PathBuf>,
     text: impl FnOnce() -> Result<String, String>,
 ) -> Result<(), CliError> {
-    if let Some(dir) = scenes {
-        if !dir.is_dir() {
-            return Err(CliError::usage(format!("--scenes {}: not a directory", dir.display())));
-        }
+    if let Some((dir, needed)) = inputs.scenes {
+        cli::paths::scenes_dir(dir, needed)?;
     }
     if let Some(path) = &out {
-        writable(path)?;
+        cli::paths::writable_file("--out", path)?;
+    }
+    if let Some(dir) = inputs.figures {
+        let flag = out.as_ref().map_or("without --out".to_string(), |o| format!("--out {}", o.display()));
+        cli::paths::writable_dir(&format!("{flag}: its figures directory {}", dir.display()), dir)?;
     }
     let text = text().map_err(CliError::Computed)?;
     match out {
@@ -528,21 +549,4 @@ fn generate(
             Ok(())
         }
     }
-}
-
-/// `--out PATH` can be written: its directory exists, and an existing file
-/// opens for writing (opened to append, so nothing in it changes yet).
-fn writable(path: &Path) -> Result<(), CliError> {
-    let cannot = |why: String| CliError::usage(format!("--out {}: cannot be written: {why}", path.display()));
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    if !dir.is_dir() {
-        return Err(cannot(format!("{} is not a directory", dir.display())));
-    }
-    if path.exists() {
-        std::fs::OpenOptions::new().append(true).open(path).map_err(|e| cannot(e.to_string()))?;
-    }
-    Ok(())
 }

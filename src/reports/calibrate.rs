@@ -73,6 +73,14 @@ pub const VALIDATION: [Case; 12] = [
     case("beam-isotropic", 0.1, 0.02, 60, 48),
 ];
 
+/// The scenes the calibration reads from its scenes directory (each once).
+pub fn scene_names() -> Vec<&'static str> {
+    let mut names: Vec<&'static str> = CALIBRATION.iter().chain(&VALIDATION).map(|c| c.scene).collect();
+    names.sort_unstable();
+    names.dedup();
+    names
+}
+
 impl Case {
     /// The case's scene, read from `scenes_dir`.
     pub fn scene(&self, scenes_dir: &Path) -> Result<Scene, String> {
