@@ -139,3 +139,57 @@ fn a_calibration_writes_costs_that_optimize_reads() {
     let out = run(&["calibrate", "--seconds", "0"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// A `[cost]` table in a file of its own: `trial_ns` as given, every other cost 0.
+fn costs_file(tag: &str, trial_ns: &str) -> std::path::PathBuf {
+    let path = std::env::temp_dir().join(format!("mcrt-noise-costs-{tag}-{}.toml", std::process::id()));
+    let others =
+        ["forward_ray_ns", "camera_ray_ns", "segment_ns", "sphere_ns", "sort_ns", "search_ns", "hit_ns", "hg_ns"];
+    let body: String = others.iter().map(|k| format!("{k} = 0\n")).collect();
+    std::fs::write(&path, format!("[cost]\ntrial_ns = {trial_ns}\n{body}")).unwrap();
+    path
+}
+
+/// The outside probe, items 11 and 12. All-zero costs (each inside the
+/// documented [0, 1e12]) made every iteration free: `optimize` said one
+/// iteration "takes longer" than the budget (exit 1). Costs of 1e-9 ns
+/// with `--budget 1e9` gave M = 18446744073709551615 (u64 saturated) and
+/// printed `q = 0.0000`, `(ratio 0.000)`. Now a table whose iteration
+/// (trial + forward ray + camera ray, which every iteration pays) costs
+/// under 1 ns is refused, naming the flag, the sum and the least (exit 2);
+/// at 1 ns, M ≤ 1e9 s / 1 ns = 1e18, and every q and ratio keeps its
+/// significant digits.
+#[test]
+fn costs_of_a_free_iteration_are_refused_and_m_is_bounded() {
+    for (tag, trial) in [("zero", "0"), ("tiny", "1e-9")] {
+        let path = costs_file(tag, trial);
+        let out = run(&["optimize", "scenes/point-isotropic.toml", "--budget", "1", "--costs", path.to_str().unwrap()]);
+        let (t, e) = text(&out);
+        assert_eq!(out.status.code(), Some(2), "{tag}: {t}{e}");
+        assert!(t.is_empty() && e.contains(&format!("--costs {}", path.display())), "{e}");
+        assert!(
+            e.contains("cost.trial_ns + cost.forward_ray_ns + cost.camera_ray_ns") && e.contains("at least 1 ns"),
+            "{e}"
+        );
+    }
+    let path = costs_file("one", "1");
+    let out = run(&["optimize", "scenes/point-isotropic.toml", "--budget", "1e9", "--costs", path.to_str().unwrap()]);
+    let (t, e) = text(&out);
+    assert!(out.status.success(), "{e}");
+    // Each parameter line: `q = … R = … rel. RMSE … M = … iterations …`.
+    let lines: Vec<&str> = t.lines().filter(|l| l.contains("rel. RMSE")).collect();
+    assert!(lines.len() >= 2, "{t}");
+    let after = |line: &str, key: &str| line.split(key).nth(1).unwrap().split_whitespace().next().unwrap().to_string();
+    for line in lines {
+        let m: u64 = after(line, "M = ").parse().unwrap();
+        assert!(m <= 1_000_000_000_000_000_000, "M = {m} in {line}");
+        let q = after(line, "q = ");
+        if q != "→" {
+            assert!(q.parse::<f64>().unwrap() > 0.0, "q printed as 0 in {line}");
+        }
+    }
+    for r in t.split("(ratio ").skip(1) {
+        let r: f64 = r.split(')').next().unwrap().parse().unwrap();
+        assert!(r > 0.0, "ratio printed as 0 in\n{t}");
+    }
+}

@@ -42,7 +42,10 @@ fn costs_for(scene: &Scene, file: Option<&Path>) -> Result<CostTable, CliError> 
     if let Some(path) = file {
         let text =
             std::fs::read_to_string(path).map_err(|e| CliError::usage(format!("--costs {}: {e}", path.display())))?;
-        return parse_costs(&text).map_err(|e| CliError::usage(format!("--costs {}: {e}", path.display())));
+        let costs =
+            parse_costs(&text, path).map_err(|e| CliError::usage(format!("--costs {}: {e}", path.display())))?;
+        costs.validate().map_err(|e| CliError::usage(format!("--costs {}: {e}", path.display())))?;
+        return Ok(costs);
     }
     Ok(CostTable::from_scene(scene).unwrap_or_else(|| {
         let mut c = CostTable::reference_machine();
@@ -55,9 +58,9 @@ fn costs_for(scene: &Scene, file: Option<&Path>) -> Result<CostTable, CliError> 
 
 /// A `[cost]` table in a file of its own (as `calibrate --out` writes it),
 /// with the keys and checks of a scene's `[cost]` table.
-fn parse_costs(text: &str) -> Result<CostTable, String> {
+fn parse_costs(text: &str, path: &Path) -> Result<CostTable, String> {
     let k = mcrt_noise::scene::Cost::from_toml_str(text).map_err(|e| e.to_string())?;
-    Ok(CostTable::from_array(k.ns, k.std_errors, "the --costs file".into()))
+    Ok(CostTable::from_array(k.ns, k.std_errors, format!("the --costs file {}", path.display())))
 }
 
 /// `optimize`.
