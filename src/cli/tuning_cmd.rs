@@ -128,14 +128,13 @@ pub fn calibrate_cmd(scenes: &Path, seconds: f64, out: Option<&Path>, json: bool
     );
     let c = reports::calibrate::calibrate(scenes, seconds, source).map_err(CliError::computed)?;
     if let Some(path) = out {
-        std::fs::write(path, c.fit.costs.to_toml())
-            .map_err(|e| CliError::usage(format!("--out {}: {e}", path.display())))?;
+        std::fs::write(path, c.fit.to_toml()).map_err(|e| CliError::usage(format!("--out {}: {e}", path.display())))?;
     }
     if json {
         println!("{}", super::to_json(&c)?);
     } else {
         print!("{}", reports::calibrate::markdown(&c));
-        println!("\n{}", c.fit.costs.to_toml());
+        println!("\n{}", c.fit.to_toml());
     }
     Ok(())
 }

@@ -105,10 +105,12 @@ impl CostTable {
     /// The table as a scene file's `[cost]` section (also a `--costs` file).
     pub fn to_toml(&self) -> String {
         let mut s = format!("# {}\n[cost]\n", self.source);
+        // Shortest exact forms: the file gives back the fit (a cost of
+        // 4e-5 ns was written 0.0000, as if held at 0).
         for (name, v) in self.keys.iter().zip(self.ns) {
-            s.push_str(&format!("{name} = {v:.4}\n"));
+            s.push_str(&format!("{name} = {v:?}\n"));
         }
-        let e: Vec<String> = self.std_errors.iter().map(|e| format!("{e:.4}")).collect();
+        let e: Vec<String> = self.std_errors.iter().map(|e| format!("{e:?}")).collect();
         s.push_str(&format!("std_errors = [{}]\n", e.join(", ")));
         s
     }
