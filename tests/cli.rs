@@ -633,6 +633,18 @@ fn merge_validates_every_field_of_every_shard() {
             "nonzero_trials",
         ),
         ("format1", edit(&|s| s["format"] = "mcrt-noise trace shard 1".into()), "format"),
+        // The outside probe, item 15: a real shard of format 1 (no
+        // nonzero_trials) was refused as "missing field `nonzero_trials` at
+        // line 29", naming neither format.
+        (
+            "version1",
+            edit(&|s| {
+                s["format"] = "mcrt-noise trace shard 1".into();
+                s["counters"].as_object_mut().unwrap().retain(|k, _| k != "nonzero_trials");
+            }),
+            "format: expected \"mcrt-noise trace shard 2\", found \"mcrt-noise trace shard 1\"",
+        ),
+        ("noformat", edit(&|s| s.as_object_mut().unwrap().retain(|k, _| k != "format")), "format: missing"),
     ] {
         let path = dir.join(format!("{tag}.json"));
         std::fs::write(&path, serde_json::to_string(&bad).unwrap()).unwrap();

@@ -5,6 +5,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use mcrt_noise::oracle::Precision;
 use mcrt_noise::reports::compare::{Comparison, TraceReport, MERGED_TIME};
 use mcrt_noise::scene::Scene;
+use mcrt_reference::run::check_shard_format;
 use mcrt_reference::{merge, trace, HitMethod, Run, Shard, Tracer};
 use std::io::IsTerminal;
 use std::ops::Range;
@@ -105,6 +106,9 @@ pub fn merge_cmd(paths: &[PathBuf], json: bool, out: Option<&Path>) -> Result<()
         .map(|p| {
             let at = |e: String| CliError::Usage(format!("{}: {e}", p.display()));
             let text = std::fs::read_to_string(p).map_err(|e| at(e.to_string()))?;
+            // The format first: another format's fields are not this one's.
+            let head: serde_json::Value = serde_json::from_str(&text).map_err(|e| at(e.to_string()))?;
+            check_shard_format(head.get("format").and_then(|f| f.as_str())).map_err(at)?;
             let shard: Shard = serde_json::from_str(&text).map_err(|e| at(e.to_string()))?;
             Run::from_shard(&shard).map_err(at)
         })
