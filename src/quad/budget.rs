@@ -29,8 +29,12 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Default number of integrand evaluations of one top-level computation:
-/// ~20 s of f64 evaluations on two cores of the reference machine (5·10⁷/s),
-/// so that a default run ends, converged or not, within a minute. The
+/// ~20 s of f64 evaluations on two idle cores of the reference machine
+/// (5·10⁷/s), so that a default run ends, converged or not, within about a
+/// minute there. It is a count, so its time is the machine's: 50
+/// single-scattering point lights spend it in 43–49 s wall, 51–53 CPU-s on
+/// the reference machine's 2 cores shared with another job, and in 68 s,
+/// 131 CPU-s on the outside probe's (`tests/probe_numerics.rs`). The
 /// heaviest bundled computation (the order-1 oracle of
 /// `point-isotropic-order1` at 10⁻⁶) takes 4.7·10⁸. (It was 2·10⁹ until
 /// issue 11's re-probe: `sweep` on the order-1 scene then took 112 s, and
