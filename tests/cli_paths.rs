@@ -126,3 +126,26 @@ fn bad_scenes_directories_are_refused_naming_the_file() {
     }
     assert!(!std::path::Path::new(out).exists(), "nothing written");
 }
+
+/// `trace --out` truncated an existing file before the run: a run that was
+/// interrupted (or failed) left the shard there empty. The path is now
+/// checked without changing it and written after the run: a run of 10⁹
+/// trials, killed after 2 s, leaves the file as it was.
+#[test]
+fn an_interrupted_trace_leaves_its_out_file_as_it_was() {
+    let dir = temp_dir("keep");
+    let out = dir.join("shard.json");
+    std::fs::write(&out, "{\"an earlier\": \"shard\"}").unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_mcrt-noise"))
+        .args(["trace", "scenes/point-isotropic.toml", "--trials", "1000000000", "--out", out.to_str().unwrap()])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_secs(2));
+    assert!(child.try_wait().unwrap().is_none(), "10⁹ trials cannot have ended in 2 s");
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "{\"an earlier\": \"shard\"}");
+}
