@@ -169,6 +169,17 @@ pub fn kernel_integral_reduced<T: CheckRule>(
     let Some((value, bound)) = series else {
         return Ok((quad, KernelMethod::Quadrature));
     };
+    // The series counts as one evaluation, charged like the quadrature's.
+    opts.budget.charge(1);
+    if let Some(reason) = opts.budget.overrun() {
+        let reason = format!("{reason}; the series met its goal only past it");
+        return Err(Failure {
+            reason,
+            best_guess: Some(value),
+            error_estimate: Some(bound),
+            evaluations: quad.evaluations + 1,
+        });
+    }
     let diff = (value.clone() - quad.value.clone()).abs();
     let bar = bound.clone().max_of(diff.clone() + quad.error.clone());
     let goal = crate::quad::goal(&value, &opts);

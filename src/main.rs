@@ -1,6 +1,7 @@
 //! `mcrt-noise` command-line interface.
 
 use clap::{Parser, Subcommand};
+use cli::paths::Needed;
 use cli::CliError;
 use mcrt_noise::oracle::Precision;
 use mcrt_noise::quad::Budget;
@@ -56,10 +57,10 @@ enum Command {
     },
     /// Kernel of integral (23), I(ϑ, R), at a chosen precision, with error bar and cost.
     Kernel {
-        /// Angle ϑ in radians, in (0, π] (decimal; parsed at the working precision).
+        /// Angle ϑ in radians, in (0, π]: a plain decimal (e.g. 0.5, 1e-3) or `pi`, `pi/2`, read and range-checked at the working precision.
         #[arg(long, allow_hyphen_values = true)]
         theta: String,
-        /// Sphere radius R in units of 1/σ_ext, in [1e-200, 1e300] (decimal).
+        /// Sphere radius R in units of 1/σ_ext, in [1e-200, 1e300]: a plain decimal, read and range-checked at the working precision.
         #[arg(long, allow_hyphen_values = true)]
         radius: String,
         /// `f64` or a number of MPFR bits.
@@ -173,9 +174,9 @@ enum Command {
         /// At most this many spheres per iteration (memory), in [1, 1e7].
         #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::max_spheres)]
         max_spheres: Option<f64>,
-        /// Radii searched, LO,HI (default σ_ext·R in [1e-3, 0.5]; scenes with scattered light keep their R).
-        #[arg(long, value_delimiter = ',', num_args = 2, allow_negative_numbers = true)]
-        radius_range: Option<Vec<f64>>,
+        /// Radii searched, LO,HI (one argument), with σ_ext·LO < σ_ext·HI in [1e-12, 1e3] (default σ_ext·R in [1e-3, 0.5]); a scene with scattered light keeps its R, which must lie in the range.
+        #[arg(long, allow_hyphen_values = true, value_parser = cli::flags::radius_range)]
+        radius_range: Option<(f64, f64)>,
         /// Write SVG maps of the predicted RMSE over (q, R) and (q, N_B/N_F) into this directory.
         #[arg(long)]
         maps: Option<PathBuf>,
@@ -268,8 +269,9 @@ Exit codes:
      variance are not resolved (fewer than 100 trials with hits); the reason on standard error, or with the verdict
      or the tracer's report on standard output
   2  usage or bad input: a bad flag, an unreadable or invalid scene file or shard, a value out of range, a scene the
-     model does not support, an output path that cannot be written or is an input; the message names the flag,
-     field or line";
+     model does not support, an output path that cannot be written or is an input, a --scenes directory that is
+     missing, empty or holds an invalid scene (all checked before the run); the message names the flag, field or
+     line";
 
 /// Runs one command. Exit codes (stated here once; `--help` and README.md
 /// repeat them, [`cli::CliError`] carries the kind):
@@ -285,7 +287,8 @@ Exit codes:
 ///   unreadable or invalid scene file or shard, an invalid trial range, a
 ///   value out of range, a scene the model does not support
 ///   (`OracleError::Unsupported`), an output path that cannot be written
-///   or is one of the command's inputs.
+///   or is one of the command's inputs, a `--scenes` directory that is
+///   missing, empty or holds an invalid scene (`cli::paths`).
 ///
 /// Every message names the flag, field or line, the value and the range;
 /// it goes to standard error, except a verdict's or a tracer report's
@@ -317,8 +320,8 @@ fn run(command: Command) -> Result<(), CliError> {
                 (true, false) => reports::tables::KernelPath::Nested,
                 (false, false) => reports::tables::KernelPath::Reduced,
             };
-            kernel_args(&theta, &radius)?;
             let precision = Precision::parse(&precision).map_err(CliError::Usage)?;
+            kernel_args(&theta, &radius, precision)?;
             let budget = budget_from_flags(precision, budget);
             Ok(reports::tables::kernel_cli(&theta, &radius, precision, rel_tol, path, &budget)?)
         }
@@ -335,15 +338,6 @@ fn run(command: Command) -> Result<(), CliError> {
             cli::trace_cmd::compare_cmd(&scene, &a.trials, a.seed, a.threads, a.json)
         }
         Command::Optimize { scene, budget, costs, max_spheres, radius_range, maps, json } => {
-            let radius_range = match radius_range.as_deref() {
-                None => None,
-                Some([lo, hi]) if lo.is_finite() && hi.is_finite() && *lo > 0.0 && lo < hi => Some((*lo, *hi)),
-                Some(v) => {
-                    return Err(CliError::usage(format!(
-                        "--radius-range {v:?}: must be LO,HI with 0 < LO < HI, both finite"
-                    )))
-                }
-            };
             let args = cli::tuning_cmd::OptimizeArgs {
                 scene: &scene,
                 budget,
@@ -372,26 +366,34 @@ fn run(command: Command) -> Result<(), CliError> {
         Command::CheckCalibration { out, reduce } => check_calibration(&out, reduce),
         Command::AsymptoticChecks { out, scenes } => {
             let figures = figures_beside(&out);
-            generate(Some(&scenes), Some(out), || {
-                mcrt_noise::reports::sweep::asymptotic_checks_markdown(&scenes, &figures)
-            })
+            let inputs = Inputs { scenes: Some((&scenes, Needed::All)), figures: Some(&figures) };
+            generate(inputs, Some(out), || mcrt_noise::reports::sweep::asymptotic_checks_markdown(&scenes, &figures))
         }
         Command::ChoosingParameters { out, scenes } => {
             let figures = figures_beside(&out);
-            generate(Some(&scenes), Some(out), || mcrt_noise::reports::choosing::markdown(&scenes, &figures))
+            let names = mcrt_noise::reports::choosing::scene_names();
+            let inputs = Inputs { scenes: Some((&scenes, Needed::Named(&names))), figures: Some(&figures) };
+            generate(inputs, Some(out), || mcrt_noise::reports::choosing::markdown(&scenes, &figures))
         }
         Command::ModelError { out, scenes } => {
             let figures = figures_beside(&out);
-            generate(Some(&scenes), Some(out), || mcrt_noise::reports::model_error::markdown(&scenes, &figures))
+            let names = mcrt_noise::reports::model_error::scene_names();
+            let inputs = Inputs { scenes: Some((&scenes, Needed::Named(&names))), figures: Some(&figures) };
+            generate(inputs, Some(out), || mcrt_noise::reports::model_error::markdown(&scenes, &figures))
         }
         Command::TracerChecks { out, scenes } => {
             let figures = figures_beside(&out);
-            generate(Some(&scenes), Some(out), || mcrt_noise::reports::tracer_checks::markdown(&scenes, &figures))
+            let names = mcrt_noise::reports::tracer_checks::SCENE_NAMES;
+            let inputs = Inputs { scenes: Some((&scenes, Needed::Named(&names))), figures: Some(&figures) };
+            generate(inputs, Some(out), || mcrt_noise::reports::tracer_checks::markdown(&scenes, &figures))
         }
-        Command::Accuracy { points, out } => generate(None, out, || reports::accuracy::accuracy_markdown(points)),
+        Command::Accuracy { points, out } => {
+            generate(Inputs { scenes: None, figures: None }, out, || reports::accuracy::accuracy_markdown(points))
+        }
         Command::Cost { out, repeats } => {
             let figures = out.as_deref().and_then(|o| o.parent()).unwrap_or(Path::new(".")).join("figures");
-            generate(None, out, || reports::cost::cost_markdown(repeats, &figures))
+            let inputs = Inputs { scenes: None, figures: Some(&figures) };
+            generate(inputs, out, || reports::cost::cost_markdown(repeats, &figures))
         }
     }
 }
@@ -424,15 +426,15 @@ fn load(path: &PathBuf) -> Result<Scene, CliError> {
     Scene::from_toml_str(&text).map_err(|e| CliError::usage(e).at(path.display()))
 }
 
-/// `kernel --theta`, `--radius`: in range as numbers (`cli::flags`).
-fn kernel_args(theta: &str, radius: &str) -> Result<(), CliError> {
-    if let Ok(t) = theta.trim().parse::<f64>() {
-        cli::flags::check_theta(theta, t).map_err(CliError::Usage)?;
-    }
-    if let Ok(r) = radius.trim().parse::<f64>() {
-        cli::flags::check_kernel_radius(radius, r).map_err(CliError::Usage)?;
-    }
-    Ok(())
+/// `kernel --theta`, `--radius`: plain decimals in range, read at the
+/// working precision (`cli::flags`).
+fn kernel_args(theta: &str, radius: &str, precision: Precision) -> Result<(), CliError> {
+    let bits = match precision {
+        Precision::F64 => None,
+        Precision::Bits(b) => Some(b),
+    };
+    cli::flags::check_theta(theta, bits).map_err(CliError::Usage)?;
+    cli::flags::check_kernel_radius(radius, bits).map_err(CliError::Usage)
 }
 
 /// The scene with estimator.radius replaced, validated as in a scene file
@@ -525,10 +527,6 @@ fn figures_beside(out: &Path) -> PathBuf {
     out.parent().unwrap_or(Path::new(".")).join("figures")
 }
 
-/// A generated document or table: `--scenes` must be a directory and
-/// `--out` writable, both checked before the generation (which takes
-/// minutes; exit 2 naming the flag). A failure of the generation itself is
-/// computed (exit 1); the text goes to `--out`, or to standard output.
 /// `check-calibration`: runs the documented cases (runs divided by
 /// `reduce`), prints the block and writes it into `out` between its markers.
 fn check_calibration(out: &Path, reduce: u64) -> Result<(), CliError> {
@@ -536,7 +534,7 @@ fn check_calibration(out: &Path, reduce: u64) -> Result<(), CliError> {
     let document = std::fs::read_to_string(out)
         .map_err(|e| CliError::usage(format!("--out {}: cannot be read: {e}", out.display())))?;
     cal::replace_block(&document, "").map_err(|e| CliError::usage(format!("--out {}: {e}", out.display())))?;
-    writable(out)?;
+    cli::paths::writable_file("--out", out)?;
     let mut outcomes = Vec::new();
     for mut case in cal::documented_cases() {
         case.runs = (case.runs / reduce).max(1);
@@ -563,18 +561,32 @@ fn check_calibration(out: &Path, reduce: u64) -> Result<(), CliError> {
         .map_err(|e| CliError::usage(format!("--out {}: cannot be written: {e}", out.display())))
 }
 
+/// What a generated document reads and writes besides `--out`: its
+/// `--scenes` directory and the scenes it needs there, its figures directory.
+struct Inputs<'a> {
+    scenes: Option<(&'a Path, Needed<'a>)>,
+    figures: Option<&'a Path>,
+}
+
+/// A generated document or table: the scenes it reads must be there and
+/// valid, `--out` and the figures directory writable, all checked before
+/// the generation (which takes minutes; exit 2 naming the flag and the
+/// path, `cli::paths`). A failure of the generation itself is computed
+/// (exit 1); the text goes to `--out`, or to standard output.
 fn generate(
-    scenes: Option<&Path>,
+    inputs: Inputs<'_>,
     out: Option<PathBuf>,
     text: impl FnOnce() -> Result<String, String>,
 ) -> Result<(), CliError> {
-    if let Some(dir) = scenes {
-        if !dir.is_dir() {
-            return Err(CliError::usage(format!("--scenes {}: not a directory", dir.display())));
-        }
+    if let Some((dir, needed)) = inputs.scenes {
+        cli::paths::scenes_dir(dir, needed)?;
     }
     if let Some(path) = &out {
-        writable(path)?;
+        cli::paths::writable_file("--out", path)?;
+    }
+    if let Some(dir) = inputs.figures {
+        let flag = out.as_ref().map_or("without --out".to_string(), |o| format!("--out {}", o.display()));
+        cli::paths::writable_dir(&format!("{flag}: its figures directory {}", dir.display()), dir)?;
     }
     let text = text().map_err(CliError::Computed)?;
     match out {
@@ -585,21 +597,4 @@ fn generate(
             Ok(())
         }
     }
-}
-
-/// `--out PATH` can be written: its directory exists, and an existing file
-/// opens for writing (opened to append, so nothing in it changes yet).
-fn writable(path: &Path) -> Result<(), CliError> {
-    let cannot = |why: String| CliError::usage(format!("--out {}: cannot be written: {why}", path.display()));
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    if !dir.is_dir() {
-        return Err(cannot(format!("{} is not a directory", dir.display())));
-    }
-    if path.exists() {
-        std::fs::OpenOptions::new().append(true).open(path).map_err(|e| cannot(e.to_string()))?;
-    }
-    Ok(())
 }

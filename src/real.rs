@@ -41,6 +41,11 @@ pub trait Real:
     fn euler_gamma(&self) -> Self;
     /// Nearest f64 (MPFR: rounded to nearest).
     fn to_f64(&self) -> f64;
+    /// The f64 at or above this value (MPFR: rounded up), for error bars:
+    /// a bar below the smallest double stays a positive bound, never 0.
+    fn to_f64_up(&self) -> f64 {
+        self.to_f64()
+    }
     /// Neither infinite nor NaN.
     fn is_finite(&self) -> bool;
     /// |x|.
@@ -202,6 +207,9 @@ impl Real for Float {
     }
     fn to_f64(&self) -> f64 {
         Float::to_f64(self)
+    }
+    fn to_f64_up(&self) -> f64 {
+        Float::to_f64_round(self, rug::float::Round::Up)
     }
     fn is_finite(&self) -> bool {
         Float::is_finite(self)

@@ -685,6 +685,18 @@ fn merge_validates_every_field_of_every_shard() {
             "nonzero_trials",
         ),
         ("format1", edit(&|s| s["format"] = "mcrt-noise trace shard 1".into()), "format"),
+        // The outside probe, item 15: a real shard of format 1 (no
+        // nonzero_trials) was refused as "missing field `nonzero_trials` at
+        // line 29", naming neither format.
+        (
+            "version1",
+            edit(&|s| {
+                s["format"] = "mcrt-noise trace shard 1".into();
+                s["counters"].as_object_mut().unwrap().retain(|k, _| k != "nonzero_trials");
+            }),
+            "format: expected \"mcrt-noise trace shard 2\", found \"mcrt-noise trace shard 1\"",
+        ),
+        ("noformat", edit(&|s| s.as_object_mut().unwrap().retain(|k, _| k != "format")), "format: missing"),
     ] {
         let path = dir.join(format!("{tag}.json"));
         std::fs::write(&path, serde_json::to_string(&bad).unwrap()).unwrap();
@@ -1123,5 +1135,58 @@ fn compare_gives_the_ratio_its_bar() {
         let ratio = line.split("ratio ").nth(1).unwrap_or_else(|| panic!("{line}"));
         let bar = ratio.split_whitespace().collect::<Vec<_>>();
         assert!(bar.len() >= 3 && bar[1] == "±" && bar[2].parse::<f64>().is_ok_and(|x| x > 0.0), "{line}");
+    }
+}
+
+/// The outside probe, item 5: `kernel --theta 8@0 --radius 1` computed at
+/// ϑ = 8 (exit 0): the flags are read by MPFR's parser, which takes `@`
+/// exponents, `_` separators and hexadecimal, while the range check parsed
+/// them as f64 and skipped what it could not read. Every kernel flag must be
+/// a plain decimal (or `pi`, `pi/2` for ϑ) and is range-checked at the
+/// working precision: exit 2 naming the flag and the value, nothing on
+/// standard output.
+#[test]
+fn kernel_flags_take_plain_decimals_in_range_at_the_working_precision() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["--theta", "8@0", "--radius", "1"], "--theta: \"8@0\" is not a plain decimal"),
+        (&["--theta", "7_0", "--radius", "1"], "--theta: \"7_0\" is not a plain decimal"),
+        (&["--theta", "6.5@0", "--radius", "1"], "--theta: \"6.5@0\" is not a plain decimal"),
+        (&["--theta", "0x1p1", "--radius", "1"], "--theta: \"0x1p1\" is not a plain decimal"),
+        (&["--theta", "inf", "--radius", "1"], "--theta: \"inf\" is not a plain decimal"),
+        (&["--theta", "1", "--radius", "1@301"], "--radius: \"1@301\" is not a plain decimal"),
+        (&["--theta", "1", "--radius", "1@-250"], "--radius: \"1@-250\" is not a plain decimal"),
+        (&["--theta", "1", "--radius", "1_0"], "--radius: \"1_0\" is not a plain decimal"),
+        // Beyond the range only at the working precision (256 bits), where
+        // f64 rounds them onto its ends.
+        (
+            &["--theta", "1", "--radius", "1.0000000000000000000001e300", "--precision", "256"],
+            "--radius: 1.0000000000000000000001e300 is outside [1e-200, 1e300]",
+        ),
+        (
+            &["--theta", "1", "--radius", "0.99999999999999999999999e-200", "--precision", "256"],
+            "--radius: 0.99999999999999999999999e-200 is outside [1e-200, 1e300]",
+        ),
+        (
+            &[
+                "--theta",
+                "3.14159265358979323846264338327950288419716939937510582097494459231",
+                "--radius",
+                "1",
+                "--precision",
+                "256",
+            ],
+            "is outside (0, π]",
+        ),
+    ];
+    for (args, needle) in cases {
+        let out = bin().arg("kernel").args(*args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}{err}", String::from_utf8_lossy(&out.stdout));
+        assert!(out.stdout.is_empty(), "{args:?}");
+        assert!(err.contains(needle), "{args:?}: {needle:?} not in {err}");
+    }
+    for theta in ["pi", "pi/2", ".5", "1e0", "+1"] {
+        let out = bin().args(["kernel", "--theta", theta, "--radius", "1e-3"]).output().unwrap();
+        assert!(out.status.success(), "{theta}: {}", String::from_utf8_lossy(&out.stderr));
     }
 }

@@ -143,8 +143,26 @@ pub struct Shard {
     pub sums: [String; 4],
 }
 
-/// Format 2 added `counters.nonzero_trials`.
-const SHARD_FORMAT: &str = "mcrt-noise trace shard 2";
+/// The shard format this version writes and reads. Format 2 added
+/// `counters.nonzero_trials`.
+pub const SHARD_FORMAT: &str = "mcrt-noise trace shard 2";
+
+/// The `format` field of a shard (`None`: missing or not a string) against
+/// [`SHARD_FORMAT`], checked before the rest of the shard is read: a shard
+/// of format 1 was refused as "missing field `nonzero_trials`", which named
+/// neither format.
+pub fn check_shard_format(found: Option<&str>) -> Result<(), String> {
+    match found {
+        Some(SHARD_FORMAT) => Ok(()),
+        Some(f @ "mcrt-noise trace shard 1") => Err(format!(
+            "format: expected \"{SHARD_FORMAT}\", found \"{f}\" (format 1, from an earlier version, has no \
+             counters.nonzero_trials, which the sparsity check needs and cannot be recovered from its sums: trace \
+             its trial ranges again with `trace --out`)"
+        )),
+        Some(f) => Err(format!("format: expected \"{SHARD_FORMAT}\", found \"{f}\"")),
+        None => Err(format!("format: missing (a shard file has \"format\": \"{SHARD_FORMAT}\"); not a shard")),
+    }
+}
 
 impl Run {
     pub fn to_shard(&self) -> Shard {
@@ -164,9 +182,7 @@ impl Run {
     /// counters consistent with them and with the scene; the sums finite,
     /// exact and those of real numbers. The error names the field.
     pub fn from_shard(shard: &Shard) -> Result<Run, String> {
-        if shard.format != SHARD_FORMAT {
-            return Err(format!("format: expected \"{SHARD_FORMAT}\", found \"{}\"", shard.format));
-        }
+        check_shard_format(Some(&shard.format))?;
         let scene = Scene::from_toml_str(&shard.scene).map_err(|e| format!("scene: {e}"))?;
         let tracer = Tracer::new(&scene).map_err(|e| format!("scene: {e}"))?;
         let ranges: Vec<Range<u64>> = shard.ranges.iter().map(|r| r[0]..r[1]).collect();

@@ -86,6 +86,24 @@ pub fn max_spheres(text: &str) -> Result<f64, String> {
     closed(text, (1.0, mcrt_scene::limits::MAX_SPHERES_PER_ITERATION))
 }
 
+/// `optimize --radius-range LO,HI`: two radii in one argument (so that a
+/// negative `-1,2` is named with the flag, not taken for a flag itself),
+/// LO < HI, both finite and > 0. Their bound, σ_ext·R in [1e-12, 1e3], is
+/// the scene's (`tuning::optimize` checks it with the scene).
+pub fn radius_range(text: &str) -> Result<(f64, f64), String> {
+    let bad = |why: &str| format!("{} {why}; give LO,HI with 0 < LO < HI, e.g. 1e-3,0.5", text.trim());
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [lo, hi] = parts[..] else {
+        return Err(bad(&format!("is {} value(s), not two radii", parts.len())));
+    };
+    let number = |t: &str| t.parse::<f64>().map_err(|_| bad(&format!("has {t:?}, not a number")));
+    let (lo, hi) = (number(lo)?, number(hi)?);
+    if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo < hi) {
+        return Err(bad("is not a range of radii"));
+    }
+    Ok((lo, hi))
+}
+
 /// `--threads`.
 pub fn threads(text: &str) -> Result<usize, String> {
     count(text, THREADS)
@@ -117,20 +135,53 @@ pub fn positive(text: &str) -> Result<f64, String> {
     }
 }
 
-/// `kernel --theta` as a number (it is parsed again at the working
-/// precision): ϑ in (0, π]; the kernel needs sin ϑ > 0.
-pub fn check_theta(text: &str, theta: f64) -> Result<(), String> {
-    if theta > 0.0 && theta <= std::f64::consts::PI {
+/// Plain decimal syntax: an optional sign, digits with at most one point
+/// (at least one digit), an optional exponent `e`/`E` with an optional sign
+/// and digits. MPFR's parser, which reads the kernel's flags at the working
+/// precision, also takes `8@0` (exponent `@`), `7_0` (separators),
+/// `0x1p3` and the like: a value written so was computed without any range
+/// check (`--theta 8@0` ran at ϑ = 8).
+pub fn is_plain_decimal(text: &str) -> bool {
+    let t = text.trim();
+    let t = t.strip_prefix(['+', '-']).unwrap_or(t);
+    let (mantissa, exponent) = match t.find(['e', 'E']) {
+        Some(i) => (&t[..i], Some(&t[i + 1..])),
+        None => (t, None),
+    };
+    let digits = |s: &str| s.bytes().all(|b| b.is_ascii_digit());
+    let (int, frac) = mantissa.split_once('.').unwrap_or((mantissa, ""));
+    let mantissa_ok = digits(int) && digits(frac) && !(int.is_empty() && frac.is_empty());
+    let exponent_ok = exponent.is_none_or(|e| {
+        let e = e.strip_prefix(['+', '-']).unwrap_or(e);
+        !e.is_empty() && digits(e)
+    });
+    mantissa_ok && exponent_ok
+}
+
+/// `kernel --theta` (`pi`, `pi/2` or a plain decimal), ϑ in (0, π] at the
+/// working precision `bits` (`None`: f64); the kernel needs sin ϑ > 0.
+pub fn check_theta(text: &str, bits: Option<u32>) -> Result<(), String> {
+    let t = text.trim();
+    if t == "pi" || t == "pi/2" {
+        return Ok(());
+    }
+    let bad = || format!("--theta: {t} is outside (0, π] (radians; at ϑ = 0 the kernel has no edge)");
+    let theta = decimal_at(text, "--theta", "0.5, pi/2 or pi", bits)?;
+    let pi = rug::Float::with_val(theta.prec(), rug::float::Constant::Pi);
+    if theta > 0 && theta <= pi {
         Ok(())
     } else {
-        Err(format!("--theta: {} is outside (0, π] (radians; at ϑ = 0 the kernel has no edge)", text.trim()))
+        Err(bad())
     }
 }
 
-/// `kernel --radius` as a number (parsed again at the working precision).
-pub fn check_kernel_radius(text: &str, r: f64) -> Result<(), String> {
+/// `kernel --radius` (a plain decimal), R in [1e-200, 1e300] at the
+/// working precision `bits` (`None`: f64).
+pub fn check_kernel_radius(text: &str, bits: Option<u32>) -> Result<(), String> {
     let (lo, hi) = KERNEL_RADIUS;
-    if (lo..=hi).contains(&r) {
+    let r = decimal_at(text, "--radius", "0.001 or 1e-3", bits)?;
+    let at = |x: f64| mcrt_noise::kernel::parse_decimal(&short(x), r.prec()).expect("a bound parses");
+    if r >= at(lo) && r <= at(hi) {
         Ok(())
     } else {
         Err(format!(
@@ -140,4 +191,16 @@ pub fn check_kernel_radius(text: &str, r: f64) -> Result<(), String> {
             short(hi)
         ))
     }
+}
+
+/// A plain decimal `text` read at `bits` (53 for f64: rounded as `f64`'s
+/// parser rounds), or why it is refused, naming `flag` with `examples`.
+fn decimal_at(text: &str, flag: &str, examples: &str, bits: Option<u32>) -> Result<rug::Float, String> {
+    let t = text.trim();
+    if !is_plain_decimal(t) {
+        return Err(format!(
+            "{flag}: {t:?} is not a plain decimal number (digits with an optional point and exponent, e.g. {examples})"
+        ));
+    }
+    mcrt_noise::kernel::parse_decimal(t, bits.unwrap_or(53)).map_err(|e| format!("{flag}: {e}"))
 }

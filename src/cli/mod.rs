@@ -3,6 +3,7 @@
 
 pub mod check_cmd;
 pub mod flags;
+pub mod paths;
 pub mod trace_cmd;
 pub mod tuning_cmd;
 

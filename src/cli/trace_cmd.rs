@@ -5,6 +5,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use mcrt_noise::oracle::Precision;
 use mcrt_noise::reports::compare::{Comparison, TraceReport, MERGED_TIME};
 use mcrt_noise::scene::Scene;
+use mcrt_reference::run::check_shard_format;
 use mcrt_reference::{merge, trace, HitMethod, Run, Shard, Tracer};
 use std::io::IsTerminal;
 use std::ops::Range;
@@ -90,10 +91,10 @@ pub fn trace_cmd(
     if let Some(out) = out {
         not_an_input(out, "the scene file", scene_path)?;
     }
-    let file = out.map(open_out).transpose()?;
+    out.map(check_out).transpose()?;
     let (run, seconds) = traced(&tracer, seed, range, threads)?;
     let report = TraceReport::new(&run, Ok(seconds));
-    write_then_print(&run, file, out, &report, json)?;
+    write_then_print(&run, out, &report, json)?;
     resolved(&run, &report)
 }
 
@@ -105,6 +106,9 @@ pub fn merge_cmd(paths: &[PathBuf], json: bool, out: Option<&Path>) -> Result<()
         .map(|p| {
             let at = |e: String| CliError::Usage(format!("{}: {e}", p.display()));
             let text = std::fs::read_to_string(p).map_err(|e| at(e.to_string()))?;
+            // The format first: another format's fields are not this one's.
+            let head: serde_json::Value = serde_json::from_str(&text).map_err(|e| at(e.to_string()))?;
+            check_shard_format(head.get("format").and_then(|f| f.as_str())).map_err(at)?;
             let shard: Shard = serde_json::from_str(&text).map_err(|e| at(e.to_string()))?;
             Run::from_shard(&shard).map_err(at)
         })
@@ -114,10 +118,10 @@ pub fn merge_cmd(paths: &[PathBuf], json: bool, out: Option<&Path>) -> Result<()
             not_an_input(out, "the shard", p)?;
         }
     }
-    let file = out.map(open_out).transpose()?;
+    out.map(check_out).transpose()?;
     let run = merge(&runs).map_err(CliError::Usage)?;
     let report = TraceReport::new(&run, Err(MERGED_TIME.to_string()));
-    write_then_print(&run, file, out, &report, json)?;
+    write_then_print(&run, out, &report, json)?;
     resolved(&run, &report)
 }
 
@@ -166,35 +170,29 @@ fn same_file(a: &Path, b: &Path) -> bool {
     }
 }
 
-/// The `--out` file, created (or truncated) before the run, so that a path
-/// that cannot be written is refused before any work.
-fn open_out(path: &Path) -> Result<std::fs::File, CliError> {
-    std::fs::File::create(path)
-        .map_err(|e| CliError::usage(format!("--out {}: cannot be written: {e}", path.display())))
+/// The `--out` file can be written, checked before any work without
+/// changing it (it used to be truncated at once: a run that failed or was
+/// interrupted left an existing shard empty); it is written after the run.
+fn check_out(path: &Path) -> Result<(), CliError> {
+    super::paths::writable_file("--out", path)
 }
 
 /// Writes the shard (if asked), then prints the report; if writing fails,
 /// the report is printed first, then the error (exit 2: the path).
-fn write_then_print(
-    run: &Run,
-    file: Option<std::fs::File>,
-    path: Option<&Path>,
-    report: &TraceReport,
-    json: bool,
-) -> Result<(), CliError> {
-    let written = match (file, path) {
-        (Some(file), Some(path)) => write_shard(run, file, path),
-        _ => Ok(()),
-    };
+fn write_then_print(run: &Run, path: Option<&Path>, report: &TraceReport, json: bool) -> Result<(), CliError> {
+    let written = path.map_or(Ok(()), |path| write_shard(run, path));
     print_report(report, json)?;
     written
 }
 
 /// The run as a shard file for `merge`.
-fn write_shard(run: &Run, mut file: std::fs::File, path: &Path) -> Result<(), CliError> {
+fn write_shard(run: &Run, path: &Path) -> Result<(), CliError> {
     use std::io::Write;
     let text = to_json(&run.to_shard())?;
-    file.write_all(text.as_bytes()).and_then(|()| file.sync_all()).map_err(|e| {
+    let write = || {
+        std::fs::File::create(path).and_then(|mut file| file.write_all(text.as_bytes()).and_then(|()| file.sync_all()))
+    };
+    write().map_err(|e| {
         CliError::usage(format!(
             "--out {}: writing the shard failed after the run (result printed above): {e}",
             path.display()

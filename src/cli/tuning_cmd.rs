@@ -42,7 +42,10 @@ fn costs_for(scene: &Scene, file: Option<&Path>) -> Result<CostTable, CliError> 
     if let Some(path) = file {
         let text =
             std::fs::read_to_string(path).map_err(|e| CliError::usage(format!("--costs {}: {e}", path.display())))?;
-        return parse_costs(&text).map_err(|e| CliError::usage(format!("--costs {}: {e}", path.display())));
+        let costs =
+            parse_costs(&text, path).map_err(|e| CliError::usage(format!("--costs {}: {e}", path.display())))?;
+        costs.validate().map_err(|e| CliError::usage(format!("--costs {}: {e}", path.display())))?;
+        return Ok(costs);
     }
     Ok(CostTable::from_scene(scene).unwrap_or_else(|| {
         let mut c = CostTable::reference_machine();
@@ -55,16 +58,16 @@ fn costs_for(scene: &Scene, file: Option<&Path>) -> Result<CostTable, CliError> 
 
 /// A `[cost]` table in a file of its own (as `calibrate --out` writes it),
 /// with the keys and checks of a scene's `[cost]` table.
-fn parse_costs(text: &str) -> Result<CostTable, String> {
+fn parse_costs(text: &str, path: &Path) -> Result<CostTable, String> {
     let k = mcrt_noise::scene::Cost::from_toml_str(text).map_err(|e| e.to_string())?;
-    Ok(CostTable::from_array(k.ns, k.std_errors, "the --costs file".into()))
+    Ok(CostTable::from_array(k.ns, k.std_errors, format!("the --costs file {}", path.display())))
 }
 
 /// `optimize`.
 pub fn optimize_cmd(a: &OptimizeArgs<'_>, load: impl Fn(&PathBuf) -> Result<Scene, CliError>) -> Result<(), CliError> {
     let scene = load(&a.scene.to_path_buf())?;
     if let Some(dir) = a.maps {
-        std::fs::create_dir_all(dir).map_err(|e| CliError::usage(format!("--maps {}: {e}", dir.display())))?;
+        super::paths::writable_dir(&format!("--maps {}", dir.display()), dir)?;
     }
     let mut opts = Options::new(a.budget, costs_for(&scene, a.costs)?);
     opts.max_spheres = a.max_spheres;
@@ -98,17 +101,12 @@ fn write_svg(dir: &Path, name: &str, svg: &str) -> Result<(), CliError> {
 /// calibration must not destroy an existing costs file) and not in the
 /// scenes directory the calibration reads.
 fn check_out(path: &Path, scenes: &Path) -> Result<(), CliError> {
+    super::paths::writable_file("--out", path)?;
     let bad = |why: String| CliError::usage(format!("--out {}: {why}", path.display()));
     let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
     let (dir, scenes) = (dir.canonicalize().map_err(|e| bad(e.to_string()))?, scenes.canonicalize().ok());
     if scenes.is_some_and(|s| dir.starts_with(s)) {
         return Err(bad("is inside the scenes directory the calibration reads; write it elsewhere".into()));
-    }
-    if path.exists() {
-        std::fs::OpenOptions::new().append(true).open(path).map_err(|e| bad(e.to_string()))?;
-    } else {
-        std::fs::File::create(path).map_err(|e| bad(e.to_string()))?;
-        std::fs::remove_file(path).map_err(|e| bad(e.to_string()))?;
     }
     Ok(())
 }
@@ -118,6 +116,8 @@ pub fn calibrate_cmd(scenes: &Path, seconds: f64, out: Option<&Path>, json: bool
     if !(seconds.is_finite() && (0.05..=600.0).contains(&seconds)) {
         return Err(CliError::usage(format!("--seconds {seconds}: must be in [0.05, 600] seconds per case")));
     }
+    let names = reports::calibrate::scene_names();
+    super::paths::scenes_dir(scenes, super::paths::Needed::Named(&names))?;
     if let Some(path) = out {
         check_out(path, scenes)?;
     }
@@ -128,14 +128,13 @@ pub fn calibrate_cmd(scenes: &Path, seconds: f64, out: Option<&Path>, json: bool
     );
     let c = reports::calibrate::calibrate(scenes, seconds, source).map_err(CliError::computed)?;
     if let Some(path) = out {
-        std::fs::write(path, c.fit.costs.to_toml())
-            .map_err(|e| CliError::usage(format!("--out {}: {e}", path.display())))?;
+        std::fs::write(path, c.fit.to_toml()).map_err(|e| CliError::usage(format!("--out {}: {e}", path.display())))?;
     }
     if json {
         println!("{}", super::to_json(&c)?);
     } else {
         print!("{}", reports::calibrate::markdown(&c));
-        println!("\n{}", c.fit.costs.to_toml());
+        println!("\n{}", c.fit.to_toml());
     }
     Ok(())
 }

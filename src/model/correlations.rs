@@ -117,19 +117,25 @@ fn first_sphere_range<T: Real>(c: &Component<T>, forward: bool, like: &T) -> Opt
 pub fn exact<T: CheckRule>(field: &Field<T>, r: &T, which: Which, opts: &Options) -> Result<Estimate<T>, OracleError> {
     let like = r.clone();
     let mut total: Option<Estimate<T>> = None;
-    for c in &field.components {
-        for forward in [true, false] {
-            let Some((lo, hi)) = first_sphere_range(c, forward, &like) else { continue };
-            let lo = lo.max_of(field.x_camera());
-            let e = one_term(field, c, r, which, forward, &lo, hi.as_ref(), opts)?;
-            total = Some(match total {
-                None => e,
-                Some(t) => t.plus(e),
-            });
-        }
+    let terms: Vec<_> = field
+        .components
+        .iter()
+        .flat_map(|c| [true, false].map(|forward| (c, forward)))
+        .filter_map(|(c, forward)| first_sphere_range(c, forward, &like).map(|range| (c, forward, range)))
+        .collect();
+    // A term's failure carries no best guess of the sum when there are several.
+    let several = terms.len() + field.scattered.len() > 1;
+    let part = |e: OracleError| if several { e.of_a_part() } else { e };
+    for (c, forward, (lo, hi)) in terms {
+        let lo = lo.max_of(field.x_camera());
+        let e = one_term(field, c, r, which, forward, &lo, hi.as_ref(), opts).map_err(part)?;
+        total = Some(match total {
+            None => e,
+            Some(t) => t.plus(e),
+        });
     }
     for sc in &field.scattered {
-        let e = scattered_term(field, sc, r, which, opts)?;
+        let e = scattered_term(field, sc, r, which, opts).map_err(part)?;
         total = Some(match total {
             None => e,
             Some(t) => t.plus(e),

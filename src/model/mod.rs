@@ -29,8 +29,12 @@ pub enum OracleError {
     Quadrature {
         /// Which quantity's integral failed.
         what: &'static str,
-        /// The engine's [`Failure`] message (`NOT CONVERGED: …`).
+        /// Why (the engine's [`Failure::reason`]).
         reason: String,
+        /// The unreliable best guess of the quantity, if there is one.
+        guess: Option<BestGuess>,
+        /// Integrand evaluations spent before failing.
+        evaluations: u64,
     },
     /// A result the oracle computed is not representable as a finite f64
     /// (or a ratio's denominator underflowed to 0): the scene's numbers
@@ -42,7 +46,13 @@ impl fmt::Display for OracleError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             OracleError::Unsupported(msg) => write!(f, "unsupported: {msg}"),
-            OracleError::Quadrature { what, reason } => write!(f, "{what}: {reason}"),
+            OracleError::Quadrature { what, reason, guess, evaluations } => {
+                let guess = match guess {
+                    Some(g) => g.to_string(),
+                    None => "no best guess available".into(),
+                };
+                write!(f, "{what}: NOT CONVERGED: {reason} ({guess}) after {evaluations} evaluations")
+            }
             OracleError::NotRepresentable(msg) => write!(f, "not representable in f64: {msg}"),
         }
     }
@@ -51,7 +61,85 @@ impl fmt::Display for OracleError {
 impl std::error::Error for OracleError {}
 
 impl OracleError {
+    /// A failed integral of the model as the oracle's error. Its best
+    /// guess is in the model's internal scaling (every W carried as
+    /// W·e^{c₀}, `field::Field::shift`) until [`OracleError::unshifted`]
+    /// restores the report's units.
     pub(crate) fn quad<T: crate::real::Real>(what: &'static str) -> impl FnOnce(Failure<T>) -> OracleError {
-        move |f| OracleError::Quadrature { what, reason: f.to_string() }
+        move |f| OracleError::Quadrature {
+            what,
+            reason: f.reason,
+            guess: f.best_guess.map(|v| BestGuess {
+                value: v.to_f64(),
+                error: f.error_estimate.map(|e| e.to_f64_up()),
+                shift: None,
+            }),
+            evaluations: f.evaluations,
+        }
     }
+
+    /// The failure of one part of a sum: its best guess is not the sum's.
+    pub(crate) fn of_a_part(self) -> OracleError {
+        match self {
+            OracleError::Quadrature { what, reason, evaluations, .. } => {
+                OracleError::Quadrature { what, reason, guess: None, evaluations }
+            }
+            other => other,
+        }
+    }
+
+    /// This error with its best guess known to carry e^{c₀} (c₀ = `shift`),
+    /// to be printed in the report's units.
+    pub fn unshifted(self, shift: f64) -> OracleError {
+        match self {
+            OracleError::Quadrature { what, reason, guess, evaluations } => OracleError::Quadrature {
+                what,
+                reason,
+                guess: guess.map(|g| BestGuess { shift: Some(shift), ..g }),
+                evaluations,
+            },
+            other => other,
+        }
+    }
+}
+
+/// The unreliable best guess of an integral that did not converge, as the
+/// model computed it: times e^{c₀} (`shift`), in f64 (where the shifted
+/// values are representable; the true ones may underflow).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BestGuess {
+    /// The shifted value.
+    pub value: f64,
+    /// The error estimate at the time of failure, if any (shifted too).
+    pub error: Option<f64>,
+    /// c₀, once known (`None`: the model's internal scaling, not shown).
+    pub shift: Option<f64>,
+}
+
+impl fmt::Display for BestGuess {
+    /// `unreliable best guess V ± E` in the report's units, V·e^{−c₀}
+    /// formed through logarithms (it may lie below the smallest double).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let Some(shift) = self.shift else {
+            return write!(f, "a best guess exists in the model's internal scaling only, not shown");
+        };
+        write!(f, "unreliable best guess {}", times_exp(self.value, -shift))?;
+        if let Some(e) = self.error {
+            write!(f, " ± {}", times_exp(e, -shift))?;
+        }
+        Ok(())
+    }
+}
+
+/// v·e^{k} in scientific notation, 7 digits, without under- or overflow.
+fn times_exp(v: f64, k: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v:e}");
+    }
+    let l = v.abs().log10() + k / std::f64::consts::LN_10;
+    let (mut exponent, mut mantissa) = (l.floor(), 10f64.powf(l - l.floor()));
+    if mantissa >= 9.9999995 {
+        (exponent, mantissa) = (exponent + 1.0, mantissa / 10.0);
+    }
+    format!("{:.6}e{}", mantissa.copysign(v), exponent)
 }

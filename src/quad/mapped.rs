@@ -78,9 +78,11 @@ impl<'f, 'g, T: Real> Mapped<'f, 'g, T> {
             }
         };
         let mut s = (self.f)(&t)?;
-        self.meter.tick();
         self.tally.calls += 1;
         self.tally.evaluations += s.evaluations;
+        if let Some(reason) = self.meter.tick() {
+            return Err(self.fail(format!("{reason}; stopped while sampling"), None));
+        }
         if !s.value.is_finite() || !s.error.is_finite() {
             return Err(Failure {
                 reason: format!("integrand is not finite at x = {:e} (value {:e})", t.to_f64(), s.value.to_f64()),

@@ -41,7 +41,7 @@ mod scan;
 mod tanh_sinh;
 
 use crate::real::Real;
-pub use budget::{Budget, DEFAULT_EVALUATIONS, DEFAULT_EVALUATIONS_MPFR};
+pub use budget::{Budget, CHECK_EVERY, DEFAULT_EVALUATIONS, DEFAULT_EVALUATIONS_MPFR};
 pub use check::CheckRule;
 pub(crate) use mapped::{Mapped, Piece, TailMap};
 pub use nested::{integrate_nested, integrate_within_pass};
@@ -267,7 +267,7 @@ impl<T: Real> fmt::Display for Failure<T> {
         if let Some(v) = &self.best_guess {
             write!(f, " (unreliable best guess {:e}", v.to_f64())?;
             if let Some(e) = &self.error_estimate {
-                write!(f, " ± {:e}", e.to_f64())?;
+                write!(f, " ± {:e}", e.to_f64_up())?;
             }
             write!(f, ")")?;
         }
@@ -276,6 +276,23 @@ impl<T: Real> fmt::Display for Failure<T> {
 }
 
 impl<T: Real> std::error::Error for Failure<T> {}
+
+impl<T: Real> Failure<T> {
+    /// The failure of an integral whose value is scaled by `k`: its best
+    /// guess and error estimate scaled alike (as [`Estimate::scaled`]).
+    pub fn scaled(self, k: &T) -> Failure<T> {
+        Failure {
+            best_guess: self.best_guess.map(|v| v * k.clone()),
+            error_estimate: self.error_estimate.map(|e| e * k.abs()),
+            ..self
+        }
+    }
+
+    /// The failure of one part of a sum: its best guess is not the sum's.
+    pub fn of_a_part(self) -> Failure<T> {
+        Failure { best_guess: None, error_estimate: None, ..self }
+    }
+}
 
 /// Result of an integration.
 pub type Outcome<T> = Result<Estimate<T>, Failure<T>>;
@@ -305,10 +322,26 @@ fn integrate_samples<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, 
     validate(domain, opts)?;
     let graded = with_decay_lengths(domain);
     let domain = graded.as_ref().unwrap_or(domain);
-    if let Some(split) = split_tail(domain) {
-        return integrate_split(f, domain, split, opts);
+    let out = match split_tail(domain) {
+        Some(split) => integrate_split(f, domain, split, opts),
+        None => integrate_pieces(f, domain, opts),
+    };
+    out.and_then(|e| within_budget(e, opts))
+}
+
+/// A converged estimate, unless the computation has spent more than its
+/// budget (its first step met the goal between two checks of the budget):
+/// then a failure naming the budget, the estimate as its best guess.
+fn within_budget<T: Real>(e: Estimate<T>, opts: &Options) -> Outcome<T> {
+    match opts.budget.overrun() {
+        None => Ok(e),
+        Some(reason) => Err(Failure {
+            reason: format!("{reason}; the integral met its goal only past it"),
+            best_guess: Some(e.value),
+            error_estimate: Some(e.error),
+            evaluations: e.evaluations,
+        }),
     }
-    integrate_pieces(f, domain, opts)
 }
 
 /// The cuts of a decaying tail, in decay lengths: 1, 4, 16, … 4^K with

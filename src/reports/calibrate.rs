@@ -73,6 +73,14 @@ pub const VALIDATION: [Case; 12] = [
     case("beam-isotropic", 0.1, 0.02, 60, 48),
 ];
 
+/// The scenes the calibration reads from its scenes directory (each once).
+pub fn scene_names() -> Vec<&'static str> {
+    let mut names: Vec<&'static str> = CALIBRATION.iter().chain(&VALIDATION).map(|c| c.scene).collect();
+    names.sort_unstable();
+    names.dedup();
+    names
+}
+
 impl Case {
     /// The case's scene, read from `scenes_dir`.
     pub fn scene(&self, scenes_dir: &Path) -> Result<Scene, String> {
@@ -183,6 +191,16 @@ pub fn calibrate(scenes_dir: &Path, seconds: f64, source: String) -> Result<Cali
 /// Largest |predicted/measured − 1| the validation accepts (issue 12).
 pub const VALIDATION_TOLERANCE: f64 = 0.15;
 
+/// A fitted cost or error in ns: 3 decimals, or 4 significant digits
+/// below 0.1 (a positive cost is never printed as `0.000`).
+fn ns(x: f64) -> String {
+    if x.abs() >= 0.1 || x == 0.0 {
+        format!("{x:.3}")
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
 /// The calibration as Markdown: the costs, the fit's residuals, the
 /// validation table with every point over the tolerance flagged.
 pub fn markdown(c: &Calibration) -> String {
@@ -202,8 +220,13 @@ pub fn markdown(c: &Calibration) -> String {
     writeln!(s, "|---|---|---:|---:|").unwrap();
     for (i, n) in names.iter().enumerate() {
         let key = c.fit.costs.keys[i];
-        let note = if c.fit.held_at_zero.contains(&key) { " (held at 0: the fit made it negative)" } else { "" };
-        writeln!(s, "| {n} | `{key}` | {:.3}{note} | {:.3} |", c.fit.costs.ns[i], c.fit.costs.std_errors[i]).unwrap();
+        let (cost, error) = (c.fit.costs.ns[i], c.fit.costs.std_errors[i]);
+        if c.fit.held_at_zero.contains(&key) {
+            // Not a measurement of 0 ± 0: the constraint, and the data's resolution.
+            writeln!(s, "| {n} | `{key}` | not resolved: held at 0 (the fit made it negative) | resolution {error:.3} (its standard error were it free) |").unwrap();
+        } else {
+            writeln!(s, "| {n} | `{key}` | {} | {} |", ns(cost), ns(error)).unwrap();
+        }
     }
     writeln!(
         s,

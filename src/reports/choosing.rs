@@ -85,6 +85,17 @@ fn measure(scene: &Scene, name: String, s: &Scored, budget: f64, mu0: f64) -> Re
     })
 }
 
+/// The scenes the document reads from its scenes directory: the
+/// calibration's, the two optimised, the order-1 one.
+pub fn scene_names() -> Vec<&'static str> {
+    let mut names = super::calibrate::scene_names();
+    names.extend(SCENES);
+    names.push("point-isotropic-order1");
+    names.sort_unstable();
+    names.dedup();
+    names
+}
+
 /// The whole document; figures go to `figures_dir`.
 pub fn markdown(scenes_dir: &Path, figures_dir: &Path) -> Result<String, String> {
     let t0 = Instant::now();

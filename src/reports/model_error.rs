@@ -42,6 +42,11 @@ pub fn figure(title: &str, rows: &[Row]) -> Result<String, String> {
         .map_err(|e| e.to_string())
 }
 
+/// The scenes the document reads from its scenes directory.
+pub fn scene_names() -> Vec<&'static str> {
+    MODEL_SCENES.iter().map(|(name, _)| *name).collect()
+}
+
 fn bundled(scenes_dir: &Path, name: &str) -> Result<Scene, String> {
     let path = scenes_dir.join(format!("{name}.toml"));
     let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;

@@ -33,11 +33,24 @@ fn line(s: &Scored, q_shown: Option<&str>) -> String {
     )
 }
 
+/// q to 4 significant digits (q is in [1e-6, 1]: `{:.4}` printed
+/// q = 1e-5 as `0.0000`).
 fn fmt_q(q: f64) -> String {
     if q == 1.0 {
         "1".into()
     } else {
-        format!("{q:.4}")
+        significant(q)
+    }
+}
+
+/// A positive number to 4 significant digits: plain in [0.1, 1000),
+/// scientific beyond (a ratio of 3e-7 was printed `0.000`).
+fn significant(x: f64) -> String {
+    if (0.1..1000.0).contains(&x.abs()) {
+        let decimals = 3 - x.abs().log10().floor() as i32;
+        format!("{x:.*}", decimals.max(0) as usize)
+    } else {
+        format!("{x:.3e}")
     }
 }
 
@@ -57,7 +70,10 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
     if o.bias_predicted {
         writeln!(s, "model: finite-sphere (exact at every R for uncollided light): bias b(R) predicted; R searched over [{:.3e}, {:.3e}]", o.radius_range.0, o.radius_range.1).unwrap();
     } else {
-        writeln!(s, "model: small-sphere (the scene has scattered light, which the finite-sphere model does not cover): the bias is NOT predicted, so R is held at the scene's {} and only q, N_F, N_B are chosen, for the noise alone", o.radius_range.0).unwrap();
+        let within = o.radius_range_requested.map_or(String::new(), |(lo, hi)| {
+            format!(" (within --radius-range [{lo:.3e}, {hi:.3e}], which is not searched)")
+        });
+        writeln!(s, "model: small-sphere (the scene has scattered light, which the finite-sphere model does not cover): the bias is NOT predicted, so R is held at the scene's {}{within} and only q, N_F, N_B are chosen, for the noise alone", o.radius_range.0).unwrap();
     }
     writeln!(s, "RMSE = √(bias² + Var L/M)/μ(0), M = ⌊T/τ⌋; the bars are the quadrature's and the time's standard errors (the cost fit's and the rates'; the cost model's own accuracy: docs/choosing-parameters.md)").unwrap();
     writeln!(s).unwrap();
@@ -69,7 +85,7 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
             Ok(x) => {
                 let ratio = x.rmse.relative / o.best.rmse.relative;
                 let shown = line(x, a.name.starts_with("q → 0").then_some("→ 0"));
-                writeln!(s, "  {}  (ratio {ratio:.3})\n    {shown}\n    {}", a.name, a.note).unwrap();
+                writeln!(s, "  {}  (ratio {})\n    {shown}\n    {}", a.name, significant(ratio), a.note).unwrap();
             }
             Err(why) => writeln!(s, "  {}: {why}", a.name).unwrap(),
         }
@@ -77,8 +93,8 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
     if let Some(Ok(q1)) = o.alternatives.iter().find(|a| a.name.starts_with("q = 1")).map(|a| a.scored.as_ref()) {
         writeln!(
             s,
-            "\ngain over q = 1: its RMSE is {:.3}× the best's{}",
-            q1.rmse.relative / o.best.rmse.relative,
+            "\ngain over q = 1: its RMSE is {}× the best's{}",
+            significant(q1.rmse.relative / o.best.rmse.relative),
             if o.best.parameters.q == 1.0 { " (the optimum is q = 1 itself)" } else { "" }
         )
         .unwrap();
@@ -93,4 +109,23 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
     writeln!(s, "{}", range("N_F", &o.sensitivity.forward_rays, true)).unwrap();
     writeln!(s, "{}", range("N_B", &o.sensitivity.camera_rays, true)).unwrap();
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{fmt_q, significant};
+
+    /// The outside probe, item 12: q = 1e-5 printed `q = 0.0000` and a ratio
+    /// of 3e-7 `(ratio 0.000)`. Every value keeps 4 significant digits.
+    #[test]
+    fn small_values_keep_four_significant_digits() {
+        for (x, shown) in [(1e-5, "1.000e-5"), (0.5, "0.5000"), (0.0123456, "1.235e-2"), (0.25, "0.2500")] {
+            assert_eq!(fmt_q(x), shown);
+        }
+        for (x, shown) in
+            [(2.954e-7, "2.954e-7"), (1.0, "1.000"), (100.005, "100.0"), (12.34, "12.34"), (5e3, "5.000e3")]
+        {
+            assert_eq!(significant(x), shown);
+        }
+    }
 }

@@ -11,17 +11,26 @@ use crate::quad::{Options, Outcome};
 use std::fmt::Write;
 use std::time::{Duration, Instant};
 
+/// How the `kernel` command prints numbers of its working precision: the
+/// value and cross-check to all digits, the bar to 4 (at the working
+/// precision: a bar of 3.6e-502 at 1024 bits was printed as f64, `0.000e0`).
+struct Shown<V, B> {
+    value: V,
+    bar: B,
+}
+
 fn print_outcome<T: crate::real::Real>(
     label: &str,
     out: &Outcome<T>,
-    show: impl Fn(&T) -> String,
+    shown: Shown<impl Fn(&T) -> String, impl Fn(&T) -> String>,
     dt: Duration,
     method: &str,
 ) -> Result<(), KernelCliError> {
+    let Shown { value: show, bar } = shown;
     match out {
         Ok(e) => {
             println!("{label} = {}", show(&e.value));
-            println!("  error bar   {:.3e} (cross-check {})", e.error.to_f64(), show(&e.check_value));
+            println!("  error bar   {} (cross-check {})", bar(&e.error), show(&e.check_value));
             println!(
                 "  evaluations {}  pieces {}  breakpoints found {}  time {:.3} ms",
                 e.evaluations,
@@ -85,7 +94,8 @@ pub fn kernel_cli(
             let angle = Angle::from_theta(&parse_decimal(theta, 53).map_err(flag("theta"))?.to_f64());
             let r = parse_decimal(radius, 53).map_err(flag("radius"))?.to_f64();
             let (out, dt, method) = run_kernel(&angle, &r, rel_tol.unwrap_or(1e-13), path, budget)?;
-            print_outcome(&label, &out, |v| format!("{v:.17e}"), dt, &method)
+            let shown = Shown { value: |v: &f64| format!("{v:.17e}"), bar: |v: &f64| format!("{v:.3e}") };
+            print_outcome(&label, &out, shown, dt, &method)
         }
         Precision::Bits(bits) => {
             let angle = Angle::from_theta(&parse_decimal(theta, bits).map_err(flag("theta"))?);
@@ -93,7 +103,11 @@ pub fn kernel_cli(
             let tol = rel_tol.unwrap_or_else(|| mpfr_default_tol(bits));
             let (out, dt, method) = run_kernel(&angle, &r, tol, path, budget)?;
             let digits = (bits as f64 * std::f64::consts::LOG10_2) as usize;
-            print_outcome(&label, &out, |v| v.to_string_radix(10, Some(digits)), dt, &method)
+            let shown = Shown {
+                value: |v: &rug::Float| v.to_string_radix(10, Some(digits)),
+                bar: |v: &rug::Float| v.to_string_radix(10, Some(4)),
+            };
+            print_outcome(&label, &out, shown, dt, &method)
         }
     }
 }

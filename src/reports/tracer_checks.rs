@@ -249,6 +249,9 @@ fn svg(rows: &[SweepRow]) -> Result<String, String> {
         .map_err(|e| e.to_string())
 }
 
+/// The scenes the document reads from its scenes directory.
+pub const SCENE_NAMES: [&str; 2] = [SWEEP_SCENE, "point-hg-forward"];
+
 /// The whole document; the figure is written to `figures_dir`.
 pub fn markdown(scenes_dir: &Path, figures_dir: &Path) -> Result<String, String> {
     let path = scenes_dir.join(format!("{SWEEP_SCENE}.toml"));

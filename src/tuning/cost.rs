@@ -29,6 +29,13 @@ use super::rates::Rates;
 use mcrt_scene::{Phase, Scene};
 use serde::Serialize;
 
+/// The least cost of one iteration a table may give, ns (the sum of the
+/// per-iteration, forward-ray and camera-ray costs, which every iteration
+/// pays): all-zero costs made every iteration free (`optimize` then said
+/// one iteration "takes longer" than the budget), and 1e-9 ns ones made
+/// M = T/τ overflow u64. With τ ≥ 1 ns and T ≤ 1e9 s, M ≤ 1e18.
+pub const MIN_ITERATION_NS: f64 = 1.0;
+
 /// The number of costed operations, [`mcrt_scene::COST_KEYS`].
 pub const OPERATIONS: usize = mcrt_scene::COST_KEYS.len();
 
@@ -71,7 +78,23 @@ impl CostTable {
         if self.std_errors.iter().any(|e| !(0.0..=1e12).contains(e)) {
             return Err(format!("cost.std_errors = {:?}: must be in [0, 1e12] ns", self.std_errors));
         }
+        let least = self.least_iteration_ns();
+        if !(least >= MIN_ITERATION_NS) {
+            return Err(format!(
+                "cost.trial_ns + cost.forward_ray_ns + cost.camera_ray_ns = {least:e} ns ({}): one iteration, with at \
+                 least one forward and one camera ray, must cost at least {MIN_ITERATION_NS} ns (a few CPU cycles); \
+                 with less, iterations are (nearly) free and their number in a budget, M = ⌊T/τ⌋, unbounded",
+                self.source
+            ));
+        }
         Ok(())
+    }
+
+    /// What every iteration costs at least, whatever its parameters and
+    /// integration volume: one trial, one forward ray, one camera ray (ns).
+    pub fn least_iteration_ns(&self) -> f64 {
+        let cost = |key: &str| self.keys.iter().position(|k| *k == key).map_or(0.0, |i| self.ns[i]);
+        cost("trial_ns") + cost("forward_ray_ns") + cost("camera_ray_ns")
     }
 
     /// The scene's `[cost]` table, if it has one.
@@ -82,10 +105,12 @@ impl CostTable {
     /// The table as a scene file's `[cost]` section (also a `--costs` file).
     pub fn to_toml(&self) -> String {
         let mut s = format!("# {}\n[cost]\n", self.source);
+        // Shortest exact forms: the file gives back the fit (a cost of
+        // 4e-5 ns was written 0.0000, as if held at 0).
         for (name, v) in self.keys.iter().zip(self.ns) {
-            s.push_str(&format!("{name} = {v:.4}\n"));
+            s.push_str(&format!("{name} = {v:?}\n"));
         }
-        let e: Vec<String> = self.std_errors.iter().map(|e| format!("{e:.4}")).collect();
+        let e: Vec<String> = self.std_errors.iter().map(|e| format!("{e:?}")).collect();
         s.push_str(&format!("std_errors = [{}]\n", e.join(", ")));
         s
     }

@@ -116,8 +116,11 @@ pub struct Optimum {
     pub budget: f64,
     /// The memory limit, if any.
     pub max_spheres: Option<f64>,
-    /// The radii searched.
+    /// The radii searched ((R, R) where R is held).
     pub radius_range: (f64, f64),
+    /// The radii asked for (`--radius-range`), if any: where R is held,
+    /// the range holds it and is not searched.
+    pub radius_range_requested: Option<(f64, f64)>,
     /// The costs used.
     pub costs: CostTable,
     /// The best parameters.
@@ -148,6 +151,12 @@ pub fn optimize(scene: &Scene, opts: &Options) -> Result<Optimum, TuningError> {
 /// [`optimize`] with the radii's models kept in `cache` (for maps after it).
 pub fn optimize_with(scene: &Scene, opts: &Options, cache: &mut RadiusCache) -> Result<Optimum, TuningError> {
     check_options(opts)?;
+    check_radius_range(scene, opts.radius_range)?;
+    // Scattered light: the finite-sphere model, and so the bias, does not
+    // cover it (`model::finite::FiniteField::from_scene`); R is held.
+    if scene.effects.scattering_orders != mcrt_scene::ScatteringOrders::Limited(0) {
+        check_held_radius(scene, opts.radius_range)?;
+    }
     let own = cache.at(scene.estimator.radius)?;
     // Not one iteration in the budget: say so before any search.
     let least = IterationCounts::predict(scene, &own.rates, 1.0, 1.0, 1.0);
@@ -175,6 +184,7 @@ pub fn optimize_with(scene: &Scene, opts: &Options, cache: &mut RadiusCache) -> 
         budget: opts.budget,
         max_spheres: opts.max_spheres,
         radius_range: if bias_predicted { range } else { (scene.estimator.radius, scene.estimator.radius) },
+        radius_range_requested: opts.radius_range,
         costs: opts.costs.clone(),
         best,
         alternatives,
@@ -200,6 +210,39 @@ fn check_options(opts: &Options) -> Result<(), TuningError> {
     opts.costs.validate().map_err(TuningError::Option)
 }
 
+/// The radii searched must be ones the scene may have: σ_ext·R within the
+/// bounds of `estimator.radius` (`mcrt_scene::limits`). This also bounds
+/// the grid over R (4 radii per decade: at most 61); `1e-300,1e300` made
+/// it 10⁶⁰⁰ long (infinite in f64) and panicked with "capacity overflow".
+fn check_radius_range(scene: &Scene, range: Option<(f64, f64)>) -> Result<(), TuningError> {
+    use mcrt_scene::limits::{MAX_OPTICAL_RADIUS, MIN_OPTICAL_RADIUS};
+    let Some((lo, hi)) = range else { return Ok(()) };
+    let sigma = scene.medium.sigma_ext;
+    let (min, max) = (MIN_OPTICAL_RADIUS / sigma, MAX_OPTICAL_RADIUS / sigma);
+    if sigma * lo < MIN_OPTICAL_RADIUS || sigma * hi > MAX_OPTICAL_RADIUS {
+        return Err(TuningError::Option(format!(
+            "--radius-range {lo:e},{hi:e}: both radii must be in [{min:e}, {max:e}] (σ_ext·R in \
+             [{MIN_OPTICAL_RADIUS:e}, {MAX_OPTICAL_RADIUS:e}], the bounds of estimator.radius, with σ_ext = {sigma})"
+        )));
+    }
+    Ok(())
+}
+
+/// With scattered light R is held at the scene's (the bias is not
+/// predicted, so R cannot be chosen): a `--radius-range` is honoured only
+/// if it holds that R, else refused rather than ignored.
+fn check_held_radius(scene: &Scene, range: Option<(f64, f64)>) -> Result<(), TuningError> {
+    let r = scene.estimator.radius;
+    match range {
+        Some((lo, hi)) if !(lo..=hi).contains(&r) => Err(TuningError::Option(format!(
+            "--radius-range {lo:e},{hi:e}: the scene has scattered light (effects.scattering_orders), whose bias \
+             is not predicted, so R cannot be searched and is held at the scene's estimator.radius = {r}, \
+             outside the range; set estimator.radius within it, or omit --radius-range"
+        ))),
+        _ => Ok(()),
+    }
+}
+
 fn infeasible(opts: &Options, scene: &Scene) -> TuningError {
     TuningError::Infeasible(format!(
         "no parameters fit a budget of {} s: one iteration with N_F = N_B = 1, q = 1 takes longer at these \
@@ -207,6 +250,10 @@ fn infeasible(opts: &Options, scene: &Scene) -> TuningError {
         opts.budget, scene.estimator.radius
     ))
 }
+
+/// Steps of the grid over R at most: 4 per decade of the widest range
+/// the scene's bounds allow (σ_ext·R in [1e-12, 1e3], 15 decades).
+const MAX_RADIUS_STEPS: f64 = 60.0;
 
 /// The best point over R: a grid of 4 radii per decade over `range`, then
 /// golden section on log R around the best grid point.
@@ -217,7 +264,10 @@ pub(crate) fn best_over_radii(
     c: &Constraints,
     (lo, hi): (f64, f64),
 ) -> Result<Scored, TuningError> {
-    let steps = ((hi / lo).log10() * 4.0).ceil().max(2.0) as usize;
+    // 4 radii per decade; the range is within the scene's bounds of R
+    // (`check_radius_range`: 15 decades, 60 steps), and the cap guards a
+    // library caller's range.
+    let steps = ((hi / lo).log10() * 4.0).ceil().clamp(2.0, MAX_RADIUS_STEPS) as usize;
     let grid: Vec<f64> = (0..=steps).map(|k| lo * (hi / lo).powf(k as f64 / steps as f64)).collect();
     let mut scored = Vec::new();
     for &r in &grid {

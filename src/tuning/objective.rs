@@ -157,6 +157,7 @@ impl Rmse {
             relative_bias_error: model.bias.map(|e| e.error / mu0 + b.abs() / mu0 * rel_mu),
             relative_noise: noise2.sqrt() / mu0,
             relative_noise_error: half(noise2, d_noise2) / mu0 + noise2.sqrt() / mu0 * rel_mu,
+            // M ≤ T/τ ≤ 1e9 s / 1 ns = 1e18 < 2⁶⁴ (`cost::MIN_ITERATION_NS`).
             iterations: m as u64,
             seconds_per_iteration: tau.0,
             seconds_per_iteration_error: tau.1,

@@ -137,7 +137,9 @@ impl<T: CheckRule> BeamLight<T> {
             None => return none(),
         };
         let sin = self.dir.sin.clone();
-        let e = integrate_nested(
+        // The integral's constant: applied to a failure's best guess too.
+        let constant = weight.clone() * r.clone() * sin.clone();
+        integrate_nested(
             |zeta: &T, o: &Options| {
                 let one = zeta.lit(1.0);
                 let rho = r.clone() * ((one.clone() - zeta.clone()) * (one + zeta.clone())).sqrt();
@@ -189,8 +191,9 @@ impl<T: CheckRule> BeamLight<T> {
                 abs_tol: (opts.abs_tol / (weight.to_f64() * r.to_f64() * sin.to_f64())).min(f64::MAX),
                 ..opts.clone()
             },
-        )?;
-        Ok(e.scaled(&(weight * r.clone() * sin)))
+        )
+        .map(|e| e.scaled(&constant))
+        .map_err(|f| f.scaled(&constant))
     }
 
     /// ζ over the rays of the disk within R of the camera line's projection.

@@ -189,14 +189,17 @@ impl<T: CheckRule> FiniteField<T> {
         }
     }
 
-    /// One ray-centric moment, summed over the lights.
+    /// One ray-centric moment, summed over the lights (a light's failure
+    /// carries no best guess of the sum when there are several).
     pub fn ray_total(&self, which: Functional, opts: &Options) -> Result<Estimate<T>, OracleError> {
         let mut total: Option<Estimate<T>> = None;
+        let several = self.lights.len() > 1;
         for light in &self.lights {
             let e = match light {
                 FiniteLight::Point(p) => p.ray_integral(self, which, opts),
                 FiniteLight::Beam(b) => b.ray_integral(self, which, opts),
             }
+            .map_err(|f| if several { f.of_a_part() } else { f })
             .map_err(OracleError::quad(which.name()))?;
             total = Some(match total {
                 None => e,

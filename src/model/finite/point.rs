@@ -226,6 +226,8 @@ impl<T: CheckRule> PointLight<T> {
             let each = Options { abs_tol: (o.abs_tol / jac.to_f64()).min(f64::MAX), ..o.clone() };
             Ok(halves.integrate(&sample, &each)?.scaled(&jac))
         };
+        // The integral's constant: applied to a failure's best guess too.
+        let constant = ff.per_hit(which, &self.flux) / (like.pi() * like.lit(2.0));
         let e = if self.b > *r {
             // η = b sin χ/R ∈ [0, 1].
             let ratio = r.clone() / self.b.clone();
@@ -239,7 +241,7 @@ impl<T: CheckRule> PointLight<T> {
                 },
                 &Domain::finite(zero.clone(), one.clone()),
                 opts,
-            )?
+            )
         } else {
             integrate_nested(
                 |chi: &T, o: &Options| {
@@ -249,9 +251,9 @@ impl<T: CheckRule> PointLight<T> {
                 },
                 &Domain::finite(zero.clone(), like.pi()).with_breakpoints([like.pi() / like.lit(2.0)]),
                 opts,
-            )?
+            )
         };
-        Ok(e.scaled(&(ff.per_hit(which, &self.flux) / (like.pi() * like.lit(2.0)))))
+        e.map(|e| e.scaled(&constant)).map_err(|f| f.scaled(&constant))
     }
 
     /// Distance d from the light and (cos γ, sin γ) of w = (x(s) − y)/d

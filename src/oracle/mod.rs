@@ -20,6 +20,13 @@ use mcrt_scene::{Light, Scene};
 use serde::Serialize;
 use std::time::Instant;
 
+mod report;
+use report::{correlation, reported, scaled};
+pub use report::{
+    Asymptotic, Correlation, FiniteReport, Integral, Report, ReportPrediction, ValueWithBar, Variance, FINITE_NOTE,
+    SMALL_SPHERE_NOTE,
+};
+
 /// The largest MPFR precision a run accepts: its default tolerance
 /// 2^{−(bits − 22)} is then 2^{−1002} ≈ 2.3·10⁻³⁰², still a normal double
 /// (tolerances are f64; past ~1044 bits the default underflowed to 0 and
@@ -97,233 +104,6 @@ impl Precision {
     }
 }
 
-/// A computed value and its error bar (a bound on |value − exact|), in f64
-/// for reports. In JSON: `{"value": …, "error": …}`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct ValueWithBar {
-    /// The value.
-    pub value: f64,
-    /// Its error bar: a bound on the distance to the exact value.
-    pub error: f64,
-}
-
-impl ValueWithBar {
-    /// This value over `other`, the bar propagated (relative bars add).
-    pub fn ratio(self, other: ValueWithBar) -> ValueWithBar {
-        let value = self.value / other.value;
-        ValueWithBar { value, error: value.abs() * (self.error / self.value.abs() + other.error / other.value.abs()) }
-    }
-}
-
-/// A quadrature result for reports.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct Integral {
-    /// The integral's value.
-    pub value: f64,
-    /// Its error bar (the engine's cross-checked bound).
-    pub error: f64,
-    /// Integrand evaluations spent on it.
-    pub evaluations: u64,
-}
-
-impl From<Integral> for ValueWithBar {
-    fn from(i: Integral) -> Self {
-        ValueWithBar { value: i.value, error: i.error }
-    }
-}
-
-/// An asymptotic form: its value, or why it does not exist.
-#[derive(Debug, Clone, Serialize)]
-pub struct Asymptotic {
-    /// The R → 0 form's value.
-    pub value: Option<f64>,
-    /// Its quadrature bar.
-    pub error: Option<f64>,
-    /// Set when the form does not exist for the scene.
-    pub missing: Option<String>,
-}
-
-/// Exact and asymptotic forms of a correlation integral and their ratio.
-#[derive(Debug, Clone, Serialize)]
-pub struct Correlation {
-    /// The integral at the scene's R.
-    pub exact: Integral,
-    /// Its R → 0 form, (25) or (26).
-    pub asymptotic: Asymptotic,
-    /// exact / asymptotic (→ 1 as R → 0).
-    pub ratio: Option<f64>,
-    /// The ratio's bar (the relative bars added).
-    pub ratio_error: Option<f64>,
-}
-
-/// The variance of one iteration.
-#[derive(Debug, Clone, Serialize)]
-pub struct Variance {
-    /// Var L for one iteration with the scene's N_F, N_B, q, R.
-    pub exact: ValueWithBar,
-    /// log₁₀ Var L (meaningful where `exact.value` underflows f64).
-    pub log10: f64,
-    /// Its bar, −log₁₀(1 − bar/|Var L|) ≥ the distance to the exact log₁₀
-    /// (the relative bar carried through the logarithm; `None` when the bar
-    /// is not below the value).
-    pub log10_error: Option<f64>,
-    /// Var L / ⟨⟨L⟩⟩².
-    pub relative: f64,
-    /// Its bar.
-    pub relative_error: f64,
-    /// The §4.4 formula with D₁…D₅ (corrected constant term), if (25), (26) exist.
-    pub relative_asymptotic: Option<f64>,
-    /// Its bar from the integrals' bars (not its asymptotic error, the O(R)
-    /// gap of the R → 0 forms, which `corr23.ratio` and `corr24.ratio` show).
-    pub relative_asymptotic_error: Option<f64>,
-}
-
-/// The finite-sphere model's numbers (`model::finite`), exact at the scene's R.
-#[derive(Debug, Clone, Serialize)]
-pub struct FiniteReport {
-    /// ⟨⟨L⟩⟩ at the scene's R.
-    pub mean: ValueWithBar,
-    /// Var L of one iteration with the scene's N_F, N_B, q, R.
-    pub variance: ValueWithBar,
-    /// b(R) = ⟨⟨L⟩⟩(R) − ⟨⟨L⟩⟩(0), the estimator's bias (⟨⟨L⟩⟩(0): the
-    /// small-sphere mean, the luminance of the simulated orders).
-    pub bias: ValueWithBar,
-    /// Var L/⟨⟨L⟩⟩².
-    pub relative_noise: ValueWithBar,
-    /// finite/small-sphere ratio of the mean.
-    pub mean_ratio: ValueWithBar,
-    /// finite/small-sphere ratio of Var L.
-    pub variance_ratio: ValueWithBar,
-    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩_R ds of (16).
-    pub integral_m2: Integral,
-    /// P = ∫σe^{−σs}⟨𝒞⟩_R² ds of (17).
-    pub integral_p: Integral,
-    /// Q = ∫∫ σ²e^{−σ(s+s′)}⟨𝒞⟩_R(s)⟨𝒞⟩_R(s′) ds ds′ of (17).
-    pub integral_q: Integral,
-    /// C₂₃, the finite-sphere form of integral (23).
-    pub corr23: Integral,
-    /// C₂₄, the finite-sphere form of integral (24).
-    pub corr24: Integral,
-    /// This model's c₀ (`FiniteField::shift`).
-    pub attenuation_shift: f64,
-    /// Integrand evaluations of this model's integrals.
-    pub evaluations: u64,
-}
-
-/// What the oracle predicts for the scene, and from which model.
-#[derive(Debug, Clone, Serialize)]
-pub struct ReportPrediction {
-    /// `"finite-sphere"` (exact at the scene's R; uncollided light) or
-    /// `"small-sphere"` (§4.3, exact as R → 0; scenes with scattered light).
-    pub model: &'static str,
-    /// ⟨⟨L⟩⟩ with its quadrature bar.
-    pub mean: ValueWithBar,
-    /// Var L of one iteration with its quadrature bar.
-    pub variance: ValueWithBar,
-    /// Var L/⟨⟨L⟩⟩² with its bar.
-    pub relative_noise: ValueWithBar,
-    /// What the bars cover.
-    pub note: String,
-}
-
-/// The note of a small-sphere prediction: its own error is not in the bars.
-pub const SMALL_SPHERE_NOTE: &str = "exact only as R → 0; the bars are the quadrature's and do not include the \
-     model's own error at this R (the finite-sphere model covers uncollided light only; measured with the tracer on \
-     point-isotropic-order1 at R = 0.1: Var L 6.7 % and the mean 0.3 % off, falling like R ln(1/R); \
-     docs/tracer-checks.md)";
-
-/// The note of a finite-sphere prediction.
-pub const FINITE_NOTE: &str = "exact at this R for uncollided light; the bars are the quadrature's (the model \
-     approximates nothing)";
-
-/// Everything the oracle says about one scene.
-#[derive(Debug, Clone, Serialize)]
-pub struct Report {
-    /// `"f64"` or `"N bits"`.
-    pub precision: String,
-    /// Relative tolerance asked of every integral.
-    pub rel_tol: f64,
-    /// The scene's sphere radius R.
-    pub radius: f64,
-    /// The scene's extinction probability per sub-step q (a parameter; the
-    /// integral Q of (17) is [`Report::integral_q`]).
-    pub q: f64,
-    /// N_F.
-    pub forward_rays: u64,
-    /// N_B.
-    pub camera_rays: u64,
-    /// ⟨⟨L⟩⟩ of the small-sphere model, μ(0).
-    pub mean_luminance: ValueWithBar,
-    /// log₁₀ of the mean luminance (meaningful where `value` underflows f64).
-    pub mean_luminance_log10: f64,
-    /// Its bar, as [`Variance::log10_error`].
-    pub mean_luminance_log10_error: Option<f64>,
-    /// Integral (23), exact at R and its R → 0 form (small-sphere model).
-    pub corr23: Correlation,
-    /// Integral (24), likewise.
-    pub corr24: Correlation,
-    /// Var L of the small-sphere model, and the §4.4 formula.
-    pub variance: Variance,
-    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩ ds, the rest of (16) beside (23).
-    pub integral_m2: Integral,
-    /// P = ∫σe^{−σs}⟨𝒞⟩² ds of (17).
-    pub integral_p: Integral,
-    /// Q = ∫∫σ²e^{−σ(s+s′)}⟨𝒞⟩(s)⟨𝒞⟩(s′) ds ds′ of (17).
-    pub integral_q: Integral,
-    /// c₀ = σ_ext × shortest light path to the camera ray: integrals are
-    /// computed with W·e^{c₀} and scaled back for this report.
-    pub attenuation_shift: f64,
-    /// D₁…D₅ of §4.4, if the asymptotic forms exist.
-    pub d: Option<[f64; 5]>,
-    /// Their bars.
-    pub d_error: Option<[f64; 5]>,
-    /// Evaluations of the small-sphere model's integrals.
-    pub evaluations: u64,
-    /// The finite-sphere model, for uncollided light (`None` with scattered light).
-    pub finite: Option<FiniteReport>,
-    /// The prediction to test a renderer against: the finite-sphere model
-    /// where it exists, else the small-sphere one.
-    pub prediction: ReportPrediction,
-    /// Wall time of the run.
-    pub wall_time_ms: f64,
-}
-
-/// An estimate of the shifted field scaled back by `factor` (e^{−c₀} for
-/// quantities linear in W, e^{−2c₀} for quadratic ones), for the report.
-fn scaled<T: Real>(e: &Estimate<T>, factor: &T) -> Integral {
-    Integral {
-        value: (e.value.clone() * factor.clone()).to_f64(),
-        error: (e.error.clone() * factor.clone()).to_f64(),
-        evaluations: e.evaluations,
-    }
-}
-
-fn correlation<T: Real>(exact: &Estimate<T>, asym: &Result<Estimate<T>, String>, k: &T) -> Correlation {
-    let scaled = |e: &Estimate<T>| scaled(e, k);
-    match asym {
-        Ok(a) => {
-            let ratio = exact.value.clone() / a.value.clone();
-            let rel = exact.error.clone() / exact.value.abs() + a.error.clone() / a.value.abs();
-            Correlation {
-                exact: scaled(exact),
-                asymptotic: Asymptotic {
-                    value: Some((a.value.clone() * k.clone()).to_f64()),
-                    error: Some((a.error.clone() * k.clone()).to_f64()),
-                    missing: None,
-                },
-                ratio: Some(ratio.to_f64()),
-                ratio_error: Some((ratio.abs() * rel).to_f64()),
-            }
-        }
-        Err(why) => Correlation {
-            exact: scaled(exact),
-            asymptotic: Asymptotic { value: None, error: None, missing: Some(why.clone()) },
-            ratio: None,
-            ratio_error: None,
-        },
-    }
-}
-
 /// Runs the oracle on `scene` at the precision of `like` with `rel_tol`,
 /// every integral of both models charged to the one `budget`.
 pub fn run_with<T: CheckRule>(
@@ -358,7 +138,9 @@ pub fn run_with<T: CheckRule>(
         || Integrals::compute(&field, &r, &opts),
         || finite_field.as_ref().map(|ff| ff.integrals(&opts)).transpose(),
     );
-    let (ints, finite) = (ints?, finite?);
+    // A failure's best guess carries its field's e^{c₀}: in the report's units.
+    let ints = ints.map_err(|e| e.unshifted(field.shift.to_f64()))?;
+    let finite = finite.map_err(|e| e.unshifted(finite_field.as_ref().map_or(0.0, |ff| ff.shift.to_f64())))?;
     if ints.mean.value.is_zero() {
         return Err(OracleError::Unsupported(
             "the mean luminance is exactly 0 (no light reaches the camera ray): Var L = 0 and the relative noise is undefined".into(),
@@ -396,19 +178,24 @@ pub fn run_with<T: CheckRule>(
         (rel < 1.0).then(|| -(-rel).ln_1p() / std::f64::consts::LN_10)
     };
     let shift_log10 = field.shift.to_f64() / std::f64::consts::LN_10;
-    let relative_asymptotic = d.as_ref().map(|d| relative_from_d(d, &r, &field.sigma_ext, &counts).to_f64());
     let d_error = d.as_ref().and_then(|d| d_errors(&ints, d));
-    let relative_asymptotic_error =
-        d_error.as_ref().map(|e| relative_from_d_error(e, &r, &field.sigma_ext, &counts).to_f64());
-    let small_mean = ValueWithBar {
-        value: (ints.mean.value.clone() * k.clone()).to_f64(),
-        error: (ints.mean.error.clone() * k.clone()).to_f64(),
-    };
-    let small_variance = ValueWithBar {
-        value: (var.value.clone() * k.clone()).to_f64(),
-        error: (var.error.clone() * k.clone()).to_f64(),
-    };
-    let small_relative = ValueWithBar { value: relative.to_f64(), error: relative_error.to_f64() };
+    let asymptotic = d.as_ref().map(|d| relative_from_d(d, &r, &field.sigma_ext, &counts));
+    let relative_asymptotic = asymptotic.as_ref().map(Real::to_f64);
+    // The bars as the report gives them: the value's rounding to f64 included.
+    let relative_asymptotic_error = asymptotic
+        .as_ref()
+        .zip(d_error.as_ref())
+        .map(|(v, e)| reported(v, &relative_from_d_error(e, &r, &field.sigma_ext, &counts)).error);
+    let d_error_reported = d.as_ref().zip(d_error.as_ref()).map(|(d, e)| {
+        let mut out = [0.0; 5];
+        for (o, (v, e)) in out.iter_mut().zip(d.iter().zip(e)) {
+            *o = reported(v, e).error;
+        }
+        out
+    });
+    let small_mean = reported(&(ints.mean.value.clone() * k.clone()), &(ints.mean.error.clone() * k.clone()));
+    let small_variance = reported(&(var.value.clone() * k.clone()), &(var.error.clone() * k.clone()));
+    let small_relative = reported(&relative, &relative_error);
     let finite_report = match (&finite, &finite_field) {
         (Some(f), Some(ff)) => Some(finite_report(f, ff, &counts, (&mean, &var, &field.shift))),
         _ => None,
@@ -445,8 +232,8 @@ pub fn run_with<T: CheckRule>(
             exact: small_variance,
             log10: log10(&var.value) - shift_log10,
             log10_error: log10_bar(&var.value, &var.error),
-            relative: relative.to_f64(),
-            relative_error: relative_error.to_f64(),
+            relative: small_relative.value,
+            relative_error: small_relative.error,
             relative_asymptotic,
             relative_asymptotic_error,
         },
@@ -455,7 +242,7 @@ pub fn run_with<T: CheckRule>(
         integral_q: scaled(&ints.q, &k),
         attenuation_shift: field.shift.to_f64(),
         d: d.map(|d| d.map(|v| v.to_f64())),
-        d_error: d_error.map(|d| d.map(|v| v.to_f64())),
+        d_error: d_error_reported,
         evaluations: ints.evaluations(),
         finite: finite_report,
         prediction,
@@ -463,102 +250,6 @@ pub fn run_with<T: CheckRule>(
     };
     report.check_representable(scene)?;
     Ok(report)
-}
-
-impl Report {
-    /// Every number the report prints as a result, by name.
-    fn reported_numbers(&self) -> Vec<(String, f64)> {
-        let mut out = Vec::new();
-        let mut bar = |name: &str, v: &ValueWithBar| {
-            out.push((name.to_string(), v.value));
-            out.push((format!("{name} (bar)"), v.error));
-        };
-        bar("mean luminance (small-sphere)", &self.mean_luminance);
-        bar("Var L (small-sphere)", &self.variance.exact);
-        bar("prediction: mean", &self.prediction.mean);
-        bar("prediction: Var L", &self.prediction.variance);
-        bar("prediction: relative noise", &self.prediction.relative_noise);
-        if let Some(f) = &self.finite {
-            bar("finite-sphere mean", &f.mean);
-            bar("finite-sphere Var L", &f.variance);
-            bar("finite-sphere bias", &f.bias);
-            bar("finite-sphere relative noise", &f.relative_noise);
-            bar("finite/small mean ratio", &f.mean_ratio);
-            bar("finite/small Var L ratio", &f.variance_ratio);
-        }
-        out.push(("relative noise (small-sphere)".into(), self.variance.relative));
-        out.push(("relative noise (small-sphere, bar)".into(), self.variance.relative_error));
-        for (name, c) in [("(23)", &self.corr23), ("(24)", &self.corr24)] {
-            out.push((format!("{name} exact"), c.exact.value));
-            out.push((format!("{name} exact (bar)"), c.exact.error));
-            for (what, v) in [
-                ("R→0 form", c.asymptotic.value),
-                ("R→0 form bar", c.asymptotic.error),
-                ("exact/R→0 ratio", c.ratio),
-                ("exact/R→0 ratio bar", c.ratio_error),
-            ] {
-                if let Some(v) = v {
-                    out.push((format!("{name} {what}"), v));
-                }
-            }
-        }
-        for (what, v) in [
-            ("Var/L², §4.4 formula", self.variance.relative_asymptotic),
-            ("Var/L², §4.4 formula (bar)", self.variance.relative_asymptotic_error),
-        ] {
-            if let Some(v) = v {
-                out.push((what.into(), v));
-            }
-        }
-        for (what, d) in [("D", &self.d), ("D bar", &self.d_error)] {
-            for (k, v) in d.iter().flatten().enumerate() {
-                out.push((format!("{what} {}", k + 1), *v));
-            }
-        }
-        out
-    }
-
-    /// The numbers that are positive for every lit scene (each an integral
-    /// of a positive integrand): printed as 0, they have underflowed.
-    fn positive_numbers(&self) -> Vec<(&'static str, ValueWithBar)> {
-        let int = |i: &Integral| ValueWithBar { value: i.value, error: i.error };
-        let mut out = vec![
-            ("mean luminance (small-sphere)", self.mean_luminance),
-            ("prediction: mean", self.prediction.mean),
-            ("Var L (small-sphere)", self.variance.exact),
-            ("prediction: Var L", self.prediction.variance),
-            ("(23) exact", int(&self.corr23.exact)),
-            ("(24) exact", int(&self.corr24.exact)),
-        ];
-        if let Some(f) = &self.finite {
-            out.push(("finite-sphere Var L", f.variance));
-        }
-        out
-    }
-
-    /// Fails when a printed number is not finite, or a quantity that is
-    /// positive for every lit scene (the mean, which the ratios and the
-    /// relative noise divide by; Var L; (23), (24)) has underflowed to 0.
-    fn check_representable(&self, scene: &Scene) -> Result<(), OracleError> {
-        let fluxes: Vec<String> = scene.lights.iter().map(|l| format!("{:e}", l.flux())).collect();
-        let advice = format!(
-            "the mean scales with the lights' flux ({}) and Var L with its square, the relative noise not at all: \
-             rescale the fluxes (or bring the lights nearer: e^(−σ_ext·distance) underflows beyond ~700)",
-            fluxes.join(", ")
-        );
-        for (name, v) in self.positive_numbers() {
-            if !(v.value > 0.0) {
-                return Err(OracleError::NotRepresentable(format!(
-                    "{name} is {:e} ± {:e}: it underflows f64; {advice}",
-                    v.value, v.error
-                )));
-            }
-        }
-        if let Some((name, v)) = self.reported_numbers().into_iter().find(|(_, v)| !v.is_finite()) {
-            return Err(OracleError::NotRepresentable(format!("{name} is {v}; {advice}")));
-        }
-        Ok(())
-    }
 }
 
 /// Why the oracle refuses a scene whose camera ray (its line) meets no
@@ -580,7 +271,10 @@ fn no_light_on_the_camera_ray<T: CheckRule>(scene: &Scene, ff: Option<&FiniteFie
         }
         Light::Point { .. } => true,
     });
-    let grazing = ff.filter(|_| reach).map(|ff| (ff.ray_total(Functional::Mean, opts), (-ff.shift.clone()).exp()));
+    let grazing = ff.filter(|_| reach).map(|ff| {
+        let mean = ff.ray_total(Functional::Mean, opts).map_err(|e| e.unshifted(ff.shift.to_f64()));
+        (mean, (-ff.shift.clone()).exp())
+    });
     let msg = match grazing {
         Some((Ok(m), k)) if !m.value.is_zero() => format!(
             "the camera ray passes outside every light (no beam crosses it in front of its disk), so the \
@@ -627,17 +321,14 @@ fn finite_report<T: CheckRule>(
         counts,
         &k,
     );
-    let to = |v: &T, e: &T| ValueWithBar {
-        value: (v.clone() * k.clone()).to_f64(),
-        error: (e.clone() * k.clone()).to_f64(),
-    };
+    let to = |v: &T, e: &T| reported(&(v.clone() * k.clone()), &(e.clone() * k.clone()));
     // finite/small of two shifted values: (a e^{−c₀}) / (b e^{−c₀′}).
     let (small_mean, small_var, small_shift) = small;
     let rescale = (small_shift.clone() - ff.shift.clone()).exp();
     let ratio = |a: &Valued<T>, b: &Valued<T>| {
         let value = a.value.clone() / b.value.clone() * rescale.clone();
         let rel = a.error.clone() / a.value.abs() + b.error.clone() / b.value.abs();
-        ValueWithBar { value: value.to_f64(), error: (value.abs() * rel).to_f64() }
+        reported(&value, &(value.abs() * rel))
     };
     let small_k = (-small_shift.clone()).exp();
     let bias = mean_t.value.clone() * k.clone() - small_mean.value.clone() * small_k.clone();
@@ -651,8 +342,8 @@ fn finite_report<T: CheckRule>(
     FiniteReport {
         mean: to(&f.mean.value, &f.mean.error),
         variance: to(&var.value, &var.error),
-        bias: ValueWithBar { value: bias.to_f64(), error: bias_error.to_f64() },
-        relative_noise: ValueWithBar { value: rel.to_f64(), error: rel_err.to_f64() },
+        bias: reported(&bias, &bias_error),
+        relative_noise: reported(&rel, &rel_err),
         mean_ratio: ratio(&mean_t, small_mean),
         variance_ratio: ratio(&var, small_var),
         integral_m2: scaled(&f.m2, &k),

@@ -1,0 +1,359 @@
+//! The oracle's report: values with their bars in f64 as the report gives
+//! them, the report's types, and the check that every number it prints is
+//! representable.
+
+use super::*;
+/// A computed value and its error bar (a bound on |value − exact|), in f64
+/// for reports. In JSON: `{"value": …, "error": …}`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ValueWithBar {
+    /// The value.
+    pub value: f64,
+    /// Its error bar: a bound on the distance to the exact value.
+    pub error: f64,
+}
+
+impl ValueWithBar {
+    /// This value over `other`, the bar propagated (relative bars add).
+    pub fn ratio(self, other: ValueWithBar) -> ValueWithBar {
+        let value = self.value / other.value;
+        ValueWithBar { value, error: value.abs() * (self.error / self.value.abs() + other.error / other.value.abs()) }
+    }
+}
+
+/// A quadrature result for reports.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct Integral {
+    /// The integral's value.
+    pub value: f64,
+    /// Its error bar (the engine's cross-checked bound).
+    pub error: f64,
+    /// Integrand evaluations spent on it.
+    pub evaluations: u64,
+}
+
+impl From<Integral> for ValueWithBar {
+    fn from(i: Integral) -> Self {
+        ValueWithBar { value: i.value, error: i.error }
+    }
+}
+
+/// An asymptotic form: its value, or why it does not exist.
+#[derive(Debug, Clone, Serialize)]
+pub struct Asymptotic {
+    /// The R → 0 form's value.
+    pub value: Option<f64>,
+    /// Its quadrature bar.
+    pub error: Option<f64>,
+    /// Set when the form does not exist for the scene.
+    pub missing: Option<String>,
+}
+
+/// Exact and asymptotic forms of a correlation integral and their ratio.
+#[derive(Debug, Clone, Serialize)]
+pub struct Correlation {
+    /// The integral at the scene's R.
+    pub exact: Integral,
+    /// Its R → 0 form, (25) or (26).
+    pub asymptotic: Asymptotic,
+    /// exact / asymptotic (→ 1 as R → 0).
+    pub ratio: Option<f64>,
+    /// The ratio's bar (the relative bars added).
+    pub ratio_error: Option<f64>,
+}
+
+/// The variance of one iteration.
+#[derive(Debug, Clone, Serialize)]
+pub struct Variance {
+    /// Var L for one iteration with the scene's N_F, N_B, q, R.
+    pub exact: ValueWithBar,
+    /// log₁₀ Var L (meaningful where `exact.value` underflows f64).
+    pub log10: f64,
+    /// Its bar, −log₁₀(1 − bar/|Var L|) ≥ the distance to the exact log₁₀
+    /// (the relative bar carried through the logarithm; `None` when the bar
+    /// is not below the value).
+    pub log10_error: Option<f64>,
+    /// Var L / ⟨⟨L⟩⟩².
+    pub relative: f64,
+    /// Its bar.
+    pub relative_error: f64,
+    /// The §4.4 formula with D₁…D₅ (corrected constant term), if (25), (26) exist.
+    pub relative_asymptotic: Option<f64>,
+    /// Its bar from the integrals' bars (not its asymptotic error, the O(R)
+    /// gap of the R → 0 forms, which `corr23.ratio` and `corr24.ratio` show).
+    pub relative_asymptotic_error: Option<f64>,
+}
+
+/// The finite-sphere model's numbers (`model::finite`), exact at the scene's R.
+#[derive(Debug, Clone, Serialize)]
+pub struct FiniteReport {
+    /// ⟨⟨L⟩⟩ at the scene's R.
+    pub mean: ValueWithBar,
+    /// Var L of one iteration with the scene's N_F, N_B, q, R.
+    pub variance: ValueWithBar,
+    /// b(R) = ⟨⟨L⟩⟩(R) − ⟨⟨L⟩⟩(0), the estimator's bias (⟨⟨L⟩⟩(0): the
+    /// small-sphere mean, the luminance of the simulated orders).
+    pub bias: ValueWithBar,
+    /// Var L/⟨⟨L⟩⟩².
+    pub relative_noise: ValueWithBar,
+    /// finite/small-sphere ratio of the mean.
+    pub mean_ratio: ValueWithBar,
+    /// finite/small-sphere ratio of Var L.
+    pub variance_ratio: ValueWithBar,
+    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩_R ds of (16).
+    pub integral_m2: Integral,
+    /// P = ∫σe^{−σs}⟨𝒞⟩_R² ds of (17).
+    pub integral_p: Integral,
+    /// Q = ∫∫ σ²e^{−σ(s+s′)}⟨𝒞⟩_R(s)⟨𝒞⟩_R(s′) ds ds′ of (17).
+    pub integral_q: Integral,
+    /// C₂₃, the finite-sphere form of integral (23).
+    pub corr23: Integral,
+    /// C₂₄, the finite-sphere form of integral (24).
+    pub corr24: Integral,
+    /// This model's c₀ (`FiniteField::shift`).
+    pub attenuation_shift: f64,
+    /// Integrand evaluations of this model's integrals.
+    pub evaluations: u64,
+}
+
+/// What the oracle predicts for the scene, and from which model.
+#[derive(Debug, Clone, Serialize)]
+pub struct ReportPrediction {
+    /// `"finite-sphere"` (exact at the scene's R; uncollided light) or
+    /// `"small-sphere"` (§4.3, exact as R → 0; scenes with scattered light).
+    pub model: &'static str,
+    /// ⟨⟨L⟩⟩ with its quadrature bar.
+    pub mean: ValueWithBar,
+    /// Var L of one iteration with its quadrature bar.
+    pub variance: ValueWithBar,
+    /// Var L/⟨⟨L⟩⟩² with its bar.
+    pub relative_noise: ValueWithBar,
+    /// What the bars cover.
+    pub note: String,
+}
+
+/// The note of a small-sphere prediction: its own error is not in the bars.
+pub const SMALL_SPHERE_NOTE: &str = "exact only as R → 0; the bars are the quadrature's and do not include the \
+     model's own error at this R (the finite-sphere model covers uncollided light only; measured with the tracer on \
+     point-isotropic-order1 at R = 0.1: Var L 6.7 % and the mean 0.3 % off, falling like R ln(1/R); \
+     docs/tracer-checks.md)";
+
+/// The note of a finite-sphere prediction.
+pub const FINITE_NOTE: &str = "exact at this R for uncollided light; the bars are the quadrature's (the model \
+     approximates nothing)";
+
+/// Everything the oracle says about one scene.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    /// `"f64"` or `"N bits"`.
+    pub precision: String,
+    /// Relative tolerance asked of every integral.
+    pub rel_tol: f64,
+    /// The scene's sphere radius R.
+    pub radius: f64,
+    /// The scene's extinction probability per sub-step q (a parameter; the
+    /// integral Q of (17) is [`Report::integral_q`]).
+    pub q: f64,
+    /// N_F.
+    pub forward_rays: u64,
+    /// N_B.
+    pub camera_rays: u64,
+    /// ⟨⟨L⟩⟩ of the small-sphere model, μ(0).
+    pub mean_luminance: ValueWithBar,
+    /// log₁₀ of the mean luminance (meaningful where `value` underflows f64).
+    pub mean_luminance_log10: f64,
+    /// Its bar, as [`Variance::log10_error`].
+    pub mean_luminance_log10_error: Option<f64>,
+    /// Integral (23), exact at R and its R → 0 form (small-sphere model).
+    pub corr23: Correlation,
+    /// Integral (24), likewise.
+    pub corr24: Correlation,
+    /// Var L of the small-sphere model, and the §4.4 formula.
+    pub variance: Variance,
+    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩ ds, the rest of (16) beside (23).
+    pub integral_m2: Integral,
+    /// P = ∫σe^{−σs}⟨𝒞⟩² ds of (17).
+    pub integral_p: Integral,
+    /// Q = ∫∫σ²e^{−σ(s+s′)}⟨𝒞⟩(s)⟨𝒞⟩(s′) ds ds′ of (17).
+    pub integral_q: Integral,
+    /// c₀ = σ_ext × shortest light path to the camera ray: integrals are
+    /// computed with W·e^{c₀} and scaled back for this report.
+    pub attenuation_shift: f64,
+    /// D₁…D₅ of §4.4, if the asymptotic forms exist.
+    pub d: Option<[f64; 5]>,
+    /// Their bars.
+    pub d_error: Option<[f64; 5]>,
+    /// Evaluations of the small-sphere model's integrals.
+    pub evaluations: u64,
+    /// The finite-sphere model, for uncollided light (`None` with scattered light).
+    pub finite: Option<FiniteReport>,
+    /// The prediction to test a renderer against: the finite-sphere model
+    /// where it exists, else the small-sphere one.
+    pub prediction: ReportPrediction,
+    /// Wall time of the run.
+    pub wall_time_ms: f64,
+}
+
+/// A value of the working precision as the report gives it, in f64: the
+/// bar bounds the distance of the *reported* value to the exact one, so it
+/// is the working bar plus the value's rounding to f64, rounded up (in
+/// MPFR a bar of 1e-400 was reported as 0, and a bar of 1e-300 on a value
+/// rounded to 53 bits claimed more than f64 holds).
+pub(super) fn reported<T: Real>(value: &T, error: &T) -> ValueWithBar {
+    let v = value.to_f64();
+    let rounding = (value.clone() - value.lit(v)).abs();
+    ValueWithBar { value: v, error: (error.abs() + rounding).to_f64_up() }
+}
+
+/// An estimate of the shifted field scaled back by `factor` (e^{−c₀} for
+/// quantities linear in W, e^{−2c₀} for quadratic ones), for the report.
+pub(super) fn scaled<T: Real>(e: &Estimate<T>, factor: &T) -> Integral {
+    let r = reported(&(e.value.clone() * factor.clone()), &(e.error.clone() * factor.clone()));
+    Integral { value: r.value, error: r.error, evaluations: e.evaluations }
+}
+
+pub(super) fn correlation<T: Real>(exact: &Estimate<T>, asym: &Result<Estimate<T>, String>, k: &T) -> Correlation {
+    let scaled = |e: &Estimate<T>| scaled(e, k);
+    match asym {
+        Ok(a) => {
+            let ratio = exact.value.clone() / a.value.clone();
+            let rel = exact.error.clone() / exact.value.abs() + a.error.clone() / a.value.abs();
+            let asymptotic = reported(&(a.value.clone() * k.clone()), &(a.error.clone() * k.clone()));
+            let ratio = reported(&ratio, &(ratio.abs() * rel));
+            Correlation {
+                exact: scaled(exact),
+                asymptotic: Asymptotic { value: Some(asymptotic.value), error: Some(asymptotic.error), missing: None },
+                ratio: Some(ratio.value),
+                ratio_error: Some(ratio.error),
+            }
+        }
+        Err(why) => Correlation {
+            exact: scaled(exact),
+            asymptotic: Asymptotic { value: None, error: None, missing: Some(why.clone()) },
+            ratio: None,
+            ratio_error: None,
+        },
+    }
+}
+
+impl Report {
+    /// Every number the report prints as a result, by name.
+    fn reported_numbers(&self) -> Vec<(String, f64)> {
+        let mut out = Vec::new();
+        let mut bar = |name: &str, v: &ValueWithBar| {
+            out.push((name.to_string(), v.value));
+            out.push((format!("{name} (bar)"), v.error));
+        };
+        bar("mean luminance (small-sphere)", &self.mean_luminance);
+        bar("Var L (small-sphere)", &self.variance.exact);
+        bar("prediction: mean", &self.prediction.mean);
+        bar("prediction: Var L", &self.prediction.variance);
+        bar("prediction: relative noise", &self.prediction.relative_noise);
+        if let Some(f) = &self.finite {
+            bar("finite-sphere mean", &f.mean);
+            bar("finite-sphere Var L", &f.variance);
+            bar("finite-sphere bias", &f.bias);
+            bar("finite-sphere relative noise", &f.relative_noise);
+            bar("finite/small mean ratio", &f.mean_ratio);
+            bar("finite/small Var L ratio", &f.variance_ratio);
+        }
+        out.push(("relative noise (small-sphere)".into(), self.variance.relative));
+        out.push(("relative noise (small-sphere, bar)".into(), self.variance.relative_error));
+        for (name, c) in [("(23)", &self.corr23), ("(24)", &self.corr24)] {
+            out.push((format!("{name} exact"), c.exact.value));
+            out.push((format!("{name} exact (bar)"), c.exact.error));
+            for (what, v) in [
+                ("R→0 form", c.asymptotic.value),
+                ("R→0 form bar", c.asymptotic.error),
+                ("exact/R→0 ratio", c.ratio),
+                ("exact/R→0 ratio bar", c.ratio_error),
+            ] {
+                if let Some(v) = v {
+                    out.push((format!("{name} {what}"), v));
+                }
+            }
+        }
+        for (what, v) in [
+            ("Var/L², §4.4 formula", self.variance.relative_asymptotic),
+            ("Var/L², §4.4 formula (bar)", self.variance.relative_asymptotic_error),
+        ] {
+            if let Some(v) = v {
+                out.push((what.into(), v));
+            }
+        }
+        for (what, d) in [("D", &self.d), ("D bar", &self.d_error)] {
+            for (k, v) in d.iter().flatten().enumerate() {
+                out.push((format!("{what} {}", k + 1), *v));
+            }
+        }
+        out
+    }
+
+    /// The numbers that are positive for every lit scene (each an integral
+    /// of a positive integrand): printed as 0, they have underflowed.
+    fn positive_numbers(&self) -> Vec<(&'static str, ValueWithBar)> {
+        let int = |i: &Integral| ValueWithBar { value: i.value, error: i.error };
+        let mut out = vec![
+            ("mean luminance (small-sphere)", self.mean_luminance),
+            ("prediction: mean", self.prediction.mean),
+            ("Var L (small-sphere)", self.variance.exact),
+            ("prediction: Var L", self.prediction.variance),
+            ("(23) exact", int(&self.corr23.exact)),
+            ("(24) exact", int(&self.corr24.exact)),
+        ];
+        if let Some(f) = &self.finite {
+            out.push(("finite-sphere Var L", f.variance));
+        }
+        out
+    }
+
+    /// Fails when a printed number is not finite, or a quantity that is
+    /// positive for every lit scene (the mean, which the ratios and the
+    /// relative noise divide by; Var L; (23), (24)) has underflowed to 0.
+    pub(super) fn check_representable(&self, scene: &Scene) -> Result<(), OracleError> {
+        let fluxes: Vec<String> = scene.lights.iter().map(|l| format!("{:e}", l.flux())).collect();
+        let advice = format!(
+            "the mean scales with the lights' flux ({}) and Var L with its square, the relative noise not at all: \
+             rescale the fluxes (or bring the lights nearer: e^(−σ_ext·distance) underflows beyond ~700)",
+            fluxes.join(", ")
+        );
+        for (name, v) in self.positive_numbers() {
+            if !(v.value > 0.0) {
+                return Err(OracleError::NotRepresentable(format!(
+                    "{name} is {:e} ± {:e}: it underflows f64; {advice}",
+                    v.value, v.error
+                )));
+            }
+        }
+        if let Some((name, v)) = self.reported_numbers().into_iter().find(|(_, v)| !v.is_finite()) {
+            return Err(OracleError::NotRepresentable(format!("{name} is {v}; {advice}")));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::reported;
+    use rug::Float;
+
+    /// A 1024-bit value and bar as the report gives them in f64: the bar
+    /// (1e-502, below the smallest double) must stay positive and bound
+    /// the distance of the f64 value to the working one, its rounding.
+    #[test]
+    fn a_bar_below_f64_is_a_positive_bound_on_the_reported_value() {
+        let value = decimal("1.234567890123456789012345678901234567890e-200");
+        let bar = decimal("1e-502");
+        let r = reported(&value, &bar);
+        assert!(r.error > 0.0, "{r:?}");
+        let off = Float::with_val(1024, &value - r.value).abs();
+        assert!(off <= r.error, "off by {off:e}, bar {:e}", r.error);
+        // f64 itself adds nothing.
+        let exact = reported(&0.5f64, &1e-20);
+        assert_eq!((exact.value, exact.error), (0.5, 1e-20));
+    }
+
+    fn decimal(text: &str) -> Float {
+        crate::kernel::parse_decimal(text, 1024).expect("a decimal")
+    }
+}
