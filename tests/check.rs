@@ -76,7 +76,10 @@ fn check_is_calibrated_and_has_its_stated_power() {
         moments(&z(1))
     );
     assert!((lo..=hi).contains(&false_alarms), "false alarms {false_alarms} outside [{lo}, {hi}]");
-    assert!(z(0).len() as u64 >= RUNS - 4 && z(1).len() as u64 >= RUNS - 4, "z resolved in nearly every run");
+    // NOT RESOLVED only where a pass would rest on one value: a band below
+    // the limit as wide as one value's influence (~0.1–0.5 here), where the
+    // normal density is φ(2.24) ≈ 0.03: ~1–2 % of runs per quantity.
+    assert!(unresolved as u64 <= RUNS / 20, "{unresolved} not resolved");
 
     // Power: each run moved by its own detectable error, either way, must
     // fail with probability ≥ the power (0.9); its 99 % interval's lower

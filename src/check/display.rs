@@ -1,7 +1,7 @@
 //! The verdict in words: its rows, its reasons and what it shows. No number
 //! is printed as 0, inf or NaN in place of a result.
 
-use super::options::{CHECKS, TAIL_SHARE};
+use super::options::{short, CHECKS, TAIL_SHARE};
 use super::samples::Measured;
 use super::statistics::Null;
 use super::verdict::{count_text, disagrees, QuantityCheck, Ratio, Status, TailCheck, Verdict};
@@ -30,7 +30,7 @@ fn ratio_text(ratio: Option<Ratio>, m: Measured, p: Predicted) -> String {
 }
 
 /// A z-score: two decimals, or in exponent notation when large.
-fn z_text(z: f64) -> String {
+pub(super) fn z_text(z: f64) -> String {
     if z.abs() < 1e4 {
         format!("{z:+.2}")
     } else {
@@ -47,6 +47,11 @@ fn percent(d: f64) -> String {
     } else {
         format!("{p:.2e} %")
     }
+}
+
+/// A rate with two significant digits.
+fn short_rate(r: f64) -> String {
+    format!("{r:.1e}")
 }
 
 /// Why the tail test failed.
@@ -116,7 +121,7 @@ pub(super) fn unmet_target(q: &QuantityCheck, n: u64) -> Option<String> {
         return None;
     }
     let need = match q.samples_for_target {
-        Some(count) => format!("about {} samples would (standard errors fall like 1/√M)", count_text(count)),
+        Some(count) => format!("{} samples would (standard errors fall like 1/√M)", count_text(count)),
         None => "the bars alone exceed it, so no number of samples can".to_string(),
     };
     let detects = q.detectable_relative_error.map_or("no error of any size with certainty".to_string(), percent);
@@ -145,8 +150,9 @@ pub(super) fn statement(v: &Verdict) -> String {
                 ));
             }
             format!(
-                "{} (a correct renderer fails this check with probability ≤ {alpha}, family-wise)",
-                parts.join("; and ")
+                "{} (a correct renderer fails this check with probability ≤ {}, family-wise)",
+                parts.join("; and "),
+                short(alpha)
             )
         }
         Status::NotResolved => {
@@ -179,10 +185,11 @@ fn pass_statement(v: &Verdict) -> String {
     format!(
         "a renderer {} (either way) fails this check with probability ≥ {:.0} %; a correct one fails with \
          probability ≤ {} (family-wise; the measured rates: docs/library.md); no single value moves a z by more \
-         than {influence:.2}",
+         than {}",
         detects.join(", or "),
         v.power * 100.0,
-        v.false_alarm_rate
+        short(v.false_alarm_rate),
+        z_text(influence).trim_start_matches('+')
     )
 }
 
@@ -203,17 +210,19 @@ impl Verdict {
 
 impl fmt::Display for Verdict {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let spend = self.z_tests_spend.map_or(String::new(), |r| {
+            format!(", which correlated {:+.2} spend {}", self.z_correlation, short_rate(r))
+        });
         writeln!(
             f,
-            "{}: {} samples against the {} model (|z| limit {:.2}: false-alarm rate {} family-wise, {} of it on the \
-             largest value, the rest on the {CHECKS} z-tests, correlated {:+.2})",
+            "{}: {} samples against the {} model (|z| limit {:.2}: false-alarm rate ≤ {} family-wise; {} % of it on \
+             the largest value, the rest Šidák over the {CHECKS} z-tests{spend})",
             self.status.label(),
             self.samples,
             self.model,
             self.z_limit,
-            self.false_alarm_rate,
-            TAIL_SHARE,
-            self.z_correlation,
+            short(self.false_alarm_rate),
+            TAIL_SHARE * 100.0,
         )?;
         if let (Some(shape), Some(tail)) = (self.shape, self.tail) {
             writeln!(
@@ -257,7 +266,9 @@ fn write_row(f: &mut fmt::Formatter<'_>, q: &QuantityCheck, z_limit: f64) -> fmt
     match (q.measured, &q.not_resolved) {
         (Some(m), None) => {
             let z = q.z.map_or(format!("beyond ±{:.1e}", f64::MAX), z_text);
-            let influence = q.influence.map_or(String::new(), |i| format!("   one value moves z ≤ {i:.2}"));
+            let influence = q
+                .influence
+                .map_or(String::new(), |i| format!("   one value moves z ≤ {}", z_text(i).trim_start_matches('+')));
             let tail = if disagrees(q, z_limit) {
                 format!("   beyond ±{z_limit:.2}")
             } else {

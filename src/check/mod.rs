@@ -7,15 +7,18 @@
 //! The verdict runs three tests at a family-wise false-alarm rate: the
 //! largest value against bounds that hold for any distribution, the mean
 //! with the *predicted* Var L as its scale, and Var L by the
-//! Wilson–Hilferty cube root of s²/Var L with the samples' kurtosis. A
-//! quantity is resolved only when no single value moves its z by more than
-//! [`MAX_INFLUENCE`] and at least [`MIN_NONZERO`] values are nonzero; a
-//! pass must detect the resolution targets (default 10 % of the mean, 20 %
-//! of Var L), else the samples are NOT RESOLVED with the count that would
-//! be. Calibration and derivations: `docs/library.md`.
+//! studentised s², both through Hall's skewness correction, at a limit set
+//! for their correlation. A quantity is resolved only when its verdict
+//! rests neither on one value nor on a handful ([`MAX_INFLUENCE`],
+//! [`TOP_VALUES`]), enough values are nonzero ([`MIN_NONZERO`]) and enough
+//! carry the spread ([`MIN_EFFECTIVE_COUNT`]); a pass must detect the
+//! resolution targets (default 10 % of the mean, 20 % of Var L), else the
+//! samples are NOT RESOLVED with what would resolve them. Calibration and
+//! derivations: `docs/library.md`.
 //!
 //! Modules, in the order a check flows: `predict` (the prediction and its
-//! bars), `samples` (exact power sums to the sixth, extremes;
+//! bars), `samples` (exact power sums to the sixth; `extremes`: the
+//! smallest value and the largest few;
 //! `realisable`: which sums real values can have), `shape` (standardised
 //! moments, and with one value deleted), `options` (rates, power, targets,
 //! named constants), `statistics` (the z-scores, detectable errors, tail
@@ -24,6 +27,7 @@
 //! `plan` (samples needed).
 
 mod display;
+pub mod extremes;
 mod family;
 mod influence;
 mod options;
@@ -35,6 +39,7 @@ mod shape;
 mod statistics;
 mod verdict;
 
+pub use extremes::TOP_VALUES;
 pub use options::{
     CheckOptions, CHECKS, DEFAULT_TARGET_MEAN, DEFAULT_TARGET_VARIANCE, MAX_INFLUENCE, MIN_EFFECTIVE_COUNT,
     MIN_FALSE_ALARM_RATE, TAIL_SHARE,

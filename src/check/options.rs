@@ -78,7 +78,7 @@ fn invalid(field: &str, value: f64, allowed: &str) -> FieldError {
 
 /// A value as typed: plain decimals where they are short, else exponent
 /// notation (1e-301, not 302 digits).
-fn short(x: f64) -> String {
+pub(crate) fn short(x: f64) -> String {
     if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs()) {
         x.to_string()
     } else {
@@ -164,22 +164,23 @@ impl CheckOptions {
         self.false_alarm_rate - self.tail_rate()
     }
 
-    /// The per-quantity rate of the z-tests when their z-scores are
-    /// independent: Šidák's split of [`CheckOptions::z_tests_rate`],
-    /// 1 − (1 − α_z)^{1/2}. The verdict splits it by the z-scores'
-    /// estimated correlation instead ([`Verdict::z_correlation`](super::Verdict)),
-    /// which gives each test a larger share of the same family-wise rate.
+    /// The rate of each z-test alone: Šidák's split of
+    /// [`CheckOptions::z_tests_rate`], 1 − (1 − α_z)^{1/2}.
     pub fn per_check_rate(&self) -> f64 {
-        -((-self.z_tests_rate()).ln_1p() / CHECKS as f64).exp_m1()
+        super::family::sidak_split(self.z_tests_rate())
     }
 
-    /// The |z| limit for independent z-scores: the two-sided normal quantile
-    /// of [`CheckOptions::per_check_rate`], from the lower tail (finite for
-    /// every accepted rate: 37.0 at 10⁻³⁰⁰). It is the largest limit any
-    /// correlation gives (Šidák's inequality), and the limit of the
-    /// guarantee that no single value turns a failure into a pass.
+    /// The |z| limit for independent z-scores: Šidák's split of
+    /// [`CheckOptions::z_tests_rate`] over the [`CHECKS`] tests, the
+    /// two-sided normal quantile of 1 − (1 − α_z)^{1/2}, from the lower
+    /// tail (finite for every accepted rate: 37.0 at 10⁻³⁰⁰). It is the
+    /// largest limit any correlation of the z-scores gives (Šidák's
+    /// inequality) and the limit of the guarantees that rest on the
+    /// influence of values. The verdict uses it whatever the z-scores'
+    /// correlation, and says how much of the rate the two tests then spend
+    /// ([`Verdict::z_tests_spend`](super::Verdict)).
     pub fn z_limit(&self) -> f64 {
-        -Normal::standard().inverse_cdf(self.per_check_rate() / 2.0)
+        super::family::sidak_limit(self.z_tests_rate())
     }
 
     /// The normal quantile of the power, z_π.

@@ -1,11 +1,11 @@
 //! How many samples a check needs, from a pilot of the renderer's values:
 //! so that a renderer's test can size itself before rendering.
 
-use super::options::{CheckOptions, MAX_INFLUENCE};
+use super::options::{CheckOptions, MAX_INFLUENCE, MIN_EFFECTIVE_COUNT};
 use super::predict::Prediction;
 use super::samples::Samples;
 use super::statistics::{self, Null};
-use super::verdict::{check, count_text, Status, Verdict, MIN_NONZERO};
+use super::verdict::{check, count_text, largest_influence, Status, Verdict, MIN_NONZERO};
 use serde::Serialize;
 use std::fmt;
 
@@ -28,6 +28,9 @@ pub struct Plan {
     pub for_variance_target: Option<f64>,
     /// For [`MIN_NONZERO`] nonzero values (from the pilot's fraction).
     pub for_nonzero: Option<f64>,
+    /// For [`MIN_EFFECTIVE_COUNT`] values carrying the spread (M/κ grows
+    /// like M).
+    pub for_effective_count: Option<f64>,
     /// For one value's influence on a z to fall to half of
     /// [`MAX_INFLUENCE`] (from the pilot's, falling like 1/√M; half, since
     /// larger values come with more samples).
@@ -74,12 +77,7 @@ pub fn plan(prediction: &Prediction, pilot: &Samples, options: &CheckOptions) ->
     let verdict = check(prediction, pilot, options);
     // The limit for the pilot's correlation of the z-scores, as its check used.
     let (z_limit, z_power) = (verdict.z_limit, options.z_power());
-    let null = Null {
-        mean: prediction.mean.value,
-        mean_bar: prediction.mean.total_bar(),
-        variance: prediction.variance.value,
-        variance_bar: prediction.variance.total_bar(),
-    };
+    let null = Null::new(prediction, pilot.rounding_bounds());
     let (target_mean, target_variance) = options.targets();
     let mut notes = Vec::new();
     let shape = verdict.shape;
@@ -118,8 +116,13 @@ pub fn plan(prediction: &Prediction, pilot: &Samples, options: &CheckOptions) ->
             None
         }
     };
-    let influence = verdict.checks.iter().filter_map(|q| q.influence).fold(0.0, f64::max);
-    let for_influence = (influence > 0.0).then(|| (n * (influence / (0.5 * MAX_INFLUENCE)).powi(2)).ceil());
+    // One value's influence falls like 1/√M for values of a given size;
+    // aim at half the bound, as larger values come with more samples.
+    let for_influence = largest_influence(pilot, &null)
+        .filter(|i| i.is_finite())
+        .map(|i| (n * (i / (0.5 * MAX_INFLUENCE)).powi(2)).ceil());
+    // M/κ grows like M for a given distribution.
+    let for_effective_count = shape.map(|s| (n * MIN_EFFECTIVE_COUNT / s.effective_count()).ceil());
     if kurtosis.is_some() {
         notes.push(
             "a pilot of heavy-tailed values tends to under-state the kurtosis, and larger values come with more \
@@ -127,7 +130,7 @@ pub fn plan(prediction: &Prediction, pilot: &Samples, options: &CheckOptions) ->
                 .into(),
         );
     }
-    let parts = [for_mean_target, for_variance_target, for_nonzero, for_influence];
+    let parts = [for_mean_target, for_variance_target, for_nonzero, for_effective_count, for_influence];
     let complete = for_mean_target.is_some() && for_variance_target.is_some();
     let samples = complete.then(|| parts.iter().flatten().copied().fold(n, f64::max));
     Plan {
@@ -137,6 +140,7 @@ pub fn plan(prediction: &Prediction, pilot: &Samples, options: &CheckOptions) ->
         for_mean_target,
         for_variance_target,
         for_nonzero,
+        for_effective_count,
         for_influence,
         kurtosis,
         notes,
@@ -150,7 +154,7 @@ impl fmt::Display for Plan {
         match self.samples {
             Some(m) => writeln!(
                 f,
-                "PLAN: about {} samples to resolve {:.3} % of the mean and {:.3} % of Var L (from a pilot of {})",
+                "PLAN: {} samples to resolve {:.3} % of the mean and {:.3} % of Var L (from a pilot of {})",
                 count_text(m),
                 self.targets.0 * 100.0,
                 self.targets.1 * 100.0,
@@ -166,6 +170,7 @@ impl fmt::Display for Plan {
             self.kurtosis.map_or(String::new(), |k| format!("   (pilot's kurtosis {k:.4e})"))
         )?;
         writeln!(f, "  {MIN_NONZERO} nonzero values             {}", count(self.for_nonzero))?;
+        writeln!(f, "  {MIN_EFFECTIVE_COUNT} values carrying the spread {}", count(self.for_effective_count))?;
         writeln!(f, "  one value's influence ≤ {:.1}    {}", 0.5 * MAX_INFLUENCE, count(self.for_influence))?;
         for note in &self.notes {
             writeln!(f, "  note: {note}")?;

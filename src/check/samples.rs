@@ -1,5 +1,6 @@
 //! A renderer's per-iteration pixel values, accumulated exactly.
 
+use super::extremes::{check_against_sums, Extremes};
 use super::realisable::{realisable, SumsInequality};
 use super::shape::Shape;
 use mcrt_reference::moments::PowerSums;
@@ -18,11 +19,12 @@ pub struct Measured {
 }
 
 /// The per-iteration values L of one pixel, accumulated as exact power sums
-/// Σ L, Σ L², Σ L³, Σ L⁴ (2 300-bit MPFR numbers: any sum of up to 2⁶⁴
-/// doubles is exact), and the number of nonzero values among them. Exact
-/// sums make the result independent of the order of accumulation: samples
-/// pushed by several threads and merged give the same numbers, bit for bit,
-/// as one thread pushing them all.
+/// Σ L … Σ L⁶ (2 300- and 3 456-bit MPFR numbers: the powers of a double are
+/// formed exactly and their sums do not round), the number of nonzero
+/// values, the smallest value and the few largest. All of these are
+/// independent of the order of accumulation: samples pushed by several
+/// threads and merged give the same numbers, bit for bit, as one thread
+/// pushing them all.
 ///
 /// ```
 /// use mcrt_noise::Samples;
@@ -37,6 +39,7 @@ pub struct Measured {
 /// assert_eq!(merged.mean(), one.mean());
 /// assert_eq!(merged.mean().unwrap().value, 1.5);
 /// assert_eq!(merged.nonzero(), Some(3));
+/// assert_eq!(merged, one);
 /// assert!(one.push(f64::NAN).is_err());
 /// # Ok::<(), mcrt_noise::SampleError>(())
 /// ```
@@ -51,30 +54,9 @@ pub struct Samples {
     /// How many of the values are nonzero: exact when pushed here, `None`
     /// for power sums given without it.
     nonzero: Option<u64>,
-    /// The smallest and largest value: exact when pushed here (`None`
-    /// before the first), unknown for power sums given without them.
-    range: Range,
-}
-
-/// The smallest and largest of the values, as far as known.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Range {
-    /// No values yet.
-    Empty,
-    /// [smallest, largest], exact.
-    Known(f64, f64),
-    /// Power sums given without their extremes.
-    Unknown,
-}
-
-impl Range {
-    fn union(self, other: Range) -> Range {
-        match (self, other) {
-            (Range::Empty, r) | (r, Range::Empty) => r,
-            (Range::Known(a, b), Range::Known(c, d)) => Range::Known(a.min(c), b.max(d)),
-            _ => Range::Unknown,
-        }
-    }
+    /// The smallest value and the few largest: exact when pushed here,
+    /// `None` for power sums given without them.
+    extremes: Option<Extremes>,
 }
 
 impl Default for Samples {
@@ -85,7 +67,7 @@ impl Default for Samples {
             higher: [Float::new(HIGHER_BITS), Float::new(HIGHER_BITS)],
             sums_relative_error: 0.0,
             nonzero: Some(0),
-            range: Range::Empty,
+            extremes: Some(Extremes::empty()),
         }
     }
 }
@@ -216,7 +198,7 @@ impl Samples {
             .filter(|_| sums[4].is_finite() && sums[5].is_finite())
             .ok_or_else(|| SampleError::InvalidSums(format!("sums = {sums:?}: must be finite")))?;
         let higher = [sums[4], sums[5]].map(|x| Float::with_val(HIGHER_BITS, x));
-        let samples = Samples { sums: power_sums, higher, sums_relative_error, nonzero: None, range: Range::Unknown };
+        let samples = Samples { sums: power_sums, higher, sums_relative_error, nonzero: None, extremes: None };
         samples.realisable(None)?;
         Ok(samples)
     }
@@ -256,18 +238,8 @@ impl Samples {
         Ok(Samples { nonzero: Some(nonzero), ..self })
     }
 
-    /// These power sums with the smallest and largest of their values
-    /// stated (0 ≤ `smallest` ≤ `largest`, both finite). With them the
-    /// check measures the influence of one value on the verdict over the
-    /// values' range, and tests the largest value itself against the tail
-    /// bound. Without them no quantity is resolved: the power sums alone
-    /// allow one value to carry the whole fourth moment, so they cannot
-    /// bound one value's influence (the tail test then uses a lower bound
-    /// of the largest value, √(Σ L⁴/Σ L²)). Refused when the sums could not
-    /// come from values in [smallest, largest] (M·smallest ≤ Σ L ≤
-    /// M·largest, Σ L⁴ ≤ largest²·Σ L², largest² ≤ Σ L², allowing for the
-    /// sums' stated relative error). For samples pushed one by one the
-    /// extremes are already exact, and must agree.
+    /// These power sums with their smallest and largest value stated: the
+    /// same as [`Samples::with_extremes`] with the largest alone.
     ///
     /// ```
     /// use mcrt_noise::Samples;
@@ -278,48 +250,60 @@ impl Samples {
     /// # Ok::<(), mcrt_noise::SampleError>(())
     /// ```
     pub fn with_range(self, smallest: f64, largest: f64) -> Result<Samples, SampleError> {
-        let invalid = |why: String| Err(SampleError::InvalidSums(why));
-        if !(smallest >= 0.0 && smallest.is_finite()) {
-            return invalid(format!("min = {smallest:e}: must be finite and >= 0 (L is never negative)"));
-        }
-        if !(largest >= smallest && largest.is_finite() && (largest * largest).is_finite()) {
-            return invalid(format!("max = {largest:e}: must be finite, >= min = {smallest:e}, with a finite square"));
-        }
-        if let Range::Known(lo, hi) = self.range {
-            if (lo, hi) != (smallest, largest) {
-                return invalid(format!(
-                    "min = {smallest:e}, max = {largest:e}: these samples were pushed one by one, and their smallest \
-                     and largest values are {lo:e} and {hi:e}"
-                ));
+        self.with_extremes(smallest, &[largest])
+    }
+
+    /// These power sums with their smallest value and their largest values
+    /// (1 to [`TOP_VALUES`](crate::check::TOP_VALUES) of them, any order)
+    /// stated. With them the check measures the influence of one value on
+    /// the verdict over the values' range, the joint influence of the
+    /// largest few, and tests the largest value itself against the tail
+    /// bound. Without them no quantity is resolved: the power sums alone
+    /// allow one value to carry the whole fourth moment. Refused when the
+    /// sums cannot come from values with these extremes
+    /// (`check::extremes::check_against_sums` says which conditions; they
+    /// are necessary only, so the guarantees resting on the extremes assume
+    /// them honest). For samples pushed one by one the extremes are already
+    /// exact, and must agree.
+    ///
+    /// ```
+    /// use mcrt_noise::Samples;
+    /// let sums = [10.0, 30.0, 100.0, 354.0, 1300.0, 4890.0]; // 1, 2, 3, 4
+    /// let s = Samples::from_power_sums(4, sums, 0.0)?.with_extremes(1.0, &[4.0, 3.0])?;
+    /// assert_eq!(s.largest_values(), &[4.0, 3.0]);
+    /// assert!(Samples::from_power_sums(4, sums, 0.0)?.with_extremes(1.0, &[4.0, 2.5]).is_err());
+    /// # Ok::<(), mcrt_noise::SampleError>(())
+    /// ```
+    pub fn with_extremes(self, smallest: f64, largest: &[f64]) -> Result<Samples, SampleError> {
+        if let Some(known) = &self.extremes {
+            let given = Extremes::new(smallest, largest);
+            let prefix = &known.largest()[..given.largest().len().min(known.largest().len())];
+            if known.smallest() != Some(smallest) || prefix != given.largest() {
+                return Err(SampleError::InvalidSums(format!(
+                    "min = {smallest:e}, largest = {largest:?}: these samples were pushed one by one, and their \
+                     smallest and largest values are {:e} and {:?}",
+                    known.smallest().unwrap_or(f64::NAN),
+                    known.largest()
+                )));
             }
             return Ok(self);
         }
-        let n = self.count() as f64;
-        let [s1, s2, _, s4, _, _] = self.exact_sums().map(|x| x.to_f64());
-        // Each side off by at most the sums' error and a few roundings here.
-        let slack = 1.0 + 1.01 * self.sums_relative_error + 8.0 * f64::EPSILON;
-        let fails = [
-            (n * smallest > s1 * slack, "count·min <= Σ L"),
-            (s1 > n * largest * slack, "Σ L <= count·max"),
-            (s4 > largest * largest * s2 * slack, "Σ L⁴ <= max²·Σ L²"),
-            (largest * largest > s2 * slack, "max² <= Σ L²"),
-        ];
-        if let Some((_, rule)) = fails.iter().find(|(fails, _)| *fails) {
-            return invalid(format!(
-                "min = {smallest:e}, max = {largest:e}: the sums cannot come from values in [min, max]: {rule} fails"
-            ));
-        }
-        Ok(Samples { range: Range::Known(smallest, largest), ..self })
+        check_against_sums(smallest, largest, self.count(), &self.exact_sums(), self.sums_relative_error)
+            .map_err(SampleError::InvalidSums)?;
+        Ok(Samples { extremes: Some(Extremes::new(smallest, largest)), ..self })
     }
 
     /// The smallest and largest value: exact for values pushed here (and
     /// merges of such), `None` for power sums given without them
-    /// ([`Samples::with_range`]) and for no values.
+    /// ([`Samples::with_extremes`]) and for no values.
     pub fn range(&self) -> Option<(f64, f64)> {
-        match self.range {
-            Range::Known(lo, hi) => Some((lo, hi)),
-            _ => None,
-        }
+        self.extremes.as_ref().and_then(Extremes::range)
+    }
+
+    /// The largest values known, in descending order (up to
+    /// [`TOP_VALUES`](crate::check::TOP_VALUES); empty when unknown).
+    pub fn largest_values(&self) -> &[f64] {
+        self.extremes.as_ref().map_or(&[], Extremes::largest)
     }
 
     /// The samples' shape (mean, standard deviation, skewness, kurtosis;
@@ -371,14 +355,16 @@ impl Samples {
     }
 
     /// The largest value, or when unknown a lower bound of it from the
-    /// sums, √(Σ L⁴/Σ L²) (every L² ≤ max², so Σ L⁴ ≤ max²·Σ L²), less the
-    /// sums' relative error; and whether it is exact.
+    /// sums: the larger of √(Σ L⁴/Σ L²) and Σ L⁶/Σ L⁵ (every L ≤ max, so
+    /// Σ L^{k+j} ≤ max^j·Σ L^k), less the sums' relative error; and whether
+    /// it is exact.
     pub(crate) fn largest(&self) -> (f64, bool) {
-        if let Range::Known(_, hi) = self.range {
-            return (hi, true);
+        if let Some(max) = self.largest_values().first() {
+            return (*max, true);
         }
-        let [_, s2, _, s4, _, _] = self.exact_sums();
-        let bound = if s2.is_zero() { 0.0 } else { rug::Float::with_val(SUM_BITS, &s4 / &s2).sqrt().to_f64() };
+        let [_, s2, _, s4, s5, s6] = self.exact_sums();
+        let ratio = |a: &Float, b: &Float| if b.is_zero() { 0.0 } else { Float::with_val(SUM_BITS, a / b).to_f64() };
+        let bound = ratio(&s4, &s2).sqrt().max(ratio(&s6, &s5));
         (bound * (1.0 - 2.02 * self.sums_relative_error), false)
     }
 
@@ -407,7 +393,7 @@ impl Samples {
         if l < 0.0 {
             return Err(SampleError::Negative { index: self.sums.count, value: l });
         }
-        // −0 is 0 (and kept as +0 in the range).
+        // −0 is 0 (and kept as +0 among the extremes).
         let l = l.abs();
         self.sums.push(l);
         let x = Float::with_val(HIGHER_POWER_BITS, l);
@@ -416,7 +402,9 @@ impl Samples {
         self.higher[0] += Float::with_val(HIGHER_POWER_BITS, &x3 * &x2);
         self.higher[1] += Float::with_val(HIGHER_POWER_BITS, &x3 * &x3);
         self.nonzero = self.nonzero.map(|k| k + u64::from(l != 0.0));
-        self.range = self.range.union(Range::Known(l, l));
+        if let Some(e) = &mut self.extremes {
+            e.push(l);
+        }
         Ok(())
     }
 
@@ -428,7 +416,7 @@ impl Samples {
     /// These samples and `other`'s together (exact: the order does not matter).
     pub fn merge(mut self, other: &Samples) -> Samples {
         self.nonzero = self.nonzero.zip(other.nonzero).map(|(a, b)| a + b);
-        self.range = self.range.union(other.range);
+        self.extremes = self.extremes.as_ref().zip(other.extremes.as_ref()).map(|(a, b)| a.merge(b));
         self.sums = self.sums.merge(&other.sums);
         for (a, b) in self.higher.iter_mut().zip(&other.higher) {
             *a += b;

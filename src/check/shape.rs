@@ -50,10 +50,11 @@ impl Shape {
     }
 
     /// The skewness of the squared deviations d² (whose mean s² is):
-    /// (m₆ − 3m₄m₂ + 2m₂³)/(m₄ − m₂²)^{3/2}; 0 when m₄ = m₂² (d² constant).
+    /// (m₆ − 3m₄m₂ + 2m₂³)/(m₄ − m₂²)^{3/2}; 0 when d² is constant to 10⁻⁶
+    /// (κ − 1 ≤ 10⁻⁶: its spread, and so its skewness, is then rounding).
     pub fn skewness_of_squares(&self) -> f64 {
         let spread = self.kurtosis - 1.0;
-        if spread > 0.0 {
+        if spread > 1e-6 {
             (self.sixth - 3.0 * self.kurtosis + 2.0) / spread.powf(1.5)
         } else {
             0.0

@@ -34,6 +34,17 @@ pub struct Null {
 }
 
 impl Null {
+    /// The prediction as a null hypothesis, its bars widened by the
+    /// samples' rounding bars (mean, s²; 0 for exact sums).
+    pub fn new(prediction: &super::Prediction, (round_mean, round_var): (f64, f64)) -> Null {
+        Null {
+            mean: prediction.mean.value,
+            mean_bar: prediction.mean.total_bar() + round_mean,
+            variance: prediction.variance.value,
+            variance_bar: prediction.variance.total_bar() + round_var,
+        }
+    }
+
     /// The mean's standard error for a correct renderer, √((Var L + bar)/M):
     /// the largest Var L the bars allow, so that the bars never make the
     /// test stricter.
@@ -49,11 +60,12 @@ impl Null {
 
 /// Hall's (1992) monotone cubic transformation that removes the first-order
 /// skewness of an asymptotically normal statistic:
-/// H(x) = ((1 + kx)³ − 1)/(3k) + b, increasing for every x (its derivative
-/// is (1 + kx)² ≥ 0), with its exact inverse. For a statistic whose
-/// Edgeworth expansion is P(X ≤ x) = Φ(x) + (p₀ + p₂x²)φ(x)/√n + O(1/n),
-/// H(X) is normal to O(1/n) with k = ±p₂/√n and b = −(p₀ + p₂)/√n… as
-/// given by the two constructors below.
+/// H(x) = x(1 + kx + k²x²/3) + b = ((1 + kx)³ − 1)/(3k) + b, increasing for
+/// every x (its derivative is (1 + kx)² ≥ 0), with its exact inverse. For a
+/// statistic whose Edgeworth expansion is
+/// P(X ≤ x) = Φ(x) − (p₀ + p₂x²)φ(x)/√n + O(1/n), H(X) is normal to
+/// O(1/n) with k = p₂/√n and b = p₀/√n, as the two constructors below
+/// give.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Normaliser {
     k: f64,
@@ -78,20 +90,18 @@ impl Normaliser {
         Normaliser { k: g / 3.0, b: g / 6.0 }
     }
 
-    /// H(x).
+    /// H(x) = x(1 + kx + k²x²/3) + b (no division by k, so no switch at
+    /// k = 0).
     pub fn apply(&self, x: f64) -> f64 {
-        if self.k.abs() < 1e-12 {
-            return x + self.b;
-        }
-        ((1.0 + self.k * x).powi(3) - 1.0) / (3.0 * self.k) + self.b
+        let kx = self.k * x;
+        x * (1.0 + kx + kx * kx / 3.0) + self.b
     }
 
-    /// H⁻¹(h): x = (∛(1 + 3k(h − b)) − 1)/k.
+    /// H⁻¹(h): with c = ∛(1 + 3k(h − b)), x = (c − 1)/k = 3(h − b)/(c² + c + 1)
+    /// (the second form has no cancellation as k → 0).
     pub fn invert(&self, h: f64) -> f64 {
-        if self.k.abs() < 1e-12 {
-            return h - self.b;
-        }
-        ((1.0 + 3.0 * self.k * (h - self.b)).cbrt() - 1.0) / self.k
+        let c = (1.0 + 3.0 * self.k * (h - self.b)).cbrt();
+        3.0 * (h - self.b) / (c * c + c + 1.0)
     }
 }
 

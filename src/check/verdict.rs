@@ -1,8 +1,9 @@
 //! The check of a renderer's samples against a prediction: which tests
 //! run, what makes a quantity resolved, and the verdict's three outcomes.
 
-use super::family::{z_correlation, z_limit_for};
-use super::influence::influence;
+use super::display::z_text;
+use super::family::{family_rate, z_correlation};
+use super::influence::{influence, without_largest, Influence};
 use super::options::{CheckOptions, MAX_INFLUENCE, MIN_EFFECTIVE_COUNT};
 use super::predict::{Model, Predicted, Prediction};
 use super::samples::{Measured, Samples};
@@ -54,8 +55,9 @@ pub struct QuantityCheck {
     /// Bound on the measurement's error from inexact power sums (0 when
     /// the samples were accumulated exactly).
     pub rounding_bar: f64,
-    /// The z-score (mean: null-scaled by the predicted Var L; Var L:
-    /// Wilson–Hilferty cube root; both with the bars taken off first);
+    /// The z-score (mean: null-scaled by the predicted Var L; Var L: the
+    /// studentised s²; each through Hall's skewness correction, the bars
+    /// taken off first);
     /// `None` when the quantity is not resolved, or when |z| is beyond the
     /// range of a double (the quantity then fails, its reason saying so).
     pub z: Option<f64>,
@@ -173,11 +175,15 @@ pub struct Verdict {
     /// hypothesis, γ/√(κ − 1) from the samples' skewness and kurtosis (0
     /// without a shape).
     pub z_correlation: f64,
-    /// The rate of each z-test alone, 2Φ̄(z_limit): the two together fail
-    /// a correct renderer with the family-wise rate less the tail test's
-    /// share, for z-scores correlated by `z_correlation`.
+    /// The rate of each z-test alone: Šidák's split of the family-wise rate
+    /// less the tail test's share.
     pub per_check_rate: f64,
-    /// |z| limit of each quantity.
+    /// The rate the two z-tests spend together at their limit for
+    /// z-scores correlated by `z_correlation` (at most the family-wise rate
+    /// less the tail test's share; less, the more they are correlated);
+    /// `None` if its integral did not converge.
+    pub z_tests_spend: Option<f64>,
+    /// |z| limit of each quantity (Šidák's, fixed by the stated rate).
     pub z_limit: f64,
     /// Power of the detectable-error figures.
     pub power: f64,
@@ -224,15 +230,18 @@ pub const MIN_NONZERO: u64 = mcrt_reference::MIN_NONZERO_TRIALS;
 /// - **Var L's z**, Wilson–Hilferty's cube root of s²/Var L with the
 ///   samples' kurtosis;
 ///
-/// the two z-tests Šidák-corrected over the rest of α, the prediction's
-/// bars taken off before dividing. A quantity is *resolved* when it has
-/// a measurement with spread, at least [`MIN_NONZERO`] nonzero values,
-/// and no single value moves its z by more than
-/// [`MAX_INFLUENCE`](super::MAX_INFLUENCE). The verdict FAILS on a failed
-/// tail test or a resolved quantity beyond its limit; it is NOT RESOLVED
-/// when a quantity is not resolved or cannot detect its target (the
-/// reasons name the sample count that would); otherwise it PASSES, and
-/// states the relative errors it would have caught.
+/// each z through Hall's skewness correction; the two z-tests share the
+/// rest of α at a limit set for their estimated correlation, the
+/// prediction's bars taken off before dividing. A quantity is *resolved*
+/// when it has a measurement with spread, at least [`MIN_NONZERO`] nonzero
+/// values, at least [`MIN_EFFECTIVE_COUNT`] values carrying the spread, the
+/// values' extremes known, and its verdict does not rest on one value or a
+/// handful (`undecided`: a pass must survive the deletion of any one value
+/// and of its largest few). The verdict FAILS on a failed tail test or a
+/// resolved quantity beyond its limit; it is NOT RESOLVED when a quantity
+/// is not resolved or cannot detect its target (the reasons say what would
+/// resolve it); otherwise it PASSES, and states the relative errors it
+/// would have caught.
 ///
 /// ```
 /// use mcrt_noise::{check, predict, CheckOptions, Samples, Scene};
@@ -256,7 +265,7 @@ pub const MIN_NONZERO: u64 = mcrt_reference::MIN_NONZERO_TRIALS;
 pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions) -> Verdict {
     let shape = samples.shape();
     let z_correlation = shape.map_or(0.0, |s| z_correlation(&s));
-    let z_limit = z_limit_for(options.z_tests_rate(), z_correlation);
+    let z_limit = options.z_limit();
     let mut verdict = Verdict {
         status: Status::NotResolved,
         pass: false,
@@ -265,7 +274,8 @@ pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions)
         nonzero: samples.nonzero(),
         false_alarm_rate: options.false_alarm_rate(),
         z_correlation,
-        per_check_rate: 2.0 * (0.5 * statrs::function::erf::erfc(z_limit / std::f64::consts::SQRT_2)),
+        per_check_rate: options.per_check_rate(),
+        z_tests_spend: family_rate(z_limit, z_correlation),
         z_limit,
         power: options.power(),
         shape: None,
@@ -285,12 +295,7 @@ pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions)
         return verdict;
     };
     let (round_mean, round_var) = samples.rounding_bounds();
-    let null = Null {
-        mean: prediction.mean.value,
-        mean_bar: prediction.mean.total_bar() + round_mean,
-        variance: prediction.variance.value,
-        variance_bar: prediction.variance.total_bar() + round_var,
-    };
+    let null = Null::new(prediction, (round_mean, round_var));
     verdict.shape = shape;
     verdict.effective_count = shape.map(|s| s.effective_count());
     let tail = tail_check(samples, &null, options.tail_rate());
@@ -304,8 +309,15 @@ pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions)
             .to_string()
     });
     let dominated = shape.filter(|s| s.effective_count() < MIN_EFFECTIVE_COUNT).map(|s| dominated_reason(&s));
-    let context =
-        Context { z_limit, z_power, null, shape, range: samples.range(), sparse: sparse.or(dominated).or(unbounded) };
+    let context = Context {
+        z_limit,
+        z_power,
+        null,
+        shape,
+        range: samples.range(),
+        largest: samples.largest_values().to_vec(),
+        sparse: sparse.or(dominated).or(unbounded),
+    };
     let quantities = [
         (Quantity::Mean, prediction.mean, mean, round_mean, options.targets().0),
         (Quantity::Variance, prediction.variance, variance, round_var, options.targets().1),
@@ -314,6 +326,15 @@ pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions)
         quantities.into_iter().map(|(which, p, m, r, target)| quantity(which, p, m, r, target, &context)).collect();
     decide(&mut verdict, &null);
     verdict
+}
+
+/// The largest change one value's deletion makes to either z-score of
+/// `samples` (their shape and range, whatever else resolves them), `None`
+/// without a shape or a range: what [`super::plan`] extrapolates.
+pub(crate) fn largest_influence(samples: &Samples, null: &Null) -> Option<f64> {
+    let (shape, range) = (samples.shape()?, samples.range()?);
+    let change = |q: Quantity| influence(&shape, range, |s| q.z(s, null)).largest_change;
+    Some(change(Quantity::Mean).max(change(Quantity::Variance)))
 }
 
 /// The two quantities tested.
@@ -349,6 +370,8 @@ struct Context {
     shape: Option<Shape>,
     /// The smallest and largest value (every value lies between).
     range: Option<(f64, f64)>,
+    /// The largest values, descending (for their joint influence).
+    largest: Vec<f64>,
     /// Why nothing is resolved whatever the z-scores: the values are sparse,
     /// or their extremes unknown.
     sparse: Option<String>,
@@ -386,10 +409,12 @@ fn quantity(
     }
     let shape = cx.shape.filter(|_| measured.is_some() && not_resolved.is_none());
     let (z_limit, z_power) = (cx.z_limit, cx.z_power);
-    let z = shape.map(|s| which.z(&s, &cx.null));
-    let influence = shape.zip(cx.range).map(|(s, range)| influence(&s, range, |s| which.z(s, &cx.null)));
+    let z_of = |s: &Shape| which.z(s, &cx.null);
+    let z = shape.map(|s| z_of(&s));
+    let influence = shape.zip(cx.range).map(|(s, range)| influence(&s, range, z_of));
     if let (Some(s), Some(z), Some(i)) = (shape, z, influence) {
-        not_resolved = undecided(z, i, z_limit, &s);
+        let groups = without_largest(&s, &cx.largest, z_of);
+        not_resolved = undecided(z, &i, &groups, z_limit, &s);
     }
     let resolved = not_resolved.is_none() && z.is_some();
     // A z beyond the range of a double is left out; `disagreement` states
@@ -419,7 +444,7 @@ fn quantity(
         rounding_bar,
         z,
         ratio,
-        influence: influence.filter(|i| i.is_finite()),
+        influence: influence.map(|i| i.largest_change).filter(|i| i.is_finite()),
         detectable_relative_error,
         not_resolved,
         undetectable,
@@ -430,44 +455,73 @@ fn quantity(
 }
 
 /// Why a quantity with z-score `z` is not decided by its samples, if it
-/// is not: `z` is not a number; or one value moves `z` by more than
-/// [`MAX_INFLUENCE`] and `z` is not beyond the limit by more than that
-/// (the verdict, pass or fail, would rest on that value). A z beyond the
-/// limit by more than its influence fails whichever single value is
-/// deleted; an infinite one fails.
-fn undecided(z: f64, influence: f64, z_limit: f64, shape: &Shape) -> Option<String> {
+/// is not.
+/// - Within the limit, a pass must survive the deletion of any one value
+///   (every such z within the limit too), no one value may move z by more
+///   than [`MAX_INFLUENCE`], and the k largest values together (k ≤
+///   [`TOP_VALUES`](super::TOP_VALUES)) by no more than k times that:
+///   otherwise the pass would rest on one value, or a handful.
+/// - Beyond the limit, the failure stands if those influences are within
+///   their bounds, or if it survives every such deletion (on the same side);
+///   otherwise it would rest on them.
+/// - A z that is not a number decides nothing; an infinite one fails.
+fn undecided(z: f64, one: &Influence, groups: &[(usize, Option<f64>)], z_limit: f64, shape: &Shape) -> Option<String> {
     if z.is_nan() {
         return Some("its z is not a number: the values lie beyond the range of a double".into());
     }
-    let beyond = z.abs() > z_limit;
-    let decided = influence <= MAX_INFLUENCE || z.is_infinite() || z.abs() - influence > z_limit;
-    (!decided).then(|| influence_reason(influence, shape, beyond.then_some(z)))
+    let group_excess = groups.iter().find(|(k, zk)| !zk.is_some_and(|zk| (zk - z).abs() <= *k as f64 * MAX_INFLUENCE));
+    let small = one.largest_change <= MAX_INFLUENCE && group_excess.is_none();
+    if z.abs() <= z_limit {
+        if one.lowest < -z_limit || one.highest > z_limit {
+            let crossed = if one.highest > z_limit { one.highest } else { one.lowest };
+            return Some(format!(
+                "deleting one value would take its z from {} to {} (beyond the limit ±{z_limit:.2}): a pass would \
+                 rest on that value",
+                z_text(z),
+                z_text(crossed)
+            ));
+        }
+        return (!small).then(|| influence_reason(one.largest_change, group_excess.copied(), z, shape, false));
+    }
+    let same_side = |v: f64| v.signum() == z.signum() && v.abs() > z_limit;
+    let robust = z.is_infinite()
+        || (same_side(one.lowest) && same_side(one.highest) && groups.iter().all(|(_, zk)| zk.is_some_and(same_side)));
+    (!(small || robust)).then(|| influence_reason(one.largest_change, group_excess.copied(), z, shape, true))
 }
 
-/// Why a quantity whose z one value moves by `influence` is not resolved
-/// (`beyond`: its z, when beyond the limit by less than that).
-fn influence_reason(influence: f64, shape: &Shape, beyond: Option<f64>) -> String {
-    let moved = match (influence.is_finite(), beyond) {
-        (true, None) => format!("deleting one value moves its z by {influence:.2}, more than {MAX_INFLUENCE}"),
-        (true, Some(z)) => format!(
-            "its z = {z:+.2} is beyond the limit by less than deleting one value moves it ({influence:.2}), so the \
-             failure would rest on that value as much as on the renderer"
-        ),
+/// Why a quantity whose z one value moves by `one`, or its k largest values
+/// together by more than k (`group`: k and the z without them), is not
+/// resolved; `beyond`: its z is beyond the limit.
+fn influence_reason(one: f64, group: Option<(usize, Option<f64>)>, z: f64, shape: &Shape, beyond: bool) -> String {
+    let moved = match (one.is_finite(), group) {
         (false, _) => "deleting one value removes nearly all of the spread".to_string(),
+        (true, Some((k, Some(zk)))) if one <= MAX_INFLUENCE => format!(
+            "deleting its {k} largest values moves its z from {} to {}, more than {k} × {MAX_INFLUENCE}",
+            z_text(z),
+            z_text(zk)
+        ),
+        (true, Some((k, None))) if one <= MAX_INFLUENCE => {
+            format!("deleting its {k} largest values removes nearly all of the spread")
+        }
+        (true, _) => format!(
+            "deleting one value moves its z by {}, more than {MAX_INFLUENCE}",
+            z_text(one).trim_start_matches('+')
+        ),
     };
-    let more = if influence.is_finite() {
-        let needed = shape.count as f64 * (influence / MAX_INFLUENCE).powi(2);
+    let what = if beyond { "the failure" } else { "the verdict" };
+    let more = if one.is_finite() {
+        let needed = shape.count as f64 * (one / MAX_INFLUENCE).max(1.0).powi(2);
         format!(
-            "; if the large values are the renderer's rare but legitimate ones, about {} samples would bring one \
-             value's influence below {MAX_INFLUENCE} (it falls like 1/√M for values of this size)",
+            "; if the large values are the renderer's rare but legitimate ones, {} samples would bring their \
+             influence within bounds (it falls like 1/√M for values of a given size)",
             count_text(needed.ceil())
         )
     } else {
         String::new()
     };
     format!(
-        "{moved}: the verdict would rest on a single value (fireflies, or a tail these samples do not resolve: \
-         about {:.0} of the {} values carry the spread, M/kurtosis){more}",
+        "{moved}: {what} would rest on a few values (fireflies, or a tail these samples do not resolve: about {:.0} \
+         of the {} values carry the spread, M/kurtosis){more}",
         shape.effective_count(),
         shape.count
     )
@@ -480,8 +534,8 @@ fn dominated_reason(shape: &Shape) -> String {
     format!(
         "about {effective:.1} of the {} values carry the spread (M/kurtosis, fewer than {MIN_EFFECTIVE_COUNT}): the \
          moments are dominated by a few values (fireflies, or a tail these samples do not resolve), so Var L's \
-         standard error is itself unreliable; if the large values are the renderer's rare but legitimate ones, about \
-         {} samples would give {MIN_EFFECTIVE_COUNT}",
+         standard error is itself unreliable; if the large values are the renderer's rare but legitimate ones, {} \
+         samples would give {MIN_EFFECTIVE_COUNT}",
         shape.count,
         count_text((shape.count as f64 * MIN_EFFECTIVE_COUNT / effective).ceil())
     )
@@ -492,24 +546,26 @@ fn dominated_reason(shape: &Shape) -> String {
 fn sparse_reason(nonzero: u64, count: u64) -> String {
     let needed = (count as f64 * MIN_NONZERO as f64 / nonzero.max(1) as f64).ceil();
     format!(
-        "only {nonzero} of the {count} values are nonzero (fewer than {MIN_NONZERO}): the mean's relative standard \
+        "only {nonzero} of the {count} values {} nonzero (fewer than {MIN_NONZERO}): the mean's relative standard \
          error is then ≈ 1/√{nonzero} ({:.0} %) and the variance's, from the fourth moment, is unreliable, so the normal \
          approximation behind the z-tests does not hold{}",
+        if nonzero == 1 { "is" } else { "are" },
         100.0 / (nonzero.max(1) as f64).sqrt(),
         if nonzero == 0 {
-            String::new()
+            " (render a larger pilot: no value had a hit)".to_string()
         } else {
-            format!(" (about {} samples would give {MIN_NONZERO} nonzero values)", count_text(needed))
+            format!(" ({} samples would give {MIN_NONZERO} nonzero values)", count_text(needed))
         }
     )
 }
 
-/// A sample count: an integer below 10⁶, else three significant digits.
+/// A sample count, with its "about": "about 1234", "about 1.23e7", or
+/// "more than 1.8e308" (beyond a double).
 pub(crate) fn count_text(n: f64) -> String {
     if n < 1e6 {
-        format!("{n:.0}")
+        format!("about {n:.0}")
     } else if n.is_finite() {
-        format!("{n:.2e}")
+        format!("about {n:.2e}")
     } else {
         format!("more than {:.1e}", f64::MAX)
     }
