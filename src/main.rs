@@ -125,7 +125,7 @@ enum Command {
         /// The renderer's values, each >= 0: one L per line (`#` comments allowed), a JSON array, or power sums as JSON
         /// `{"count": M, "sums": [ΣL, ΣL², ΣL³, ΣL⁴, ΣL⁵, ΣL⁶], "sums_relative_error": ε, "nonzero": N, "min": a, "max": b}` (ε defaults to
         /// (M + 2)·2⁻⁵³; N, the number of nonzero values, is optional: without it sparsity is not checked; a and b, the smallest
-        /// and largest value, are required); `-` reads stdin.
+        /// and largest value, are required; "largest": [b₁, b₂, …], the up to 8 largest values, may stand for "max"); `-` reads stdin.
         #[arg(long)]
         values: PathBuf,
         /// Family-wise probability that a correct renderer fails (all tests together), in [1e-300, 0.5].

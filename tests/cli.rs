@@ -283,6 +283,22 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     assert!(pretty.len() > 4096);
     std::fs::write(&padded, &pretty).unwrap();
     assert_eq!(run(&padded, &[]).stdout, run(&sums_file, &[]).stdout);
+    // The 8 largest values in place of "max": the same verdict as the values themselves.
+    let mut sorted = good.clone();
+    sorted.sort_by(|a, b| b.total_cmp(a));
+    let top = dir.join("sums-top.json");
+    let top_json = serde_json::json!({"count": good.len(), "sums": sums, "min": lo, "largest": &sorted[..8]});
+    std::fs::write(&top, top_json.to_string()).unwrap();
+    let from_top: serde_json::Value = serde_json::from_slice(&run(&top, &["--json"]).stdout).unwrap();
+    let from_values: serde_json::Value = serde_json::from_slice(&run(&lines, &["--json"]).stdout).unwrap();
+    assert_eq!(from_top["status"], from_values["status"], "{from_top}");
+    // (the same to the f64 sums' rounding, ~10⁻¹⁰ relative here)
+    let influence = |j: &serde_json::Value| j["checks"][1]["influence"].as_f64().unwrap();
+    assert!((influence(&from_top) / influence(&from_values) - 1.0).abs() < 1e-6, "{from_top}");
+    let wrong_max = dir.join("sums-wrong-max.json");
+    let wrong_json =
+        serde_json::json!({"count": good.len(), "sums": sums, "min": lo, "max": sorted[1], "largest": &sorted[..8]});
+    std::fs::write(&wrong_max, wrong_json.to_string()).unwrap();
     let trailing = dir.join("sums-trailing.json");
     std::fs::write(&trailing, format!("{pretty}\n{{\"count\": 1}}")).unwrap();
     let from_sums: serde_json::Value = serde_json::from_slice(&run(&sums_file, &["--json"]).stdout).unwrap();
@@ -417,6 +433,7 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
         (&negative, &[][..], "line 3: sample 1 = -2e-3: must be >= 0"),
         (&negative_array, &[][..], "JSON array: sample 2 = -5e-1: must be >= 0"),
         (&trailing, &[][..], "power sums JSON: trailing characters"),
+        (&wrong_max, &[][..], "is not the largest of \"largest\""),
         (&lines, &["--target-mean", "-1"][..], "--target-mean = -1: must be finite and > 0"),
     ] {
         let out = run(values, extra);

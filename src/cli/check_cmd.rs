@@ -26,9 +26,10 @@ pub struct CheckArgs<'a> {
 }
 
 /// Power sums as JSON: `{"count": M, "sums": [ΣL, ΣL², ΣL³, ΣL⁴, ΣL⁵, ΣL⁶],
-/// "min": a, "max": b}`, with an optional bound on their relative error and
-/// an optional count of the nonzero values (without it the check cannot
-/// tell sparse values).
+/// "min": a, "max": b}` (or `"largest": [b₁, b₂, …]`, the up to 8 largest
+/// values), with an optional bound on their relative error and an optional
+/// count of the nonzero values (without it the check cannot tell sparse
+/// values).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SumsFile {
@@ -38,6 +39,7 @@ struct SumsFile {
     nonzero: Option<u64>,
     min: Option<f64>,
     max: Option<f64>,
+    largest: Option<Vec<f64>>,
 }
 
 /// Runs the check: `Ok` on pass; a verdict that failed or is not resolved,
@@ -157,11 +159,25 @@ fn read_samples(path: &Path) -> Result<Samples, String> {
             if let Some(k) = f.nonzero {
                 samples = samples.with_nonzero(k).map_err(bad)?;
             }
-            match (f.min, f.max) {
-                (Some(lo), Some(hi)) => samples.with_range(lo, hi).map_err(bad),
-                _ => Err(format!(
+            let largest = match (f.max, f.largest) {
+                (_, Some(list)) if list.is_empty() => {
+                    return Err(format!("--values {at}: power sums JSON: \"largest\" is empty"))
+                }
+                (Some(max), Some(list)) if list.iter().copied().fold(f64::MIN, f64::max) != max => {
+                    return Err(format!(
+                        "--values {at}: power sums JSON: \"max\" = {max:e} is not the largest of \"largest\" {list:?}"
+                    ))
+                }
+                (_, Some(list)) => list,
+                (Some(max), None) => vec![max],
+                (None, None) => Vec::new(),
+            };
+            match f.min.filter(|_| !largest.is_empty()) {
+                Some(lo) => samples.with_extremes(lo, &largest).map_err(bad),
+                None => Err(format!(
                     "--values {at}: power sums JSON: \"min\" and \"max\" (the smallest and largest value) are \
-                     required: without them one value's influence on the verdict cannot be bounded"
+                     required: without them one value's influence on the verdict cannot be bounded (\"largest\", the \
+                     up to 8 largest values, bounds a handful's as well)"
                 )),
             }
         }
