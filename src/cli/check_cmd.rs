@@ -119,68 +119,7 @@ fn read_samples(path: &Path) -> Result<Samples, String> {
         }
     };
     match first {
-        Some(b'{') => {
-            let mut text = String::new();
-            reader.take(MAX_SUMS_JSON + 1).read_to_string(&mut text).map_err(io)?;
-            if text.len() as u64 > MAX_SUMS_JSON {
-                return Err(format!("--values {at}: power sums JSON longer than {MAX_SUMS_JSON} bytes"));
-            }
-            // The whole text: anything after the object (a second object,
-            // garbage) is an error, not ignored.
-            let f: SumsFile =
-                serde_json::from_str(&text).map_err(|e| format!("--values {at}: power sums JSON: {e}"))?;
-            // The default bounds plain f64 summation of M powers, each formed
-            // with at most 3 roundings: (M − 1)·2⁻⁵³ for the additions and
-            // 3·2⁻⁵³ for the terms, (M + 2)·2⁻⁵³ (the check's inequalities
-            // are tight for one nonzero value, where the terms' own rounding
-            // matters); past ~10¹³ values that bound exceeds what the check
-            // accepts: say so.
-            let plain = (f.count as f64 + 2.0) * f64::EPSILON / 2.0;
-            let eps = match f.sums_relative_error {
-                Some(eps) => eps,
-                None if plain < 1e-3 => plain,
-                None => {
-                    return Err(format!(
-                        "--values {at}: count = {}: plain f64 sums of that many values may be off by more than 10⁻³ \
-                         relative; give \"sums_relative_error\" (e.g. 4·2⁻⁵³ for compensated sums of powers formed by multiplication)",
-                        f.count
-                    ))
-                }
-            };
-            let bad = |e: mcrt_noise::SampleError| format!("--values {at}: {e}");
-            let sums: [f64; 6] = f.sums.as_slice().try_into().map_err(|_| {
-                format!(
-                    "--values {at}: power sums JSON: \"sums\" has {} entries: must have 6, [ΣL, ΣL², ΣL³, ΣL⁴, ΣL⁵, \
-                     ΣL⁶] (Var L's test corrects its skewness with the sixth moment)",
-                    f.sums.len()
-                )
-            })?;
-            let mut samples = Samples::from_power_sums(f.count, sums, eps).map_err(bad)?;
-            if let Some(k) = f.nonzero {
-                samples = samples.with_nonzero(k).map_err(bad)?;
-            }
-            let largest = match (f.max, f.largest) {
-                (_, Some(list)) if list.is_empty() => {
-                    return Err(format!("--values {at}: power sums JSON: \"largest\" is empty"))
-                }
-                (Some(max), Some(list)) if list.iter().copied().fold(f64::MIN, f64::max) != max => {
-                    return Err(format!(
-                        "--values {at}: power sums JSON: \"max\" = {max:e} is not the largest of \"largest\" {list:?}"
-                    ))
-                }
-                (_, Some(list)) => list,
-                (Some(max), None) => vec![max],
-                (None, None) => Vec::new(),
-            };
-            match f.min.filter(|_| !largest.is_empty()) {
-                Some(lo) => samples.with_extremes(lo, &largest).map_err(bad),
-                None => Err(format!(
-                    "--values {at}: power sums JSON: \"min\" and \"max\" (the smallest and largest value) are \
-                     required: without them one value's influence on the verdict cannot be bounded (\"largest\", the \
-                     up to 8 largest values, bounds a handful's as well)"
-                )),
-            }
-        }
+        Some(b'{') => read_power_sums(reader, &at),
         Some(b'[') => {
             let mut samples = Samples::new();
             let mut de = serde_json::Deserializer::from_reader(reader);
@@ -197,6 +136,71 @@ fn read_samples(path: &Path) -> Result<Samples, String> {
             Ok(samples)
         }
     })
+}
+
+/// Power sums as JSON ([`SumsFile`]), read whole (anything after the
+/// object is an error, not ignored).
+fn read_power_sums(reader: Box<dyn BufRead>, at: &str) -> Result<Samples, String> {
+    let mut text = String::new();
+    reader.take(MAX_SUMS_JSON + 1).read_to_string(&mut text).map_err(|e| format!("--values {at}: {e}"))?;
+    if text.len() as u64 > MAX_SUMS_JSON {
+        return Err(format!("--values {at}: power sums JSON longer than {MAX_SUMS_JSON} bytes"));
+    }
+    let f: SumsFile = serde_json::from_str(&text).map_err(|e| format!("--values {at}: power sums JSON: {e}"))?;
+    let bad = |e: mcrt_noise::SampleError| format!("--values {at}: {e}");
+    let sums: [f64; 6] = f.sums.as_slice().try_into().map_err(|_| {
+        format!(
+            "--values {at}: power sums JSON: \"sums\" has {} entries: must have 6, [ΣL, ΣL², ΣL³, ΣL⁴, ΣL⁵, ΣL⁶] \
+             (Var L's test corrects its skewness with the sixth moment)",
+            f.sums.len()
+        )
+    })?;
+    let mut samples = Samples::from_power_sums(f.count, sums, sums_error(&f, at)?).map_err(bad)?;
+    if let Some(k) = f.nonzero {
+        samples = samples.with_nonzero(k).map_err(bad)?;
+    }
+    let largest = largest_values(f.max, f.largest, at)?;
+    match f.min.filter(|_| !largest.is_empty()) {
+        Some(lo) => samples.with_extremes(lo, &largest).map_err(bad),
+        None => Err(format!(
+            "--values {at}: power sums JSON: \"min\" and \"max\" (the smallest and largest value) are required: \
+             without them one value's influence on the verdict cannot be bounded (\"largest\", the up to 8 largest \
+             values, bounds a handful's as well)"
+        )),
+    }
+}
+
+/// The sums' relative error: as given, or by default the bound of plain
+/// f64 summation of M powers, each formed with at most 3 roundings:
+/// (M − 1)·2⁻⁵³ for the additions and 3·2⁻⁵³ for the terms, (M + 2)·2⁻⁵³
+/// (the check's inequalities are tight for one nonzero value, where the
+/// terms' own rounding matters); past ~10¹³ values that bound exceeds what
+/// the check accepts: say so.
+fn sums_error(f: &SumsFile, at: &str) -> Result<f64, String> {
+    let plain = (f.count as f64 + 2.0) * f64::EPSILON / 2.0;
+    match f.sums_relative_error {
+        Some(eps) => Ok(eps),
+        None if plain < 1e-3 => Ok(plain),
+        None => Err(format!(
+            "--values {at}: count = {}: plain f64 sums of that many values may be off by more than 10⁻³ relative; \
+             give \"sums_relative_error\" (e.g. 4·2⁻⁵³ for compensated sums of powers formed by multiplication)",
+            f.count
+        )),
+    }
+}
+
+/// The largest values given: `largest`, or `max` alone (which, given with
+/// `largest`, must be its largest); empty when neither is given.
+fn largest_values(max: Option<f64>, largest: Option<Vec<f64>>, at: &str) -> Result<Vec<f64>, String> {
+    match (max, largest) {
+        (_, Some(list)) if list.is_empty() => Err(format!("--values {at}: power sums JSON: \"largest\" is empty")),
+        (Some(max), Some(list)) if list.iter().copied().fold(f64::MIN, f64::max) != max => {
+            Err(format!("--values {at}: power sums JSON: \"max\" = {max:e} is not the largest of \"largest\" {list:?}"))
+        }
+        (_, Some(list)) => Ok(list),
+        (Some(max), None) => Ok(vec![max]),
+        (None, None) => Ok(Vec::new()),
+    }
 }
 
 /// One number per line (`#` comments and blank lines skipped).
