@@ -313,6 +313,11 @@ fn check_passes_a_correct_renderer_fails_a_wrong_one_and_refuses_bad_input() {
     assert_eq!(sums_text.matches(" (rounding)   ratio ").count(), 2, "{sums_text}");
     // Sums without a nonzero count: sparsity could not be checked, and the verdict says so.
     assert!(from_sums["statement"].as_str().unwrap().contains("sparsity could not be checked"), "{from_sums}");
+    assert!(
+        from_sums["statement"].as_str().unwrap().contains("only 1 of the 8 largest values were given"),
+        "{from_sums}"
+    );
+    assert!(!from_array["statement"].as_str().unwrap().contains("largest values were given"), "{from_array}");
     assert!(from_sums["nonzero"].is_null() && from_array["nonzero"].as_u64().unwrap() >= 100, "{from_array}");
     assert!(!from_array["statement"].as_str().unwrap().contains("sparsity"), "{from_array}");
     // With a nonzero count below 100: not resolved, exit 1, the reason given.

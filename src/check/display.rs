@@ -170,6 +170,14 @@ pub(super) fn statement(v: &Verdict) -> String {
             super::MIN_NONZERO
         ));
     }
+    let all_largest = (super::TOP_VALUES as u64).min(v.samples) as usize;
+    if v.status == Status::Pass && v.largest_values_known < all_largest {
+        out.push_str(&format!(
+            "; only {} of the {all_largest} largest values were given, so a handful's joint influence was bounded over \
+             those alone (give \"largest\" in the power-sums file, or Samples::with_extremes)",
+            v.largest_values_known
+        ));
+    }
     out
 }
 

@@ -194,6 +194,10 @@ pub struct Verdict {
     pub effective_count: Option<f64>,
     /// The tail test (`None` below 4 samples).
     pub tail: Option<TailCheck>,
+    /// How many of the largest values the check knew (up to
+    /// [`TOP_VALUES`](super::TOP_VALUES)): a handful's joint influence is
+    /// bounded over these (power sums may come with fewer).
+    pub largest_values_known: usize,
     /// Mean and Var L (empty below 4 samples).
     pub checks: Vec<QuantityCheck>,
     /// Why it failed, one sentence each (empty unless it failed).
@@ -281,6 +285,7 @@ pub fn check(prediction: &Prediction, samples: &Samples, options: &CheckOptions)
         shape: None,
         effective_count: None,
         tail: None,
+        largest_values_known: samples.largest_values().len(),
         checks: Vec::new(),
         failures: Vec::new(),
         unresolved: Vec::new(),
