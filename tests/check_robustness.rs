@@ -321,9 +321,9 @@ fn a_pass_states_power_by_default() {
 /// table (docs/library.md quotes it); it fails if a light-tailed
 /// distribution (uniform, exponential, a sparse compound one like the
 /// estimator's) fails above the binomial 99 % interval of α.
-/// `cargo test --release --test check_robustness -- --ignored --nocapture synthetic` (~4 min).
+/// `cargo test --release --test check_robustness -- --ignored --nocapture synthetic` (~14 min).
 #[test]
-#[ignore = "~4 min: cargo test --release --test check_robustness -- --ignored --nocapture synthetic"]
+#[ignore = "~14 min: cargo test --release --test check_robustness -- --ignored --nocapture synthetic"]
 fn synthetic_distributions_calibration() {
     use mcrt_noise::check::{Model, Predicted};
     use rand::SeedableRng;
