@@ -26,13 +26,7 @@ const SEED: u64 = 2024;
 
 /// Where the finite-sphere model is exact: the README's scene.
 fn scene() -> Scene {
-    Scene::builder()
-        .medium(1.0, 0.8)
-        .point_light([1.0, 0.0, 1.0], 1.0)
-        .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
-        .estimator(0.2, 0.5, 20, 4)
-        .build()
-        .unwrap()
+    mcrt_noise::reports::check_calibration::readme_geometry(mcrt_noise::Phase::Isotropic, (0.2, 0.5, 20, 4))
 }
 
 use mcrt_noise::reports::check_calibration::binomial_99;

@@ -13,13 +13,7 @@ use std::sync::OnceLock;
 
 /// The README snippet's scene (finite-sphere model exact).
 fn scene() -> Scene {
-    Scene::builder()
-        .medium(1.0, 0.8)
-        .point_light([1.0, 0.0, 1.0], 1.0)
-        .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
-        .estimator(0.2, 0.5, 20, 4)
-        .build()
-        .unwrap()
+    mcrt_noise::reports::check_calibration::readme_geometry(mcrt_noise::Phase::Isotropic, (0.2, 0.5, 20, 4))
 }
 
 const M: u64 = 20_000;
