@@ -147,7 +147,7 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Regenerate the check's calibration table in docs/library.md: thousands of independent tracer runs checked where the model is exact, false alarms against the binomial 99 % interval of the stated rate (~1.5 h on two cores); exit 1 if a case lies outside it.
+    /// Regenerate the check's calibration table in docs/library.md: thousands of independent tracer runs checked where the model is exact, false alarms against the binomial 99 % interval of the stated rate (~1.7 h on two cores); exit 1 if a case lies outside it.
     CheckCalibration {
         #[arg(long, default_value = "docs/library.md")]
         out: PathBuf,
