@@ -229,6 +229,9 @@ fn report_text(r: &Report, digits: usize) -> String {
     if let Some(d) = r.d {
         out.push_str(&format!("D1..D5 {}\n", d.iter().map(|v| sig(*v)).collect::<Vec<_>>().join(" ")));
     }
+    if let Some(m) = &r.integral_m2_same_path {
+        out.push_str(&format!("integral_m2_same_path {} ({})\n", sig(m.value), decade(m.error)));
+    }
     out
 }
 

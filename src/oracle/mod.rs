@@ -238,6 +238,7 @@ pub fn run_with<T: CheckRule>(
             relative_asymptotic_error,
         },
         integral_m2: scaled(&ints.m2, &k),
+        integral_m2_same_path: field.is_smooth().then(|| scaled(&ints.m2_same_path, &k)),
         integral_p: scaled(&ints.p, &k),
         integral_q: scaled(&ints.q, &k),
         attenuation_shift: field.shift.to_f64(),

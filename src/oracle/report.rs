@@ -135,7 +135,7 @@ pub struct ReportPrediction {
 /// The note of a small-sphere prediction: its own error is not in the bars.
 pub const SMALL_SPHERE_NOTE: &str = "exact only as R → 0; the bars are the quadrature's and do not include the \
      model's own error at this R (the finite-sphere model covers uncollided light only; measured with the tracer on \
-     point-isotropic-order1 at R = 0.1: Var L 6.7 % and the mean 0.3 % off, falling like R ln(1/R); \
+     point-isotropic-order1 at R = 0.1: Var L 4.7 % and the mean 0.2 % off, falling like R ln(1/R); \
      docs/tracer-checks.md)";
 
 /// The note of a finite-sphere prediction.
@@ -170,8 +170,14 @@ pub struct Report {
     pub corr24: Correlation,
     /// Var L of the small-sphere model, and the §4.4 formula.
     pub variance: Variance,
-    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩ ds, the rest of (16) beside (23).
+    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩ ds, the rest of (16) beside (23) (with the
+    /// same-path double hits of scattered light, `integral_m2_same_path`).
     pub integral_m2: Integral,
+    /// M₂ₓ, the part of `integral_m2` from one forward path hitting a sphere
+    /// with two segments (E9, `docs/model.md` §3b); present for scenes with
+    /// scattered light only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub integral_m2_same_path: Option<Integral>,
     /// P = ∫σe^{−σs}⟨𝒞⟩² ds of (17).
     pub integral_p: Integral,
     /// Q = ∫∫σ²e^{−σ(s+s′)}⟨𝒞⟩(s)⟨𝒞⟩(s′) ds ds′ of (17).

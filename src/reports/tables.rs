@@ -211,6 +211,16 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
             }
         }
     }
+    if let Some(m) = &r.integral_m2_same_path {
+        writeln!(
+            s,
+            "{:<24} {} (of M₂ = {}; not in the paper's (20): E9)",
+            "M₂ same-path hits",
+            pm(m.value, m.error),
+            pm(r.integral_m2.value, r.integral_m2.error)
+        )
+        .unwrap();
+    }
     writeln!(s, "small-sphere model, R → 0:").unwrap();
     for (name, c) in [("(23)", &r.corr23), ("(24)", &r.corr24)] {
         match (&c.asymptotic.value, &c.asymptotic.missing) {
