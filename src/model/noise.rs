@@ -110,9 +110,11 @@ impl<T: CheckRule> Integrals<T> {
                 )
             },
         );
+        // Failures in the order of the fields (the mean's first).
+        let mean = mean?;
         let (m2, m2_same_path) = m2?;
         Ok(Integrals {
-            mean: mean?,
+            mean,
             m2: m2.plus(m2_same_path.clone()),
             m2_same_path,
             p: p?,
