@@ -229,6 +229,10 @@ fn report_text(r: &Report, digits: usize) -> String {
     if let Some(d) = r.d {
         out.push_str(&format!("D1..D5 {}\n", d.iter().map(|v| sig(*v)).collect::<Vec<_>>().join(" ")));
     }
+    if let Some(f) = &r.finite_mean {
+        out.push_str(&format!("finite_mean {} ({})\n", sig(f.mean.value), decade(f.mean.error)));
+        out.push_str(&format!("finite_bias {} ({})\n", sig(f.bias.value), decade(f.bias.error)));
+    }
     if let Some(m) = &r.integral_m2_same_path {
         out.push_str(&format!("integral_m2_same_path {} ({})\n", sig(m.value), decade(m.error)));
     }

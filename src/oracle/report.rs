@@ -116,6 +116,17 @@ pub struct FiniteReport {
     pub evaluations: u64,
 }
 
+/// The finite-sphere mean of a scene with single-scattered light.
+#[derive(Debug, Clone, Serialize)]
+pub struct FiniteMean {
+    /// μ(R) = μ₀(R) + μ₁(R), exact at the scene's R, with its quadrature bar.
+    pub mean: ValueWithBar,
+    /// b(R) = μ(R) − μ(0), μ(0) the small-sphere mean.
+    pub bias: ValueWithBar,
+    /// Integrand evaluations spent on it.
+    pub evaluations: u64,
+}
+
 /// What the oracle predicts for the scene, and from which model.
 #[derive(Debug, Clone, Serialize)]
 pub struct ReportPrediction {
@@ -134,7 +145,8 @@ pub struct ReportPrediction {
 
 /// The note of a small-sphere prediction: its own error is not in the bars.
 pub const SMALL_SPHERE_NOTE: &str = "exact only as R → 0; the bars are the quadrature's and do not include the \
-     model's own error at this R (the finite-sphere model covers uncollided light only; measured with the tracer on \
+     model's own error at this R (the finite-sphere model covers uncollided light, and of single-scattered light the mean \
+     (isotropic media, point lights: `finite_mean`); measured with the tracer on \
      point-isotropic-order1 at R = 0.1: Var L 4.7 % and the mean 0.2 % off, falling like R ln(1/R); \
      docs/tracer-checks.md)";
 
@@ -178,6 +190,11 @@ pub struct Report {
     /// scattered light only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub integral_m2_same_path: Option<Integral>,
+    /// The exact mean at R of an order-1 scene (isotropic medium, point
+    /// lights; `docs/model.md` §9.5), while its Var L is still the
+    /// small-sphere model's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub finite_mean: Option<FiniteMean>,
     /// P = ∫σe^{−σs}⟨𝒞⟩² ds of (17).
     pub integral_p: Integral,
     /// Q = ∫∫σ²e^{−σ(s+s′)}⟨𝒞⟩(s)⟨𝒞⟩(s′) ds ds′ of (17).
