@@ -12,6 +12,9 @@
 //! more than 6 standard errors away, (|tracer − paper| − ε·|paper|)/se > 6
 //! (a normal tail of 10⁻⁹).
 //!
+//! E9 (same-path double hits, scattered light) is checked with no
+//! allowance on a scene where nothing but M₂ enters Var L (see its test).
+//!
 //! Run with `cargo test --release --test errata_evidence -- --nocapture` to
 //! see the table quoted in `docs/errata.md`.
 

@@ -10,10 +10,11 @@
 //! μ = u·v₁ the first segment's direction. (4/3)R³cot(θ/2) is the volume of
 //! the collision points from which both segments hit: the intersection of
 //! the half-cylinder of radius R ahead of the sphere's centre along v₁ with
-//! the one behind it along v₂ (a quarter of a Steinmetz solid). It is
+//! the one behind it along v₂ ((1 + cos θ)/4 of the Steinmetz solid
+//! 16R³/(3 sin θ) of the two full cylinders). It is
 //! O(1/R) against the O(1/R²) of (20), the order of (25) that the paper
-//! keeps; the tracer confirms it (`tests/same_path.rs`, E9 of
-//! `docs/errata.md`).
+//! keeps; the tracer confirms it (`tests/errata_evidence.rs`, E9 of
+//! `docs/errata.md`; the kernel's checks: `tests/same_path.rs`).
 //!
 //! In the polar frame about −v₁ (θ the polar angle), cot(θ/2) sin θ =
 //! 1 + cos θ cancels the backscatter singularity:
@@ -102,13 +103,14 @@ pub fn second_moment_term<T: CheckRule>(field: &Field<T>, x: &T, r: &T, opts: &O
     let front = x.lit(8.0) * a.clone() * a.clone() * a * field.total_flux.clone() * field.sigma_ext.clone()
         / (x.lit(3.0) * pi.clone() * pi * r.clone());
     let mut total = Estimate::known(zero.clone(), zero, 0, opts.rule);
+    let share = opts.abs_tol / field.components.len().max(1) as f64;
     for c in &field.components {
         if let Some(l) = c.at(x, &field.sigma_ext) {
             let weight = front.clone() * field.phase_at(&l.mu) * l.w.clone();
             if weight.is_zero() {
                 continue;
             }
-            let o = Options { abs_tol: (opts.abs_tol / weight.to_f64()).min(f64::MAX), ..opts.clone() };
+            let o = Options { abs_tol: (share / weight.to_f64()).min(f64::MAX), ..opts.clone() };
             let k = kernel(&field.phase, &l.mu, &l.sin, &o)?.scaled(&weight);
             total = Estimate::known(
                 total.value + k.value,

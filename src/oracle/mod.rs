@@ -147,7 +147,9 @@ pub fn run_with<T: CheckRule>(
     // A failure's best guess carries its field's e^{c₀}: in the report's units.
     let ints = ints.map_err(|e| e.unshifted(field.shift.to_f64()))?;
     let finite = finite.map_err(|e| e.unshifted(finite_field.as_ref().map_or(0.0, |ff| ff.shift.to_f64())))?;
-    let scattered = scattered.map_err(|e| e.unshifted(scattered_field.as_ref().map_or(0.0, |ff| ff.shift.to_f64())))?;
+    // The exact order-1 mean is an addition to the report: its failure is
+    // reported as missing, with the reason, and does not fail the run.
+    let scattered = scattered.map_err(|e| e.unshifted(scattered_field.as_ref().map_or(0.0, |ff| ff.shift.to_f64())));
     if ints.mean.value.is_zero() {
         return Err(OracleError::Unsupported(
             "the mean luminance is exactly 0 (no light reaches the camera ray): Var L = 0 and the relative noise is undefined".into(),
@@ -246,12 +248,23 @@ pub fn run_with<T: CheckRule>(
         },
         integral_m2: scaled(&ints.m2, &k),
         integral_m2_same_path: field.is_smooth().then(|| scaled(&ints.m2_same_path, &k)),
-        finite_mean: scattered.zip(scattered_field.as_ref()).map(|(m, ff)| {
-            let kf = (-ff.shift.clone()).exp();
-            let mean = reported(&(m.value.clone() * kf.clone()), &(m.error.clone() * kf));
-            let bias = ValueWithBar { value: mean.value - small_mean.value, error: mean.error + small_mean.error };
-            FiniteMean { mean, bias, evaluations: m.evaluations }
-        }),
+        finite_mean: match (scattered, scattered_field.as_ref()) {
+            (Ok(Some(m)), Some(ff)) => {
+                let kf = (-ff.shift.clone()).exp();
+                let (value, error) = (m.value.clone() * kf.clone(), m.error.clone() * kf);
+                // b = μ(R) − μ(0) in the working precision, then reported.
+                let bias = value.clone() - ints.mean.value.clone() * k.clone();
+                let bias_error = error.clone() + ints.mean.error.clone() * k.clone();
+                Some(FiniteMean {
+                    mean: Some(reported(&value, &error)),
+                    bias: Some(reported(&bias, &bias_error)),
+                    missing: None,
+                    evaluations: m.evaluations,
+                })
+            }
+            (Err(e), _) => Some(FiniteMean { mean: None, bias: None, missing: Some(e.to_string()), evaluations: 0 }),
+            _ => None,
+        },
         integral_p: scaled(&ints.p, &k),
         integral_q: scaled(&ints.q, &k),
         attenuation_shift: field.shift.to_f64(),

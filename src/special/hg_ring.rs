@@ -12,6 +12,7 @@ use crate::real::Real;
 /// `model::finite::point::PointLight::moment_cap`). Domain: ψ, γ ∈ [0, π],
 /// |g| < 1, k ∈ {1, 2}; exact (no quadrature).
 pub fn hg_ring<T: Real>(g: f64, psi: &T, gamma: &T, sin_g: &T, power: i32) -> T {
+    assert!(power == 1 || power == 2, "hg_ring: power {power}, must be 1 or 2");
     let (two, ga, one) = (psi.lit(2.0), psi.lit(g.abs()), psi.lit(1.0));
     let floor = (one.clone() - ga.clone()) * (one.clone() - ga.clone());
     let norm = (one.clone() - ga.clone() * ga.clone()) / (psi.pi() * psi.lit(4.0));

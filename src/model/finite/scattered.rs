@@ -60,10 +60,13 @@ pub fn scattered_hits<T: CheckRule>(sigma: &T, r: &T, big_d: &T, opts: &Options)
         }
         d.clone() * hit_chance(sigma, r, d) * (exp_int_e1(&near) - exp_int_e1(&far))
     };
+    // d = D (logarithmic), d = R (√-kink), and R·10^k up to D, where H
+    // falls like R²/d² over as many decades.
     let mut cuts = vec![big_d.clone()];
     if r != big_d {
         cuts.push(r.clone());
     }
+    cuts.extend(crate::model::field::graded_about(&big_d.lit(0.0), r, big_d).into_iter().filter(|c| c > r));
     let domain = Domain::semi_infinite(big_d.lit(0.0)).with_breakpoints(cuts).with_decay(sigma.clone());
     Ok(integrate(f, &domain, opts)?.scaled(&(sigma.clone() / (big_d.lit(2.0) * big_d.clone()))))
 }
@@ -73,7 +76,7 @@ impl<T: CheckRule> PointLight<T> {
     /// contribution of the light's paths' second segments to the sphere
     /// there (module docs). Isotropic media only. Not in the paper: exact
     /// at R where its §3a takes the field at the centre.
-    pub fn scattered_moment(&self, ff: &FiniteField<T>, x: &T, power: i32, opts: &Options) -> Outcome<T> {
+    pub(crate) fn scattered_moment(&self, ff: &FiniteField<T>, x: &T, power: i32, opts: &Options) -> Outcome<T> {
         let dz = (ff.center.clone() - self.z.clone()) + x.clone();
         let big_d = (dz.clone() * dz + self.b.clone() * self.b.clone()).sqrt();
         let f = x.lit(1.0) / (x.pi() * x.lit(4.0));
