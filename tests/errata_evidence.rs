@@ -12,6 +12,9 @@
 //! more than 6 standard errors away, (|tracer − paper| − ε·|paper|)/se > 6
 //! (a normal tail of 10⁻⁹).
 //!
+//! E9 (same-path double hits, scattered light) is checked with no
+//! allowance on a scene where nothing but M₂ enters Var L (see its test).
+//!
 //! Run with `cargo test --release --test errata_evidence -- --nocapture` to
 //! see the table quoted in `docs/errata.md`.
 
@@ -19,7 +22,7 @@ use mcrt_noise::oracle::{run, Precision, Report};
 use mcrt_noise::prec::model_error_scale;
 use mcrt_reference::moments::WithError;
 use mcrt_reference::{trace, HitMethod, Tracer};
-use mcrt_scene::Scene;
+use mcrt_scene::{DVec3, Light, Phase, Scene};
 use std::path::Path;
 
 /// Model error of `point-isotropic` at R = 0.1 (|ratio − 1| + 2 se): mean, variance.
@@ -143,4 +146,63 @@ fn tracer_rejects_the_papers_formulas_and_accepts_the_corrected_ones() {
         model: MODEL_AT_R0.1,
     }
     .check();
+}
+
+/// `point-isotropic-order1` (uncollided plus single-scattered light) at
+/// R = 0.1 with q = 1 and N_F = N_B = 1, so that Var L = M₂ − μ²: no
+/// correlation integral enters, and the same-path double hits of E9 are
+/// 5 % of Var L.
+fn order1_scene() -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic-order1.toml");
+    let mut s = Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    s.estimator.radius = 0.1;
+    s.estimator.q = 1.0;
+    s.estimator.forward_rays = 1;
+    s.estimator.camera_rays = 1;
+    s
+}
+
+/// The prediction with E9's term (corrected), without it (the paper's
+/// (20)), and the tracer's Var L.
+fn same_path_verdict(name: &'static str, s: &Scene, trials: u64) -> Verdict {
+    let r = run(s, Precision::F64, None).unwrap();
+    let tracer = trace(&Tracer::new(s).unwrap(), 77, 0..trials, HitMethod::Sorted, &|_| {}).summary().unwrap().variance;
+    let same = r.integral_m2_same_path.expect("order-1 scenes report M₂ₓ").value;
+    let corrected = r.variance.exact.value;
+    Verdict { name, corrected, paper: corrected - same, tracer, model: 0.0 }
+}
+
+/// E9: one forward path can hit a sphere with two segments (the first
+/// passes it and scatters close by, the second comes back through it); the
+/// paper's (20) counts one segment per hit. No model allowance: at R = 0.1
+/// the small-sphere model's remaining error in M₂ is O(R²), below these
+/// standard errors (`docs/model.md` §3b).
+#[test]
+fn tracer_finds_the_same_path_double_hits() {
+    same_path_verdict("E9 (20): no same-path double hits", &order1_scene(), 50_000_000).check();
+}
+
+/// E9 in a backward-peaked Henyey–Greenstein medium (g = −0.5, albedo 0.9,
+/// the light off the camera's plane), where the kernel K weights
+/// backscatter: 10⁸ trials, ~1 min in release mode. Agreement only: the
+/// term is 5.8 % of Var L here, but the small-sphere model's O(R²) error
+/// is of the order of 1 % at R = 0.1 in this medium (its mean is 1 % below
+/// the tracer's), too close to separate the two at feasible trial counts;
+/// the kernel itself is checked by quadrature (`tests/same_path.rs`), the
+/// finite-sphere model will settle the rest.
+#[test]
+#[ignore = "E9 with a Henyey–Greenstein kernel, ~1 min in release mode"]
+fn same_path_double_hits_in_a_backward_peaked_medium_agree() {
+    let mut s = order1_scene();
+    s.medium.phase = Phase::HenyeyGreenstein { g: -0.5 };
+    s.medium.albedo = 0.9;
+    s.lights[0] = Light::Point { position: DVec3::new(0.7, 0.4, 1.6), flux: 1.0 };
+    let v = same_path_verdict("E9 (20), HG g = −0.5", &s, 100_000_000);
+    let z = (v.tracer.value - v.corrected) / v.tracer.se;
+    let z_paper = (v.tracer.value - v.paper) / v.tracer.se;
+    println!(
+        "E9, HG g = −0.5: corrected {:.5e}, paper {:.5e}, tracer {:.5e} ± {:.1e}: z = {z:.2}, paper z = {z_paper:.2}",
+        v.corrected, v.paper, v.tracer.value, v.tracer.se
+    );
+    assert!(z.abs() <= 4.0, "E9 with HG g = −0.5: the corrected prediction disagrees, z = {z}");
 }

@@ -229,6 +229,14 @@ fn report_text(r: &Report, digits: usize) -> String {
     if let Some(d) = r.d {
         out.push_str(&format!("D1..D5 {}\n", d.iter().map(|v| sig(*v)).collect::<Vec<_>>().join(" ")));
     }
+    if let Some(f) = &r.finite_mean {
+        let (m, b) = (f.mean.expect("the finite mean"), f.bias.expect("its bias"));
+        out.push_str(&format!("finite_mean {} ({})\n", sig(m.value), decade(m.error)));
+        out.push_str(&format!("finite_bias {} ({})\n", sig(b.value), decade(b.error)));
+    }
+    if let Some(m) = &r.integral_m2_same_path {
+        out.push_str(&format!("integral_m2_same_path {} ({})\n", sig(m.value), decade(m.error)));
+    }
     out
 }
 

@@ -15,6 +15,7 @@ pub mod finite;
 pub mod moments;
 pub mod noise;
 pub mod periodic;
+pub mod same_path;
 pub mod scattered;
 
 use crate::quad::Failure;

@@ -22,6 +22,7 @@ use super::along::{MeanSource, RayLine};
 use super::angular::{Direction, Features, Pole};
 use super::chebyshev::{sample_options, Piecewise};
 use super::field::Field;
+use super::same_path;
 use super::scattered::source_features;
 use super::OracleError;
 use crate::quad::{decay_lengths, CheckRule, Domain, Estimate, Failure, Options, Outcome, Rule};
@@ -109,8 +110,9 @@ pub fn mean_contribution_estimate<T: CheckRule>(field: &Field<T>, x: &T, opts: &
     Ok(Estimate::known(direct + albedo.clone() * e.value, albedo * e.error, e.evaluations + 1, opts.rule))
 }
 
-/// ⟨𝒞²⟩ at s = field.center + x with its error bar (uncollided plus
-/// scattered, [`second_moment`]).
+/// ⟨𝒞²⟩ at s = field.center + x with its error bar, one segment per hit
+/// (uncollided plus scattered, [`second_moment`]; the same-path double hits
+/// are [`m2_same_path`]).
 pub fn second_moment_estimate<T: CheckRule>(field: &Field<T>, x: &T, r: &T, opts: &Options) -> Outcome<T> {
     let direct = second_moment(field, x, r);
     let g = |d: &Direction<T>, o: &Options| {
@@ -266,6 +268,22 @@ pub fn m2<T: CheckRule>(field: &Field<T>, r: &T, opts: &Options) -> Result<Estim
         } else {
             line.integral(what, opts, |s| second_moment(field, s, r))
         }
+    })
+}
+
+/// M₂ₓ = ∫ σ e^{−σs} ⟨𝒞²⟩ₓ(s) ds: the same-path double hits of
+/// [`same_path`] (E9), the part of M₂ the paper's (20) misses once forward
+/// paths scatter; an exact zero for an uncollided field. Small-sphere limit,
+/// O(1/R) against the O(1/R²) of [`m2`].
+pub fn m2_same_path<T: CheckRule>(field: &Field<T>, r: &T, opts: &Options) -> Result<Estimate<T>, OracleError> {
+    if !field.is_smooth() {
+        let zero = r.lit(0.0);
+        return Ok(Estimate::known(zero.clone(), zero, 0, opts.rule));
+    }
+    with_line(field, |line| {
+        line.integral_nested("∫⟨𝒞²⟩ₓ, same-path double hits (E9)", opts, |x, o| {
+            same_path::second_moment_term(field, x, r, o)
+        })
     })
 }
 

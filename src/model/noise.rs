@@ -14,7 +14,10 @@
 //!          + (1/N_B)(1 − 1/N_F)(q D₄ + (1−q) D₅) + 1/(N_F N_B) − 1/N_F − 1/N_B
 //!
 //! with D₁ = R² M₂/μ², D₂ = 2R C₂₃^asym/(σμ²), D₃ = R C₂₄^asym/(σμ²),
-//! D₄ = P/μ², D₅ = 2Q/μ²: all independent of R, q and the ray counts.
+//! D₄ = P/μ², D₅ = 2Q/μ²: all independent of R, q and the ray counts —
+//! except that with scattered light M₂ holds the same-path double hits M₂ₓ
+//! (E9, O(1/R)), so that D₁ = D₁⁽⁰⁾ + σR·RM₂ₓ/(σμ²) is then first order in R
+//! (the formula stays exact in it).
 
 use super::correlations::{self, Which};
 use super::field::Field;
@@ -44,8 +47,12 @@ impl<T: Real> From<&Estimate<T>> for Valued<T> {
 pub struct Integrals<T> {
     /// ⟨⟨L⟩⟩ (15).
     pub mean: Estimate<T>,
-    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩ ds, the single-sphere part of (16).
+    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩ ds, the single-sphere part of (16), with the
+    /// same-path double hits [`Integrals::m2_same_path`] included.
     pub m2: Estimate<T>,
+    /// M₂ₓ, the part of `m2` from one path hitting a sphere with two
+    /// segments (E9; zero for uncollided light).
+    pub m2_same_path: Estimate<T>,
     /// P = ∫σe^{−σs}⟨𝒞⟩² ds, the single-sphere part of (17).
     pub p: Estimate<T>,
     /// Q = ∫∫_{t>0}⟨𝒞⟩(s)⟨𝒞⟩(s+t)σ²e^{−σ(s+t)} ds dt, the pair part of (17).
@@ -89,14 +96,27 @@ impl<T: CheckRule> Integrals<T> {
             },
             || {
                 rayon::join(
-                    || rayon::join(|| moments::mean_luminance(field, o), || moments::m2(field, r, o)),
+                    || {
+                        rayon::join(
+                            || moments::mean_luminance(field, o),
+                            || {
+                                let (single, same) =
+                                    rayon::join(|| moments::m2(field, r, o), || moments::m2_same_path(field, r, o));
+                                Ok::<_, OracleError>((single?, same?))
+                            },
+                        )
+                    },
                     || rayon::join(|| moments::p_single(field, o), || moments::q_pair(field, o)),
                 )
             },
         );
+        // Failures in the order of the fields (the mean's first).
+        let mean = mean?;
+        let (m2, m2_same_path) = m2?;
         Ok(Integrals {
-            mean: mean?,
-            m2: m2?,
+            mean,
+            m2: m2.plus(m2_same_path.clone()),
+            m2_same_path,
             p: p?,
             q: q?,
             c23: c23?,

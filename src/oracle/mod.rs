@@ -23,8 +23,8 @@ use std::time::Instant;
 mod report;
 use report::{correlation, reported, scaled};
 pub use report::{
-    Asymptotic, Correlation, FiniteReport, Integral, Report, ReportPrediction, ValueWithBar, Variance, FINITE_NOTE,
-    SMALL_SPHERE_NOTE,
+    Asymptotic, Correlation, FiniteMean, FiniteReport, Integral, Report, ReportPrediction, ValueWithBar, Variance,
+    FINITE_NOTE, SMALL_SPHERE_NOTE,
 };
 
 /// The largest MPFR precision a run accepts: its default tolerance
@@ -134,13 +134,22 @@ pub fn run_with<T: CheckRule>(
     if !field.lights_the_camera_ray() {
         return Err(no_light_on_the_camera_ray(scene, finite_field.as_ref(), &opts));
     }
-    let (ints, finite) = rayon::join(
-        || Integrals::compute(&field, &r, &opts),
-        || finite_field.as_ref().map(|ff| ff.integrals(&opts)).transpose(),
+    let scattered_field = scattered_mean_field(scene, &field);
+    let ((ints, finite), scattered) = rayon::join(
+        || {
+            rayon::join(
+                || Integrals::compute(&field, &r, &opts),
+                || finite_field.as_ref().map(|ff| ff.integrals(&opts)).transpose(),
+            )
+        },
+        || scattered_field.as_ref().map(|ff| finite_mean_of_order_one(ff, &opts)).transpose(),
     );
     // A failure's best guess carries its field's e^{c₀}: in the report's units.
     let ints = ints.map_err(|e| e.unshifted(field.shift.to_f64()))?;
     let finite = finite.map_err(|e| e.unshifted(finite_field.as_ref().map_or(0.0, |ff| ff.shift.to_f64())))?;
+    // The exact order-1 mean is an addition to the report: its failure is
+    // reported as missing, with the reason, and does not fail the run.
+    let scattered = scattered.map_err(|e| e.unshifted(scattered_field.as_ref().map_or(0.0, |ff| ff.shift.to_f64())));
     if ints.mean.value.is_zero() {
         return Err(OracleError::Unsupported(
             "the mean luminance is exactly 0 (no light reaches the camera ray): Var L = 0 and the relative noise is undefined".into(),
@@ -238,6 +247,24 @@ pub fn run_with<T: CheckRule>(
             relative_asymptotic_error,
         },
         integral_m2: scaled(&ints.m2, &k),
+        integral_m2_same_path: field.is_smooth().then(|| scaled(&ints.m2_same_path, &k)),
+        finite_mean: match (scattered, scattered_field.as_ref()) {
+            (Ok(Some(m)), Some(ff)) => {
+                let kf = (-ff.shift.clone()).exp();
+                let (value, error) = (m.value.clone() * kf.clone(), m.error.clone() * kf);
+                // b = μ(R) − μ(0) in the working precision, then reported.
+                let bias = value.clone() - ints.mean.value.clone() * k.clone();
+                let bias_error = error.clone() + ints.mean.error.clone() * k.clone();
+                Some(FiniteMean {
+                    mean: Some(reported(&value, &error)),
+                    bias: Some(reported(&bias, &bias_error)),
+                    missing: None,
+                    evaluations: m.evaluations,
+                })
+            }
+            (Err(e), _) => Some(FiniteMean { mean: None, bias: None, missing: Some(e.to_string()), evaluations: 0 }),
+            _ => None,
+        },
         integral_p: scaled(&ints.p, &k),
         integral_q: scaled(&ints.q, &k),
         attenuation_shift: field.shift.to_f64(),
@@ -376,4 +403,22 @@ pub fn run_within(
         Precision::F64 => run_with(scene, &0.0f64, tol, "f64".into(), budget),
         Precision::Bits(b) => run_with(scene, &rug::Float::with_val(b, 0), tol, format!("{b} bits"), budget),
     }
+}
+
+/// The finite-sphere field of an order-1 scene whose exact mean the model
+/// covers (isotropic medium, point lights; `model::finite::scattered`), or
+/// `None`.
+fn scattered_mean_field<T: CheckRule>(scene: &Scene, field: &Field<T>) -> Option<FiniteField<T>> {
+    let covered = scene.effects.scattering_orders == mcrt_scene::ScatteringOrders::Limited(1)
+        && scene.medium.phase == mcrt_scene::Phase::Isotropic
+        && scene.lights.iter().all(|l| matches!(l, mcrt_scene::Light::Point { .. }));
+    covered.then(|| FiniteField::of_first_segments(scene, field))
+}
+
+/// μ(R)·e^{c₀} = μ₀(R) + μ₁(R) of an order-1 scene: the uncollided mean
+/// (ray-centric) plus the single-scattered one (`finite::scattered`).
+fn finite_mean_of_order_one<T: CheckRule>(ff: &FiniteField<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
+    let o = opts.clone().declared();
+    let (uncollided, scattered) = rayon::join(|| ff.ray_total(Functional::Mean, &o), || ff.scattered_mean(&o));
+    Ok(uncollided?.plus(scattered?))
 }

@@ -116,6 +116,21 @@ pub struct FiniteReport {
     pub evaluations: u64,
 }
 
+/// The finite-sphere mean of a scene with single-scattered light.
+#[derive(Debug, Clone, Serialize)]
+pub struct FiniteMean {
+    /// μ(R) = μ₀(R) + μ₁(R), exact at the scene's R, with its quadrature
+    /// bar; `None` when it could not be computed (`missing` says why).
+    pub mean: Option<ValueWithBar>,
+    /// b(R) = μ(R) − μ(0), μ(0) the small-sphere mean (formed in the
+    /// working precision).
+    pub bias: Option<ValueWithBar>,
+    /// Why the mean is missing (its quadrature's failure), if it is.
+    pub missing: Option<String>,
+    /// Integrand evaluations spent on it.
+    pub evaluations: u64,
+}
+
 /// What the oracle predicts for the scene, and from which model.
 #[derive(Debug, Clone, Serialize)]
 pub struct ReportPrediction {
@@ -134,9 +149,10 @@ pub struct ReportPrediction {
 
 /// The note of a small-sphere prediction: its own error is not in the bars.
 pub const SMALL_SPHERE_NOTE: &str = "exact only as R → 0; the bars are the quadrature's and do not include the \
-     model's own error at this R (the finite-sphere model covers uncollided light only; measured with the tracer on \
-     point-isotropic-order1 at R = 0.1: Var L 6.7 % and the mean 0.3 % off, falling like R ln(1/R); \
-     docs/tracer-checks.md)";
+     model's own error at this R (the finite-sphere model covers uncollided light, and of single-scattered light the mean \
+     (isotropic media, point lights: `finite_mean`); measured with the tracer on \
+     point-isotropic-order1 at R = 0.1: Var L 4.7 % off, falling like R ln(1/R) (tests/tracer_vs_oracle.rs); its \
+     mean is 0.33 % low there, as `finite_mean` computes)";
 
 /// The note of a finite-sphere prediction.
 pub const FINITE_NOTE: &str = "exact at this R for uncollided light; the bars are the quadrature's (the model \
@@ -170,8 +186,19 @@ pub struct Report {
     pub corr24: Correlation,
     /// Var L of the small-sphere model, and the §4.4 formula.
     pub variance: Variance,
-    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩ ds, the rest of (16) beside (23).
+    /// M₂ = ∫σe^{−σs}⟨𝒞²⟩ ds, the rest of (16) beside (23) (with the
+    /// same-path double hits of scattered light, `integral_m2_same_path`).
     pub integral_m2: Integral,
+    /// M₂ₓ, the part of `integral_m2` from one forward path hitting a sphere
+    /// with two segments (E9, `docs/model.md` §3b); present for scenes with
+    /// scattered light only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub integral_m2_same_path: Option<Integral>,
+    /// The exact mean at R of an order-1 scene (isotropic medium, point
+    /// lights; `docs/model.md` §9.5), while its Var L is still the
+    /// small-sphere model's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub finite_mean: Option<FiniteMean>,
     /// P = ∫σe^{−σs}⟨𝒞⟩² ds of (17).
     pub integral_p: Integral,
     /// Q = ∫∫σ²e^{−σ(s+s′)}⟨𝒞⟩(s)⟨𝒞⟩(s′) ds ds′ of (17).
@@ -257,6 +284,15 @@ impl Report {
             bar("finite/small mean ratio", &f.mean_ratio);
             bar("finite/small Var L ratio", &f.variance_ratio);
         }
+        if let Some(f) = &self.finite_mean {
+            if let (Some(m), Some(b)) = (&f.mean, &f.bias) {
+                bar("finite-sphere mean (single scattering)", m);
+                bar("finite-sphere bias (single scattering)", b);
+            }
+        }
+        if let Some(m) = &self.integral_m2_same_path {
+            bar("M₂ same-path hits", &ValueWithBar { value: m.value, error: m.error });
+        }
         out.push(("relative noise (small-sphere)".into(), self.variance.relative));
         out.push(("relative noise (small-sphere, bar)".into(), self.variance.relative_error));
         for (name, c) in [("(23)", &self.corr23), ("(24)", &self.corr24)] {
@@ -303,6 +339,12 @@ impl Report {
         ];
         if let Some(f) = &self.finite {
             out.push(("finite-sphere Var L", f.variance));
+        }
+        if let Some(m) = self.finite_mean.as_ref().and_then(|f| f.mean) {
+            out.push(("finite-sphere mean (single scattering)", m));
+        }
+        if let Some(m) = &self.integral_m2_same_path {
+            out.push(("M₂ same-path hits", int(m)));
         }
         out
     }

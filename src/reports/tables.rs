@@ -211,6 +211,26 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
             }
         }
     }
+    if let Some(f) = &r.finite_mean {
+        match (&f.mean, &f.bias, &f.missing) {
+            (Some(m), Some(b), _) => {
+                writeln!(s, "{:<24} {} (finite-sphere, exact at R: docs/model.md §9.5; Var L above is the small-sphere model's)", "mean luminance μ(R)", pm(m.value, m.error)).unwrap();
+                writeln!(s, "{:<24} {}", "bias μ(R) − μ(0)", pm(b.value, b.error)).unwrap();
+            }
+            (_, _, Some(why)) => writeln!(s, "{:<24} not computed: {why}", "mean luminance μ(R)").unwrap(),
+            _ => {}
+        }
+    }
+    if let Some(m) = &r.integral_m2_same_path {
+        writeln!(
+            s,
+            "{:<24} {} (of M₂ = {}; not in the paper's (20): E9)",
+            "M₂ same-path hits",
+            pm(m.value, m.error),
+            pm(r.integral_m2.value, r.integral_m2.error)
+        )
+        .unwrap();
+    }
     writeln!(s, "small-sphere model, R → 0:").unwrap();
     for (name, c) in [("(23)", &r.corr23), ("(24)", &r.corr24)] {
         match (&c.asymptotic.value, &c.asymptotic.missing) {

@@ -10,6 +10,7 @@
 //! | [`exp_int_tail2`] | X⁻¹(e^{−X} − X E₁(X)) = ∫_X^∞ u⁻² e^{−u} du | appendix, bound on I₂ |
 //! | [`overlap_a_gap`] | A(1 − u), the unit disc's segment of height u | finite spheres |
 //! | [`complete_elliptic_e`] | E(m) = ∫₀^{π/2} √(1 − m sin²θ) dθ, from k′ = √(1 − m) | finite spheres (HG azimuth) |
+//! | [`hg_ring`] | ∫₀^{2π} f(cos)^k dχ of Henyey–Greenstein f on a circle of directions | finite spheres (HG caps), same-path kernel |
 //! | [`disc_overlap`] | area common to two discs | finite spheres (beams) |
 //! | [`exp_segment`] | ∫₀^L e^{−rx} dx | finite spheres (per-ray functionals) |
 //! | [`exp_triangle`] | ∫∫_{0<x<x′<L} e^{−(r₂−r₁)x − r₁x′} dx dx′ | finite spheres (per-ray functionals) |
@@ -19,6 +20,7 @@
 mod elliptic;
 mod expint;
 mod exponential;
+mod hg_ring;
 mod lens;
 mod overlap;
 mod series;
@@ -26,6 +28,7 @@ mod series;
 pub use elliptic::complete_elliptic_e;
 pub use expint::{exp_int_e1, exp_int_tail2};
 pub use exponential::{exp_segment, exp_triangle};
+pub use hg_ring::hg_ring;
 pub use lens::disc_overlap;
 pub(crate) use overlap::laplace_sum;
 pub use overlap::{overlap_a, overlap_a_gap, overlap_a_integral, overlap_a_laplace, overlap_a_moment};

@@ -28,6 +28,7 @@ pub mod angles;
 pub mod beam;
 pub mod point;
 pub mod ray;
+pub mod scattered;
 mod tables;
 
 use super::along::{MeanSource, RayLine};
@@ -112,6 +113,13 @@ impl<T: CheckRule> FiniteField<T> {
         if scene.effects.scattering_orders != ScatteringOrders::Limited(0) {
             return None;
         }
+        Some(Self::of_first_segments(scene, field))
+    }
+
+    /// The model of the first (uncollided) segments of `scene`'s forward
+    /// paths, whatever its scattering orders: the geometry that the
+    /// single-scattered part ([`scattered`]) builds on.
+    pub fn of_first_segments(scene: &Scene, field: &Field<T>) -> FiniteField<T> {
         let like = &field.sigma_ext;
         let (u, o) = (scene.camera.direction, scene.camera.origin);
         let r = scene.estimator.radius;
@@ -162,7 +170,7 @@ impl<T: CheckRule> FiniteField<T> {
             range: (like.lit(0.0), like.lit(0.0)),
         };
         ff.range = ff.along_range();
-        Some(ff)
+        ff
     }
 
     /// (albedo 𝓕/(πR²))^k (Φ/𝓕): the per-hit contribution 𝒞 = albedo f 𝓕/(πR²)

@@ -43,7 +43,7 @@ use crate::model::angular::{decades_below, view_direction, Direction, Features, 
 use crate::model::field::{decay_graded_about, graded_about};
 use crate::quad::{integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
 use crate::real::Real;
-use crate::special::{complete_elliptic_e, exp_segment};
+use crate::special::{exp_segment, hg_ring};
 use mcrt_scene::Phase;
 
 /// A point light as the finite-sphere model sees it.
@@ -293,7 +293,7 @@ impl<T: CheckRule> PointLight<T> {
     /// ∫₀^{2π} (A − B cos χ)^{−3/2} dχ = 4E(m)/((A − |B|)√(A + |B|)), 1 − m = (A − |B|)/(A + |B|),
     /// ∫₀^{2π} (A − B cos χ)^{−3} dχ = π(2A² + B²)/((A − |B|)(A + |B|))^{5/2}
     ///
-    /// (E: [`complete_elliptic_e`]). The peak's circle ψ = γ is declared with
+    /// (E: [`crate::special::complete_elliptic_e`]; [`hg_ring`]). The peak's circle ψ = γ is declared with
     /// decades of width 1 − |g| about it. The finite-R (19) (k = 1) and (20)
     /// (k = 2). Domain: any x; R > 0; |g| < 1. Deviation: exact at R (the
     /// paper takes f at the sphere's centre); carries the albedo (E7).
@@ -304,7 +304,7 @@ impl<T: CheckRule> PointLight<T> {
         };
         self.cap_integral(ff, x, power, opts, &|frame, sin_g, psi, o| {
             let gamma = if g > 0.0 { &frame.psi_mirror } else { &frame.psi_u };
-            Ok(Estimate::known(hg_azimuthal(g, psi, gamma, sin_g, power), psi.lit(0.0), 1, o.rule))
+            Ok(Estimate::known(hg_ring(g, psi, gamma, sin_g, power), psi.lit(0.0), 1, o.rule))
         })
     }
 
@@ -406,31 +406,6 @@ fn cap_half_angle<T: CheckRule>(d: &T, r: &T) -> T {
         (r.clone() / ((d.clone() - r.clone()) * (d.clone() + r.clone())).sqrt()).atan()
     } else {
         d.pi() / d.lit(2.0)
-    }
-}
-
-/// ∫₀^{2π} f^k dχ of a Henyey–Greenstein phase function over the circle
-/// at polar angle ψ about w, whose peak direction lies at γ from w with
-/// sin γ = `sin_g` (closed forms in [`PointLight::moment_cap`]).
-fn hg_azimuthal<T: CheckRule>(g: f64, psi: &T, gamma: &T, sin_g: &T, power: i32) -> T {
-    let (two, ga, one) = (psi.lit(2.0), psi.lit(g.abs()), psi.lit(1.0));
-    let floor = (one.clone() - ga.clone()) * (one.clone() - ga.clone());
-    let norm = (one.clone() - ga.clone() * ga.clone()) / (psi.pi() * psi.lit(4.0));
-    let sq = |a: T| {
-        let s = (a / two.clone()).sin();
-        s.clone() * s
-    };
-    let lo = floor.clone() + psi.lit(4.0) * ga.clone() * sq(psi.clone() - gamma.clone());
-    let hi = floor + psi.lit(4.0) * ga.clone() * sq(psi.clone() + gamma.clone());
-    if power == 1 {
-        let kp = (lo.clone() / hi.clone()).sqrt();
-        norm * psi.lit(4.0) * complete_elliptic_e(&kp) / (lo * hi.sqrt())
-    } else {
-        let b = two.clone() * ga * psi.sin() * sin_g.clone();
-        let a = (lo.clone() + hi.clone()) / two.clone();
-        let prod = lo * hi;
-        norm.clone() * norm * psi.pi() * (two * a.clone() * a + b.clone() * b)
-            / (prod.clone() * prod.clone() * prod.sqrt())
     }
 }
 

@@ -1,0 +1,121 @@
+//! Single-scattered light at any R (isotropic media, point lights): the
+//! sphere-centric mean contribution of a forward path's second segment,
+//! the first brick of the finite-sphere model for order 1 (`docs/model.md`
+//! §9.5). The variance, Henyey–Greenstein media and beams are still to
+//! come (§9.5 lists them).
+//!
+//! A point light's first segment ends at x₁ with density
+//! σe^{−σr₁}/(4πr₁²) (r₁ = |x₁ − y|); with probability albedo the path
+//! scatters there, isotropically, and its second segment is an order-0 ray
+//! of a point light at x₁: it hits the sphere at distance d with
+//! probability H(d) = (1/4π)∫_cap e^{−σ d cos ψ} dω (§9.2), so
+//!
+//!   ⟨𝒞^k⟩₁(s) = albedo (c^k Φ/𝓕)(4π)^{−k} ∫ σe^{−σr₁}/(4πr₁²) H(|x₁ − x(s)|) d³x₁.
+//!
+//! In bipolar coordinates about the light and the sphere's centre (D apart)
+//! the r₁-integral is closed, ∫_{|D−d|}^{D+d} σe^{−σr}/r dr =
+//! σ[E₁(σ|D − d|) − E₁(σ(D + d))], leaving
+//!
+//!   I(D) = (σ/(2D)) ∫₀^∞ d H(d) [E₁(σ|D − d|) − E₁(σ(D + d))] dd,
+//!
+//! H(d) = ½ e^{−σ d c_R} F₁(σd, 1 − c_R), c_R = √(1 − R²/d²) beyond R and 0
+//! within it (the sphere holds x₁: every ray whose closest point lies ahead
+//! hits); declared structure: d = R (√-kink), d = D (logarithmic).
+
+use super::point::PointLight;
+use super::{FiniteField, FiniteLight};
+use crate::model::along::RayLine;
+use crate::model::OracleError;
+use crate::quad::{integrate, CheckRule, Domain, Estimate, Options, Outcome};
+use crate::real::Real;
+use crate::special::{exp_int_e1, exp_segment};
+use mcrt_scene::Phase;
+
+/// H(d): the chance that an isotropic ray from distance d, with a free
+/// path ~ Exp(σ), hits a sphere of radius R (its closest point ahead,
+/// within R, and reached). Domain: d ≥ 0, R > 0.
+pub fn hit_chance<T: Real>(sigma: &T, r: &T, d: &T) -> T {
+    let half = d.lit(0.5);
+    if d <= r {
+        return half * exp_segment(&(sigma.clone() * d.clone()), Some(&d.lit(1.0)));
+    }
+    let root = ((d.clone() - r.clone()) * (d.clone() + r.clone())).sqrt();
+    // 1 − c_R = R²/(d(d + √(d² − R²))), without cancellation.
+    let h = r.clone() * r.clone() / (d.clone() * (d.clone() + root.clone()));
+    half * (-(sigma.clone() * root)).exp() * exp_segment(&(sigma.clone() * d.clone()), Some(&h))
+}
+
+/// I(D) = ∫ σe^{−σr₁}/(4πr₁²) H(|x₁ − x|) d³x₁ for a sphere whose centre
+/// is D > 0 from the light (module docs), by quadrature in d with its
+/// kinks declared. Domain: D > 0, σ > 0, R > 0.
+pub fn scattered_hits<T: CheckRule>(sigma: &T, r: &T, big_d: &T, opts: &Options) -> Outcome<T> {
+    let f = |d: &T| {
+        if d.is_zero() {
+            return d.lit(0.0);
+        }
+        let near = (big_d.clone() - d.clone()).abs() * sigma.clone();
+        let far = (big_d.clone() + d.clone()) * sigma.clone();
+        if near.is_zero() {
+            return d.lit(0.0);
+        }
+        d.clone() * hit_chance(sigma, r, d) * (exp_int_e1(&near) - exp_int_e1(&far))
+    };
+    // d = D (logarithmic), d = R (√-kink), and R·10^k up to D, where H
+    // falls like R²/d² over as many decades.
+    let mut cuts = vec![big_d.clone()];
+    if r != big_d {
+        cuts.push(r.clone());
+    }
+    cuts.extend(crate::model::field::graded_about(&big_d.lit(0.0), r, big_d).into_iter().filter(|c| c > r));
+    let domain = Domain::semi_infinite(big_d.lit(0.0)).with_breakpoints(cuts).with_decay(sigma.clone());
+    Ok(integrate(f, &domain, opts)?.scaled(&(sigma.clone() / (big_d.lit(2.0) * big_d.clone()))))
+}
+
+impl<T: CheckRule> PointLight<T> {
+    /// ⟨𝒞^k⟩₁·e^{c₀} at s = center + x: the mean k-th power of the
+    /// contribution of the light's paths' second segments to the sphere
+    /// there (module docs). Isotropic media only. Not in the paper: exact
+    /// at R where its §3a takes the field at the centre.
+    pub(crate) fn scattered_moment(&self, ff: &FiniteField<T>, x: &T, power: i32, opts: &Options) -> Outcome<T> {
+        let dz = (ff.center.clone() - self.z.clone()) + x.clone();
+        let big_d = (dz.clone() * dz + self.b.clone() * self.b.clone()).sqrt();
+        let f = x.lit(1.0) / (x.pi() * x.lit(4.0));
+        let front = ff.per_hit_power(power, &self.flux)
+            * if power == 1 { f } else { f.clone() * f }
+            * ff.albedo.clone()
+            * ff.shift.exp();
+        let o = Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
+        Ok(scattered_hits(&ff.sigma, &ff.radius, &big_d, &o)?.scaled(&front))
+    }
+}
+
+impl<T: CheckRule> FiniteField<T> {
+    /// μ₁(R)·e^{c₀} = ∫σe^{−σs}⟨𝒞⟩₁ ds: the single-scattered part of the
+    /// mean luminance at the field's R, for an isotropic medium with point
+    /// lights (refused otherwise). The uncollided part is
+    /// [`FiniteField::ray_total`] of the mean.
+    pub fn scattered_mean(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        if self.phase != Phase::Isotropic || self.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
+            return Err(OracleError::Unsupported(
+                "the finite-sphere single-scattered mean covers isotropic media with point lights".into(),
+            ));
+        }
+        let domain = |lo: &T, hi: Option<&T>| self.ray_domain(lo, hi);
+        let line = RayLine {
+            sigma: self.sigma.clone(),
+            center: self.center.clone(),
+            shift: self.shift.clone(),
+            domain: &domain,
+        };
+        line.integral_nested("finite-sphere ∫⟨𝒞⟩₁, single-scattered", opts, |x, o| {
+            let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
+            let share = Options { abs_tol: o.abs_tol / self.lights.len() as f64, ..o.clone() };
+            for light in &self.lights {
+                if let FiniteLight::Point(p) = light {
+                    total = total.plus(p.scattered_moment(self, x, 1, &share)?);
+                }
+            }
+            Ok(total)
+        })
+    }
+}
