@@ -111,13 +111,7 @@ pub fn second_moment_term<T: CheckRule>(field: &Field<T>, x: &T, r: &T, opts: &O
                 continue;
             }
             let o = Options { abs_tol: (share / weight.to_f64()).min(f64::MAX), ..opts.clone() };
-            let k = kernel(&field.phase, &l.mu, &l.sin, &o)?.scaled(&weight);
-            total = Estimate::known(
-                total.value + k.value,
-                total.error + k.error,
-                total.evaluations + k.evaluations,
-                opts.rule,
-            );
+            total = total.plus(kernel(&field.phase, &l.mu, &l.sin, &o)?.scaled(&weight));
         }
     }
     Ok(total)

@@ -248,23 +248,7 @@ pub fn run_with<T: CheckRule>(
         },
         integral_m2: scaled(&ints.m2, &k),
         integral_m2_same_path: field.is_smooth().then(|| scaled(&ints.m2_same_path, &k)),
-        finite_mean: match (scattered, scattered_field.as_ref()) {
-            (Ok(Some(m)), Some(ff)) => {
-                let kf = (-ff.shift.clone()).exp();
-                let (value, error) = (m.value.clone() * kf.clone(), m.error.clone() * kf);
-                // b = μ(R) − μ(0) in the working precision, then reported.
-                let bias = value.clone() - ints.mean.value.clone() * k.clone();
-                let bias_error = error.clone() + ints.mean.error.clone() * k.clone();
-                Some(FiniteMean {
-                    mean: Some(reported(&value, &error)),
-                    bias: Some(reported(&bias, &bias_error)),
-                    missing: None,
-                    evaluations: m.evaluations,
-                })
-            }
-            (Err(e), _) => Some(FiniteMean { mean: None, bias: None, missing: Some(e.to_string()), evaluations: 0 }),
-            _ => None,
-        },
+        finite_mean: finite_mean_report(scattered, scattered_field.as_ref(), &ints.mean, &k),
         integral_p: scaled(&ints.p, &k),
         integral_q: scaled(&ints.q, &k),
         attenuation_shift: field.shift.to_f64(),
@@ -421,4 +405,32 @@ fn finite_mean_of_order_one<T: CheckRule>(ff: &FiniteField<T>, opts: &Options) -
     let o = opts.clone().declared();
     let (uncollided, scattered) = rayon::join(|| ff.ray_total(Functional::Mean, &o), || ff.scattered_mean(&o));
     Ok(uncollided?.plus(scattered?))
+}
+
+/// The report's `finite_mean` from the order-1 mean μ(R)·e^{c₀} (or its
+/// failure, reported as missing), with the small-sphere mean μ(0)·e^{c₀}
+/// (`small`, restored by `k` = e^{−c₀}) for the bias, formed in the working
+/// precision.
+fn finite_mean_report<T: CheckRule>(
+    scattered: Result<Option<Estimate<T>>, OracleError>,
+    ff: Option<&FiniteField<T>>,
+    small: &Estimate<T>,
+    k: &T,
+) -> Option<FiniteMean> {
+    match (scattered, ff) {
+        (Ok(Some(m)), Some(ff)) => {
+            let kf = (-ff.shift.clone()).exp();
+            let (value, error) = (m.value.clone() * kf.clone(), m.error.clone() * kf);
+            let bias = value.clone() - small.value.clone() * k.clone();
+            let bias_error = error.clone() + small.error.clone() * k.clone();
+            Some(FiniteMean {
+                mean: Some(reported(&value, &error)),
+                bias: Some(reported(&bias, &bias_error)),
+                missing: None,
+                evaluations: m.evaluations,
+            })
+        }
+        (Err(e), _) => Some(FiniteMean { mean: None, bias: None, missing: Some(e.to_string()), evaluations: 0 }),
+        _ => None,
+    }
 }

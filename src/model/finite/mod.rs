@@ -310,19 +310,23 @@ impl<T: CheckRule> FiniteField<T> {
         (lo.clone(), last + lo.lit(longest) / self.sigma.clone())
     }
 
-    /// Runs `f` with the camera ray and this model's ⟨𝒞⟩_R.
-    fn with_mean<R>(&self, f: impl FnOnce(&RayLine<'_, T>, &MeanSource<'_, T>) -> R) -> R {
+    /// Runs `f` with the camera ray of this model ([`FiniteField::ray_domain`]).
+    pub(super) fn with_line<R>(&self, f: impl FnOnce(&RayLine<'_, T>) -> R) -> R {
         let domain = |lo: &T, hi: Option<&T>| self.ray_domain(lo, hi);
-        let line = RayLine {
+        f(&RayLine {
             sigma: self.sigma.clone(),
             center: self.center.clone(),
             shift: self.shift.clone(),
             domain: &domain,
-        };
+        })
+    }
+
+    /// Runs `f` with the camera ray and this model's ⟨𝒞⟩_R.
+    fn with_mean<R>(&self, f: impl FnOnce(&RayLine<'_, T>, &MeanSource<'_, T>) -> R) -> R {
         let plain = |x: &T| self.mean_closed(x);
         let with_bar = |x: &T, tol: f64, o: &Options| self.mean_with_bar(x, tol, o);
         let source = if self.is_closed_form() { MeanSource::Plain(&plain) } else { MeanSource::WithBar(&with_bar) };
-        f(&line, &source)
+        self.with_line(|line| f(line, &source))
     }
 
     /// ∫σe^{−σs}⟨𝒞⟩_R ds, sphere-centric: the mean luminance again, by an

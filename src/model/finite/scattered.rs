@@ -24,7 +24,6 @@
 
 use super::point::PointLight;
 use super::{FiniteField, FiniteLight};
-use crate::model::along::RayLine;
 use crate::model::OracleError;
 use crate::quad::{integrate, CheckRule, Domain, Estimate, Options, Outcome};
 use crate::real::Real;
@@ -100,22 +99,17 @@ impl<T: CheckRule> FiniteField<T> {
                 "the finite-sphere single-scattered mean covers isotropic media with point lights".into(),
             ));
         }
-        let domain = |lo: &T, hi: Option<&T>| self.ray_domain(lo, hi);
-        let line = RayLine {
-            sigma: self.sigma.clone(),
-            center: self.center.clone(),
-            shift: self.shift.clone(),
-            domain: &domain,
-        };
-        line.integral_nested("finite-sphere ∫⟨𝒞⟩₁, single-scattered", opts, |x, o| {
-            let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
-            let share = Options { abs_tol: o.abs_tol / self.lights.len() as f64, ..o.clone() };
-            for light in &self.lights {
-                if let FiniteLight::Point(p) = light {
-                    total = total.plus(p.scattered_moment(self, x, 1, &share)?);
+        self.with_line(|line| {
+            line.integral_nested("finite-sphere ∫⟨𝒞⟩₁, single-scattered", opts, |x, o| {
+                let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
+                let share = Options { abs_tol: o.abs_tol / self.lights.len() as f64, ..o.clone() };
+                for light in &self.lights {
+                    if let FiniteLight::Point(p) = light {
+                        total = total.plus(p.scattered_moment(self, x, 1, &share)?);
+                    }
                 }
-            }
-            Ok(total)
+                Ok(total)
+            })
         })
     }
 }
