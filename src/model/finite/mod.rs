@@ -26,6 +26,7 @@
 
 pub mod angles;
 pub mod beam;
+pub mod order1;
 pub mod point;
 pub mod ray;
 pub mod scattered;

@@ -401,7 +401,7 @@ type Azimuthal<'a, T> = dyn Fn(&Frame<T>, &T, &T, &Options) -> Outcome<T> + 'a;
 /// (arcsin near 1 would lose half the digits as the sphere comes to hold
 /// the light), or π/2 when d ≤ R (the sphere holds the light; every ray
 /// whose closest point lies ahead hits).
-fn cap_half_angle<T: CheckRule>(d: &T, r: &T) -> T {
+pub(super) fn cap_half_angle<T: CheckRule>(d: &T, r: &T) -> T {
     if d > r {
         (r.clone() / ((d.clone() - r.clone()) * (d.clone() + r.clone())).sqrt()).atan()
     } else {

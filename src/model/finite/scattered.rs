@@ -25,7 +25,7 @@
 use super::point::PointLight;
 use super::{FiniteField, FiniteLight};
 use crate::model::OracleError;
-use crate::quad::{integrate, CheckRule, Domain, Estimate, Options, Outcome};
+use crate::quad::{integrate, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
 use crate::real::Real;
 use crate::special::{exp_int_e1, exp_segment};
 use mcrt_scene::Phase;
@@ -48,6 +48,13 @@ pub fn hit_chance<T: Real>(sigma: &T, r: &T, d: &T) -> T {
 /// is D > 0 from the light (module docs), by quadrature in d with its
 /// kinks declared. Domain: D > 0, σ > 0, R > 0.
 pub fn scattered_hits<T: CheckRule>(sigma: &T, r: &T, big_d: &T, opts: &Options) -> Outcome<T> {
+    hits_over_distance(sigma, r, big_d, opts, false)
+}
+
+/// [`scattered_hits`], cross-checked on its own (`within` false) or as one
+/// level inside a pass of a nested integral (`within` true: the pass's rule,
+/// checked by the other pass).
+pub(super) fn hits_over_distance<T: CheckRule>(sigma: &T, r: &T, big_d: &T, opts: &Options, within: bool) -> Outcome<T> {
     let f = |d: &T| {
         if d.is_zero() {
             return d.lit(0.0);
@@ -67,7 +74,12 @@ pub fn scattered_hits<T: CheckRule>(sigma: &T, r: &T, big_d: &T, opts: &Options)
     }
     cuts.extend(crate::model::field::graded_about(&big_d.lit(0.0), r, big_d).into_iter().filter(|c| c > r));
     let domain = Domain::semi_infinite(big_d.lit(0.0)).with_breakpoints(cuts).with_decay(sigma.clone());
-    Ok(integrate(f, &domain, opts)?.scaled(&(sigma.clone() / (big_d.lit(2.0) * big_d.clone()))))
+    let e = if within {
+        integrate_within_pass(|d: &T, o: &Options| Ok(Estimate::known(f(d), d.lit(0.0), 1, o.rule)), &domain, opts)?
+    } else {
+        integrate(f, &domain, opts)?
+    };
+    Ok(e.scaled(&(sigma.clone() / (big_d.lit(2.0) * big_d.clone()))))
 }
 
 impl<T: CheckRule> PointLight<T> {
@@ -84,7 +96,7 @@ impl<T: CheckRule> PointLight<T> {
             * ff.albedo.clone()
             * ff.shift.exp();
         let o = Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
-        Ok(scattered_hits(&ff.sigma, &ff.radius, &big_d, &o)?.scaled(&front))
+        Ok(hits_over_distance(&ff.sigma, &ff.radius, &big_d, &o, true)?.scaled(&front))
     }
 }
 

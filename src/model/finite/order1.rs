@@ -1,0 +1,171 @@
+//! The finite-sphere model's variance for single-scattered light
+//! (`scattering_orders = 1`), isotropic media and point lights
+//! (`docs/model.md` §9.6).
+//!
+//! A forward path now has two segments, the uncollided one (𝒞₀ at the
+//! spheres it hits) and, with probability albedo, the scattered one (𝒞₁),
+//! so every moment of §9.1 is a sum over the pair of segments:
+//!
+//! - ⟨𝒞⟩ = ⟨𝒞₀⟩ + ⟨𝒞₁⟩ (P and Q from it, [`FiniteField::order1_mean_with_bar`]);
+//! - ⟨𝒞²⟩ = ⟨𝒞₀²⟩ + ⟨𝒞₁²⟩ + 2⟨𝒞₀𝒞₁⟩: the last, one path hitting the
+//!   same sphere with both segments, is [`PointLight::same_path_moment`];
+//! - ⟨𝒞(s)𝒞(s′)⟩ = ⟨𝒞₀𝒞₀⟩ + ⟨𝒞₁𝒞₁⟩ + ⟨𝒞₀(s)𝒞₁(s′)⟩ + ⟨𝒞₁(s)𝒞₀(s′)⟩:
+//!   one scattered segment meeting two spheres, and the two segments of
+//!   one path meeting one sphere each (`order1_pairs`).
+//!
+//! In an isotropic medium f = 1/4π on every segment, so each moment is
+//! (c f)^k times a probability of hits.
+
+use super::point::{cap_half_angle, PointLight};
+use super::scattered::hit_chance;
+use super::{FiniteField, FiniteLight};
+use crate::model::field::graded_about;
+use crate::model::OracleError;
+use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
+use mcrt_scene::Phase;
+
+/// K(w) = ∫₀^∞ σe^{−σu} H(√(u² + R² − w²)) du: the chance that a path
+/// whose first segment passes a sphere's centre at p = √(R² − w²) and
+/// interacts u past its closest point, scattering there isotropically,
+/// hits the sphere with its second segment ([`hit_chance`]). The second
+/// segment starts inside the sphere for u < w (H's √-kink at u = w, where
+/// it leaves); beyond it H falls like R²/d² over the decades from R to
+/// 1/σ. Domain: 0 ≤ w ≤ R, σ > 0. Not in the paper (§9.6).
+fn second_hit_after<T: CheckRule>(sigma: &T, r: &T, w: &T, opts: &Options) -> Outcome<T> {
+    let p2 = (r.clone() - w.clone()) * (r.clone() + w.clone());
+    let f = |u: &T, o: &Options| {
+        let d = (u.clone() * u.clone() + p2.clone()).sqrt();
+        let v = sigma.clone() * (-(sigma.clone() * u.clone())).exp() * hit_chance(sigma, r, &d);
+        Ok(Estimate::known(v, u.lit(0.0), 1, o.rule))
+    };
+    let zero = w.lit(0.0);
+    let far = w.lit(4.0) / sigma.clone();
+    let mut cuts = vec![w.clone()];
+    cuts.extend(graded_about(&zero, r, &far).into_iter().filter(|c| *c > zero));
+    cuts.extend(graded_about(w, &(r.clone() / w.lit(1e3)), r).into_iter().filter(|c| *c > zero));
+    let domain = Domain::semi_infinite(zero).with_breakpoints(cuts).with_decay(sigma.clone());
+    integrate_within_pass(f, &domain, opts)
+}
+
+impl<T: CheckRule> PointLight<T> {
+    /// ⟨𝒞₀𝒞₁⟩·e^{c₀} at s = center + x: one path hitting the sphere there
+    /// with both its segments (isotropic media; `docs/model.md` §9.6). The
+    /// first segment leaves the light along ψ of the cap about
+    /// w = (x(s) − y)/D, passes the centre at p = D sin ψ, must reach its
+    /// closest point (at D cos ψ: e^{−σD cos ψ}), then interacts u further
+    /// and scatters (albedo) so that the second hits (K, [`second_hit_after`]):
+    ///
+    ///   ⟨𝒞₀𝒞₁⟩ = albedo (c²Φ/𝓕) f² ½∫_cap sin ψ e^{−σD cos ψ} K dψ.
+    ///
+    /// For D > R the cap is integrated in w = √(R² − p²) ∈ [0, R]
+    /// (sin ψ dψ = w dw/(D√(D² − R² + w²)), D cos ψ = √(D² − R² + w²)),
+    /// in which the √-kink of K at the cap's rim (w = 0) is smooth; for
+    /// D ≤ R (the sphere holds the light) in ψ ∈ [0, π/2]. Domain: any x,
+    /// R > 0. Deviation: the paper has no such term (E9: §3b's small-sphere
+    /// limit of it).
+    pub(crate) fn same_path_moment(&self, ff: &FiniteField<T>, x: &T, opts: &Options) -> Outcome<T> {
+        let dz = (ff.center.clone() - self.z.clone()) + x.clone();
+        let big_d = (dz.clone() * dz + self.b.clone() * self.b.clone()).sqrt();
+        let (sigma, r) = (&ff.sigma, &ff.radius);
+        let f = x.lit(1.0) / (x.pi() * x.lit(4.0));
+        let front = ff.per_hit_power(2, &self.flux) * f.clone() * f * ff.albedo.clone() / x.lit(2.0);
+        let o = Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
+        let e = if big_d > *r {
+            let gap = (big_d.clone() - r.clone()) * (big_d.clone() + r.clone());
+            integrate_within_pass(
+                |w: &T, inner: &Options| {
+                    let reach = (gap.clone() + w.clone() * w.clone()).sqrt();
+                    let weight = w.clone() / (big_d.clone() * reach.clone())
+                        * (ff.shift.clone() - sigma.clone() * reach).exp();
+                    if weight.is_zero() {
+                        return Ok(Estimate::known(w.lit(0.0), w.lit(0.0), 0, inner.rule));
+                    }
+                    let each = Options { abs_tol: (inner.abs_tol / weight.to_f64()).min(f64::MAX), ..inner.clone() };
+                    Ok(second_hit_after(sigma, r, w, &each)?.scaled(&weight))
+                },
+                &Domain::finite(x.lit(0.0), r.clone()),
+                &o,
+            )?
+        } else {
+            integrate_within_pass(
+                |psi: &T, inner: &Options| {
+                    let p = big_d.clone() * psi.sin();
+                    let w = ((r.clone() - p.clone()) * (r.clone() + p)).sqrt();
+                    let weight = psi.sin() * (ff.shift.clone() - sigma.clone() * big_d.clone() * psi.cos()).exp();
+                    if weight.is_zero() {
+                        return Ok(Estimate::known(psi.lit(0.0), psi.lit(0.0), 0, inner.rule));
+                    }
+                    let each = Options { abs_tol: (inner.abs_tol / weight.to_f64()).min(f64::MAX), ..inner.clone() };
+                    Ok(second_hit_after(sigma, r, &w, &each)?.scaled(&weight))
+                },
+                &Domain::finite(x.lit(0.0), cap_half_angle(&big_d, r)),
+                &o,
+            )?
+        };
+        Ok(e.scaled(&front))
+    }
+}
+
+impl<T: CheckRule> FiniteField<T> {
+    /// Refuses what the order-1 variance does not cover yet.
+    pub(super) fn order1_covered(&self) -> Result<(), OracleError> {
+        if self.phase != Phase::Isotropic || self.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
+            return Err(OracleError::Unsupported(
+                "the finite-sphere model of single-scattered light covers isotropic media with point lights".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// (⟨𝒞₀⟩ + ⟨𝒞₁⟩)·e^{c₀} at x with its bar, summed over the (point)
+    /// lights: the mean contribution of a path of order ≤ 1 to the sphere
+    /// at s = center + x, for P and Q.
+    pub(crate) fn order1_mean_with_bar(&self, x: &T, opts: &Options) -> Outcome<T> {
+        let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, ..opts.clone() };
+        self.sum_over_lights(x, opts, |_, light| match light {
+            FiniteLight::Point(p) => {
+                let e = p.scattered_moment(self, x, 1, &share)?;
+                Ok(Estimate::known(e.value + p.moment_isotropic(self, x, 1), e.error, e.evaluations, opts.rule))
+            }
+            FiniteLight::Beam(_) => unreachable!("order1_covered refuses beams"),
+        })
+    }
+
+    /// (⟨𝒞₁²⟩ + 2⟨𝒞₀𝒞₁⟩)·e^{c₀} at x with its bar: the part of ⟨𝒞²⟩ that
+    /// single scattering adds.
+    fn order1_second_with_bar(&self, x: &T, opts: &Options) -> Outcome<T> {
+        let share = Options { abs_tol: opts.abs_tol / (2.0 * self.lights.len() as f64), ..opts.clone() };
+        self.sum_over_lights(x, opts, |_, light| match light {
+            FiniteLight::Point(p) => {
+                let own = p.scattered_moment(self, x, 2, &share)?;
+                let both = p.same_path_moment(self, x, &Options { abs_tol: share.abs_tol / 2.0, ..share.clone() })?;
+                Ok(own.plus(both.clone().plus(both)))
+            }
+            FiniteLight::Beam(_) => unreachable!("order1_covered refuses beams"),
+        })
+    }
+
+    /// ∫σe^{−σs}(⟨𝒞₁²⟩ + 2⟨𝒞₀𝒞₁⟩) ds·e^{c₀}: what single scattering adds
+    /// to M₂ (the uncollided part is [`super::Functional::Second`]).
+    pub fn order1_second_added(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        self.order1_covered()?;
+        self.with_line(|line| {
+            line.integral_nested("finite-sphere ∫⟨𝒞²⟩, single-scattered part", opts, |x, o| {
+                self.order1_second_with_bar(x, o)
+            })
+        })
+    }
+
+    /// P and Q of (17) from ⟨𝒞₀⟩ + ⟨𝒞₁⟩ (times e^{c₀}).
+    pub fn order1_p_and_q(
+        &self,
+        opts: &Options,
+    ) -> (Result<Estimate<T>, OracleError>, Result<Estimate<T>, OracleError>) {
+        if let Err(e) = self.order1_covered() {
+            return (Err(e.clone()), Err(e));
+        }
+        let with_bar = |x: &T, _tol: f64, o: &Options| self.order1_mean_with_bar(x, o);
+        let source = crate::model::along::MeanSource::WithBar(&with_bar);
+        self.with_line(|line| rayon::join(|| line.p_single(&source, opts), || line.q_pair(&source, opts)))
+    }
+}

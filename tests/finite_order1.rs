@@ -1,0 +1,166 @@
+//! The finite-sphere model of single-scattered light (`model::finite::order1`,
+//! `docs/model.md` §9.6): the estimator's second moment M₂ (with the
+//! same-path double hits at finite R) and P of (17), exact at any R for an
+//! isotropic medium with point lights, against the tracer with no
+//! allowance.
+//!
+//! With q = 1 and N_B = 1 (one sphere per camera ray, one camera ray) the
+//! variance of L is M₂/N_F + (1 − 1/N_F)P − μ² ((7)–(9)): no correlation of
+//! two spheres enters, so these points test μ, M₂ and P alone.
+
+use mcrt_noise::model::field::Field;
+use mcrt_noise::model::finite::{FiniteField, Functional};
+use mcrt_noise::oracle::{run, Precision};
+use mcrt_noise::quad::Options;
+use mcrt_reference::{trace, HitMethod, Tracer};
+use mcrt_scene::{DVec3, Light, Scene};
+use std::path::Path;
+
+/// `point-isotropic-order1` with q = 1, N_B = 1 and the given R, N_F, albedo.
+fn scene(radius: f64, n_f: u64, albedo: f64) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic-order1.toml");
+    let mut s = Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    s.estimator.radius = radius;
+    s.estimator.q = 1.0;
+    s.estimator.forward_rays = n_f;
+    s.estimator.camera_rays = 1;
+    s.medium.albedo = albedo;
+    s
+}
+
+/// A value with its bar.
+#[derive(Debug, Clone, Copy)]
+struct Barred(f64, f64);
+
+/// μ and Var L of the order-1 finite-sphere model for q = 1, N_B = 1,
+/// absolute, with bars.
+fn finite_prediction(s: &Scene) -> (Barred, Barred) {
+    let field = Field::from_scene(s, &1.0f64).unwrap();
+    let ff = FiniteField::of_first_segments(s, &field);
+    let o = Options::rel(1e-6).declared();
+    let k = (-ff.shift).exp();
+    let (mean0, mean1) = rayon::join(|| ff.ray_total(Functional::Mean, &o), || ff.scattered_mean(&o));
+    let (second0, second1) = rayon::join(|| ff.ray_total(Functional::Second, &o), || ff.order1_second_added(&o));
+    let p = ff.order1_p_and_q(&o).0.unwrap();
+    let (mean0, mean1, second0, second1) = (mean0.unwrap(), mean1.unwrap(), second0.unwrap(), second1.unwrap());
+    let mu = Barred((mean0.value + mean1.value) * k, (mean0.error + mean1.error) * k);
+    let m2 = Barred((second0.value + second1.value) * k, (second0.error + second1.error) * k);
+    let p = Barred(p.value * k, p.error * k);
+    let nf = s.estimator.forward_rays as f64;
+    let var = m2.0 / nf + (1.0 - 1.0 / nf) * p.0 - mu.0 * mu.0;
+    let var_bar = m2.1 / nf + (1.0 - 1.0 / nf) * p.1 + 2.0 * mu.0 * mu.1;
+    (mu, Barred(var, var_bar))
+}
+
+/// (tracer − model)/√(se² + bar²).
+fn z(tracer: Barred, model: Barred) -> f64 {
+    (tracer.0 - model.0) / (tracer.1 * tracer.1 + model.1 * model.1).sqrt()
+}
+
+struct Point {
+    name: &'static str,
+    scene: Scene,
+    trials: u64,
+    seed: u64,
+    /// Whether the small-sphere model must be rejected here (|z| > 6).
+    rejects_small_sphere: bool,
+}
+
+fn check(p: &Point) -> (f64, f64) {
+    let (mu, var) = finite_prediction(&p.scene);
+    let t = trace(&Tracer::new(&p.scene).unwrap(), p.seed, 0..p.trials, HitMethod::Sorted, &|_| {});
+    let t = t.summary().unwrap();
+    let (t_mu, t_var) = (Barred(t.mean.value, t.mean.se), Barred(t.variance.value, t.variance.se));
+    let (z_mu, z_var) = (z(t_mu, mu), z(t_var, var));
+    // The small-sphere model (§3a, E9) where it computes: for a light 0.1
+    // from the camera line its correlation (23) meets an infinite integrand
+    // (printed; that model's limit, not this one's).
+    let (small_var, z_small) = match run(&p.scene, Precision::F64, None) {
+        Ok(small) => {
+            let v = Barred(small.variance.exact.value, small.variance.exact.error);
+            (v, z(t_var, v))
+        }
+        Err(e) => {
+            assert!(!p.rejects_small_sphere, "{}: small-sphere model: {e}", p.name);
+            println!("{}: small-sphere model: {e}", p.name);
+            (Barred(f64::NAN, f64::NAN), f64::NAN)
+        }
+    };
+    println!(
+        "{}: μ {:.6e} ± {:.1e}, tracer {:.6e} ± {:.1e} (z {z_mu:+.2}); Var L {:.6e} ± {:.1e}, tracer {:.6e} ± {:.1e} \
+         ({:.2} %, z {z_var:+.2}); small-sphere Var L {:.6e} (z {z_small:+.1})",
+        p.name,
+        mu.0,
+        mu.1,
+        t_mu.0,
+        t_mu.1,
+        var.0,
+        var.1,
+        t_var.0,
+        t_var.1,
+        100.0 * t_var.1 / t_var.0,
+        small_var.0
+    );
+    assert!(z_mu.abs() <= 4.0 && z_var.abs() <= 4.0, "{}: the finite model disagrees with the tracer", p.name);
+    if p.rejects_small_sphere {
+        assert!(z_small.abs() > 6.0, "{}: the small-sphere Var L is not rejected (z = {z_small})", p.name);
+    }
+    (t_var.1 / t_var.0, z_small)
+}
+
+#[test]
+fn tracer_agrees_with_the_order1_variance_at_one_sphere_per_camera_ray() {
+    let mut near = scene(0.2, 1, 0.8);
+    near.lights = vec![Light::Point { position: DVec3::new(0.1, 0.0, 1.0), flux: 1.0 }];
+    let points = [
+        Point { name: "R 0.5, N_F 1", scene: scene(0.5, 1, 0.8), trials: 10_000_000, seed: 21, rejects_small_sphere: true },
+        Point { name: "R 0.2, N_F 20", scene: scene(0.2, 20, 0.8), trials: 2_000_000, seed: 22, rejects_small_sphere: true },
+        Point { name: "R 0.1, N_F 1, albedo 0.3", scene: scene(0.1, 1, 0.3), trials: 20_000_000, seed: 23, rejects_small_sphere: false },
+        Point { name: "R 0.03, N_F 200, albedo 1", scene: scene(0.03, 200, 1.0), trials: 100_000, seed: 24, rejects_small_sphere: false },
+        Point { name: "R 0.2, light 0.1 from the line", scene: near, trials: 4_000_000, seed: 25, rejects_small_sphere: false },
+    ];
+    for p in &points {
+        check(p);
+    }
+}
+
+/// M₂ and P of the finite model tend to the small-sphere ones (§3a with the
+/// same-path hits of §3b, an independent computation: L₁ integrated over
+/// directions) as R → 0, the fitted orders of their relative gaps printed:
+/// P's is second order (measured 2.00, 2.00); M₂'s rises towards 2 (1.67,
+/// 1.73 at R = 0.04 → 0.01: gap/(R² ln(1/R)) = 0.34, 0.35, 0.36), the
+/// same-path hits of §3b adding a term like R² ln(1/R) (grazing first
+/// segments), so orders below 1.6 or above 2.1 fail, and so does a gap above
+/// 2·10⁻⁴ at R = 0.01.
+#[test]
+fn order1_second_moment_and_p_tend_to_the_small_sphere_ones() {
+    use mcrt_noise::model::moments;
+    let radii = [0.04, 0.02, 0.01];
+    let mut gaps = Vec::new();
+    for &r in &radii {
+        let s = scene(r, 1, 0.8);
+        let field = Field::from_scene(&s, &1.0f64).unwrap();
+        let ff = FiniteField::of_first_segments(&s, &field);
+        let o = Options::rel(1e-9).declared();
+        let (k, k_small) = ((-ff.shift).exp(), (-field.shift).exp());
+        let m2 = ff.ray_total(Functional::Second, &o).unwrap().value + ff.order1_second_added(&o).unwrap().value;
+        let p = ff.order1_p_and_q(&Options::rel(1e-7).declared()).0.unwrap().value;
+        let rr = r;
+        let small_m2 = moments::m2(&field, &rr, &o).unwrap().value + moments::m2_same_path(&field, &rr, &o).unwrap().value;
+        let small_p = moments::p_single(&field, &o).unwrap().value;
+        gaps.push(((m2 * k) / (small_m2 * k_small) - 1.0, (p * k) / (small_p * k_small) - 1.0));
+    }
+    let order = |f: &dyn Fn(&(f64, f64)) -> f64| -> Vec<f64> {
+        gaps.windows(2).map(|w| (f(&w[0]) / f(&w[1])).abs().log2()).collect()
+    };
+    let (m2_orders, p_orders) = (order(&|g| g.0), order(&|g| g.1));
+    println!("relative gaps (M₂, P) {gaps:?} at R = {radii:?}; fitted orders M₂ {m2_orders:.3?}, P {p_orders:.3?}");
+    for p in &p_orders {
+        assert!((p - 2.0).abs() < 0.1, "order of P's gap {p}");
+    }
+    for p in &m2_orders {
+        assert!((1.6..2.1).contains(p), "order of M₂'s gap {p}");
+    }
+    assert!(m2_orders[1] > m2_orders[0], "M₂'s order does not rise towards 2: {m2_orders:?}");
+    assert!(gaps[2].0.abs() < 2e-4 && gaps[2].1.abs() < 2e-4, "gaps at R = 0.01: {:?}", gaps[2]);
+}
