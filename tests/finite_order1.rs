@@ -113,11 +113,41 @@ fn tracer_agrees_with_the_order1_variance_at_one_sphere_per_camera_ray() {
     let mut near = scene(0.2, 1, 0.8);
     near.lights = vec![Light::Point { position: DVec3::new(0.1, 0.0, 1.0), flux: 1.0 }];
     let points = [
-        Point { name: "R 0.5, N_F 1", scene: scene(0.5, 1, 0.8), trials: 10_000_000, seed: 21, rejects_small_sphere: true },
-        Point { name: "R 0.2, N_F 20", scene: scene(0.2, 20, 0.8), trials: 2_000_000, seed: 22, rejects_small_sphere: true },
-        Point { name: "R 0.1, N_F 1, albedo 0.3", scene: scene(0.1, 1, 0.3), trials: 20_000_000, seed: 23, rejects_small_sphere: false },
-        Point { name: "R 0.03, N_F 200, albedo 1", scene: scene(0.03, 200, 1.0), trials: 100_000, seed: 24, rejects_small_sphere: false },
-        Point { name: "R 0.2, light 0.1 from the line", scene: near, trials: 4_000_000, seed: 25, rejects_small_sphere: false },
+        Point {
+            name: "R 0.5, N_F 1",
+            scene: scene(0.5, 1, 0.8),
+            trials: 10_000_000,
+            seed: 21,
+            rejects_small_sphere: true,
+        },
+        Point {
+            name: "R 0.2, N_F 20",
+            scene: scene(0.2, 20, 0.8),
+            trials: 2_000_000,
+            seed: 22,
+            rejects_small_sphere: true,
+        },
+        Point {
+            name: "R 0.1, N_F 1, albedo 0.3",
+            scene: scene(0.1, 1, 0.3),
+            trials: 20_000_000,
+            seed: 23,
+            rejects_small_sphere: false,
+        },
+        Point {
+            name: "R 0.03, N_F 200, albedo 1",
+            scene: scene(0.03, 200, 1.0),
+            trials: 100_000,
+            seed: 24,
+            rejects_small_sphere: false,
+        },
+        Point {
+            name: "R 0.2, light 0.1 from the line",
+            scene: near,
+            trials: 4_000_000,
+            seed: 25,
+            rejects_small_sphere: false,
+        },
     ];
     for p in &points {
         check(p);
@@ -146,7 +176,8 @@ fn order1_second_moment_and_p_tend_to_the_small_sphere_ones() {
         let m2 = ff.ray_total(Functional::Second, &o).unwrap().value + ff.order1_second_added(&o).unwrap().value;
         let p = ff.order1_p_and_q(&Options::rel(1e-7).declared()).0.unwrap().value;
         let rr = r;
-        let small_m2 = moments::m2(&field, &rr, &o).unwrap().value + moments::m2_same_path(&field, &rr, &o).unwrap().value;
+        let small_m2 =
+            moments::m2(&field, &rr, &o).unwrap().value + moments::m2_same_path(&field, &rr, &o).unwrap().value;
         let small_p = moments::p_single(&field, &o).unwrap().value;
         gaps.push(((m2 * k) / (small_m2 * k_small) - 1.0, (p * k) / (small_p * k_small) - 1.0));
     }

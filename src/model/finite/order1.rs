@@ -75,8 +75,8 @@ impl<T: CheckRule> PointLight<T> {
             integrate_within_pass(
                 |w: &T, inner: &Options| {
                     let reach = (gap.clone() + w.clone() * w.clone()).sqrt();
-                    let weight = w.clone() / (big_d.clone() * reach.clone())
-                        * (ff.shift.clone() - sigma.clone() * reach).exp();
+                    let weight =
+                        w.clone() / (big_d.clone() * reach.clone()) * (ff.shift.clone() - sigma.clone() * reach).exp();
                     if weight.is_zero() {
                         return Ok(Estimate::known(w.lit(0.0), w.lit(0.0), 0, inner.rule));
                     }

@@ -1,8 +1,8 @@
 //! Single-scattered light at any R (isotropic media, point lights): the
 //! sphere-centric mean contribution of a forward path's second segment,
 //! the first brick of the finite-sphere model for order 1 (`docs/model.md`
-//! §9.5). The variance, Henyey–Greenstein media and beams are still to
-//! come (§9.5 lists them).
+//! §9.5); its ⟨𝒞₁²⟩ serves the variance (`order1`, §9.6, which lists what
+//! is still to come).
 //!
 //! A point light's first segment ends at x₁ with density
 //! σe^{−σr₁}/(4πr₁²) (r₁ = |x₁ − y|); with probability albedo the path
@@ -54,7 +54,13 @@ pub fn scattered_hits<T: CheckRule>(sigma: &T, r: &T, big_d: &T, opts: &Options)
 /// [`scattered_hits`], cross-checked on its own (`within` false) or as one
 /// level inside a pass of a nested integral (`within` true: the pass's rule,
 /// checked by the other pass).
-pub(super) fn hits_over_distance<T: CheckRule>(sigma: &T, r: &T, big_d: &T, opts: &Options, within: bool) -> Outcome<T> {
+pub(super) fn hits_over_distance<T: CheckRule>(
+    sigma: &T,
+    r: &T,
+    big_d: &T,
+    opts: &Options,
+    within: bool,
+) -> Outcome<T> {
     let f = |d: &T| {
         if d.is_zero() {
             return d.lit(0.0);
