@@ -169,3 +169,20 @@ fn elliptic_e_at_128_bits_matches_mpmath() {
         assert!(rel <= 2f64.powi(-120), "k′ = {kp}: rel {rel:e}");
     }
 }
+
+/// e^{x}E₁(x) in f64 (`exp_int_e1_scaled`, the fraction without its
+/// e^{−x}) against e^{x}·E₁(x) at 512 bits (no underflow there), past the
+/// point where E₁ underflows in f64 (x ≈ 745): within 10⁻¹⁴ relative.
+#[test]
+fn scaled_exponential_integral_matches_the_unscaled_one() {
+    use mcrt_noise::special::{exp_int_e1, exp_int_e1_scaled};
+    for x in [1e-6, 0.01, 0.3, 0.49, 0.5, 0.51, 1.0, 10.0, 100.0, 700.0, 745.0, 1e3, 1e5] {
+        let got = exp_int_e1_scaled(&x);
+        let big = Float::with_val(512, x);
+        let reference = (big.clone().exp() * exp_int_e1(&big)).to_f64();
+        let rel = (got - reference).abs() / reference;
+        assert!(rel <= 1e-14, "x = {x:e}: {got:e} vs {reference:e} (rel {rel:e})");
+    }
+    assert_eq!(exp_int_e1_scaled(&0.0), f64::INFINITY);
+    assert!(exp_int_e1_scaled(&-1.0).is_nan());
+}

@@ -40,6 +40,23 @@ pub fn exp_int_e1<T: Real>(x: &T) -> T {
     head + sum
 }
 
+/// e^{x}E₁(x), the scaled exponential integral: ≈ 1/x for large x, where
+/// E₁ itself underflows (past x ≈ 745 in f64). Domain x > 0 (+∞ at 0, NaN
+/// below). Same split as [`exp_int_e1`]: the continued fraction without its
+/// factor e^{−x} for x ≥ 0.5, e^{x} times the series below.
+pub fn exp_int_e1_scaled<T: Real>(x: &T) -> T {
+    if !(x.clone() >= x.lit(0.0)) {
+        return x.lit(f64::NAN);
+    }
+    if x.is_zero() {
+        return x.lit(f64::INFINITY);
+    }
+    if x.clone() >= x.lit(E1_CF_FROM) {
+        return en_continued_fraction_scaled(1, x);
+    }
+    x.exp() * exp_int_e1(x)
+}
+
 /// X⁻¹(e^{−X} − X E₁(X)) = E₂(X)/X = ∫_X^∞ u⁻² e^{−u} du (appendix, the
 /// inequality bounding I₂ₐ). Domain X > 0 (+∞ at 0). For large X the
 /// difference e^{−X} − X E₁(X) cancels; there E₂ comes from its own continued
@@ -65,6 +82,17 @@ pub fn exp_int_tail2<T: Real>(x: &T) -> T {
 /// that depth, which does not accumulate a rounding error per level the way
 /// the forward product does (that costs ~100 ulps near x = 1).
 fn en_continued_fraction<T: Real>(n: u32, x: &T) -> T {
+    (-x.clone()).exp() / en_denominator(n, x)
+}
+
+/// e^{x}E_n(x) = 1/(b₀ + a₁/(b₁ + …)), the fraction of [`en_continued_fraction`]
+/// without its factor e^{−x}.
+fn en_continued_fraction_scaled<T: Real>(n: u32, x: &T) -> T {
+    x.lit(1.0) / en_denominator(n, x)
+}
+
+/// b₀ + a₁/(b₁ + a₂/(b₂ + …)) of [`en_continued_fraction`], evaluated backward.
+fn en_denominator<T: Real>(n: u32, x: &T) -> T {
     let depth = lentz_depth(n, x);
     let a = |k: usize| x.lit(-((k as f64) * ((n - 1) as f64 + k as f64)));
     let b = |k: usize| x.clone() + x.lit(n as f64 + 2.0 * k as f64);
@@ -72,7 +100,7 @@ fn en_continued_fraction<T: Real>(n: u32, x: &T) -> T {
     for k in (0..depth).rev() {
         f = b(k) + a(k + 1) / f;
     }
-    (-x.clone()).exp() / f
+    f
 }
 
 /// Depth at which the forward (Lentz) evaluation of the E_n fraction has

@@ -26,7 +26,7 @@ mod overlap;
 mod series;
 
 pub use elliptic::complete_elliptic_e;
-pub use expint::{exp_int_e1, exp_int_tail2};
+pub use expint::{exp_int_e1, exp_int_e1_scaled, exp_int_tail2};
 pub use exponential::{exp_segment, exp_triangle};
 pub use hg_ring::hg_ring;
 pub use lens::disc_overlap;

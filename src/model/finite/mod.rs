@@ -31,6 +31,7 @@ pub mod point;
 pub mod ray;
 pub mod scattered;
 mod tables;
+pub mod virtual_lights;
 
 use super::along::{MeanSource, RayLine};
 use super::angular::Direction;

@@ -206,6 +206,24 @@ impl<T: CheckRule> PointLight<T> {
     /// attenuation at the sphere's centre (§4.3); this is the estimator's
     /// exact moment (`docs/model.md` §9).
     pub fn ray_integral(&self, ff: &FiniteField<T>, which: Functional, opts: &Options) -> Outcome<T> {
+        self.ray_integral_in(ff, which, opts, false, &ff.shift)
+    }
+
+    /// [`PointLight::ray_integral`] with the shift `shift` in place of the
+    /// field's c₀, as a nested integral of its own (`within` false) or as
+    /// levels inside a pass of an enclosing one (`within` true: the pass's
+    /// rule throughout, checked by the other pass). `opts.abs_tol` applies
+    /// to the integral before its constant (albedo 𝓕/(πR²))^k Φ/(2π𝓕).
+    /// Used for virtual lights at the interaction points of single
+    /// scattering (`virtual_lights`).
+    pub(super) fn ray_integral_in(
+        &self,
+        ff: &FiniteField<T>,
+        which: Functional,
+        opts: &Options,
+        within: bool,
+        shift: &T,
+    ) -> Outcome<T> {
         let like = &self.z;
         let (zero, one) = (like.lit(0.0), like.lit(1.0));
         let r = &ff.radius;
@@ -217,7 +235,7 @@ impl<T: CheckRule> PointLight<T> {
                     Some(hit) => {
                         phase_power(&ff.phase, &dir, which.power())
                             * dir.sin.clone()
-                            * functional(which, &hit, &dir, &ff.sigma, &ff.shift)
+                            * functional(which, &hit, &dir, &ff.sigma, shift)
                     }
                     None => zero.clone(),
                 };
@@ -231,7 +249,8 @@ impl<T: CheckRule> PointLight<T> {
         let e = if self.b > *r {
             // η = b sin χ/R ∈ [0, 1].
             let ratio = r.clone() / self.b.clone();
-            integrate_nested(
+            outer_level(
+                within,
                 |eta: &T, o: &Options| {
                     let sin_chi = eta.clone() * ratio.clone();
                     let cos_chi = ((one.clone() - sin_chi.clone()) * (one.clone() + sin_chi)).sqrt();
@@ -243,7 +262,8 @@ impl<T: CheckRule> PointLight<T> {
                 opts,
             )
         } else {
-            integrate_nested(
+            outer_level(
+                within,
                 |chi: &T, o: &Options| {
                     let bs = self.b.clone() * chi.sin();
                     let rho = ((r.clone() - bs.clone()) * (r.clone() + bs)).sqrt();
@@ -377,6 +397,21 @@ impl<T: CheckRule> PointLight<T> {
         v.extend(decay_graded_about(&a, &ff.sigma, &scale));
         v.extend(self.containment_kinks(ff).into_iter().map(|(k, _)| k));
         v
+    }
+}
+
+/// The outermost level of a ray integral: nested with its own passes, or
+/// one level within an enclosing pass.
+fn outer_level<T: CheckRule>(
+    within: bool,
+    f: impl Fn(&T, &Options) -> Outcome<T> + Sync,
+    domain: &Domain<T>,
+    opts: &Options,
+) -> Outcome<T> {
+    if within {
+        integrate_within_pass(|x: &T, o: &Options| f(x, o), domain, opts)
+    } else {
+        integrate_nested(f, domain, opts)
     }
 }
 

@@ -27,37 +27,54 @@ use super::{FiniteField, FiniteLight};
 use crate::model::OracleError;
 use crate::quad::{integrate, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
 use crate::real::Real;
-use crate::special::{exp_int_e1, exp_segment};
+use crate::special::{exp_int_e1_scaled, exp_segment};
 use mcrt_scene::Phase;
 
 /// H(d): the chance that an isotropic ray from distance d, with a free
 /// path ~ Exp(σ), hits a sphere of radius R (its closest point ahead,
 /// within R, and reached). Domain: d ≥ 0, R > 0.
 pub fn hit_chance<T: Real>(sigma: &T, r: &T, d: &T) -> T {
+    let (reach, rest) = hit_chance_parts(sigma, r, d);
+    if reach.is_zero() {
+        return rest;
+    }
+    rest * (-(sigma.clone() * reach)).exp()
+}
+
+/// H(d) = e^{−σ·reach}·rest: (reach, rest), reach = √(d² − R²) the path to
+/// the sphere's surface along the cap's rim (0 when d ≤ R) and rest =
+/// ½F₁(σd, 1 − c_R), so that a caller can put the attenuation into one
+/// exponent with others.
+fn hit_chance_parts<T: Real>(sigma: &T, r: &T, d: &T) -> (T, T) {
     let half = d.lit(0.5);
     if d <= r {
-        return half * exp_segment(&(sigma.clone() * d.clone()), Some(&d.lit(1.0)));
+        return (d.lit(0.0), half * exp_segment(&(sigma.clone() * d.clone()), Some(&d.lit(1.0))));
     }
     let root = ((d.clone() - r.clone()) * (d.clone() + r.clone())).sqrt();
     // 1 − c_R = R²/(d(d + √(d² − R²))), without cancellation.
     let h = r.clone() * r.clone() / (d.clone() * (d.clone() + root.clone()));
-    half * (-(sigma.clone() * root)).exp() * exp_segment(&(sigma.clone() * d.clone()), Some(&h))
+    (root, half * exp_segment(&(sigma.clone() * d.clone()), Some(&h)))
 }
 
 /// I(D) = ∫ σe^{−σr₁}/(4πr₁²) H(|x₁ − x|) d³x₁ for a sphere whose centre
 /// is D > 0 from the light (module docs), by quadrature in d with its
 /// kinks declared. Domain: D > 0, σ > 0, R > 0.
 pub fn scattered_hits<T: CheckRule>(sigma: &T, r: &T, big_d: &T, opts: &Options) -> Outcome<T> {
-    hits_over_distance(sigma, r, big_d, opts, false)
+    hits_over_distance(sigma, r, big_d, &sigma.lit(0.0), opts, false)
 }
 
 /// [`scattered_hits`], cross-checked on its own (`within` false) or as one
 /// level inside a pass of a nested integral (`within` true: the pass's rule,
-/// checked by the other pass).
+/// checked by the other pass), times e^{shift}: the attenuation of both
+/// segments, e^{−σ(reach + |D − d|)} and e^{−σ(reach + D + d)}, goes into
+/// one exponent with the shift (E₁ = e^{−x}·[`exp_int_e1_scaled`]), so that
+/// a shift c₀ near the scene's bound (σ·distance ~ 700) neither overflows
+/// nor meets E₁ underflowed to 0.
 pub(super) fn hits_over_distance<T: CheckRule>(
     sigma: &T,
     r: &T,
     big_d: &T,
+    shift: &T,
     opts: &Options,
     within: bool,
 ) -> Outcome<T> {
@@ -70,7 +87,11 @@ pub(super) fn hits_over_distance<T: CheckRule>(
         if near.is_zero() {
             return d.lit(0.0);
         }
-        d.clone() * hit_chance(sigma, r, d) * (exp_int_e1(&near) - exp_int_e1(&far))
+        let (reach, rest) = hit_chance_parts(sigma, r, d);
+        let base = shift.clone() - sigma.clone() * reach;
+        let near_part = (base.clone() - near.clone()).exp() * exp_int_e1_scaled(&near);
+        let far_part = (base - far.clone()).exp() * exp_int_e1_scaled(&far);
+        d.clone() * rest * (near_part - far_part)
     };
     // d = D (logarithmic), d = R (√-kink), and R·10^k up to D, where H
     // falls like R²/d² over as many decades.
@@ -97,12 +118,10 @@ impl<T: CheckRule> PointLight<T> {
         let dz = (ff.center.clone() - self.z.clone()) + x.clone();
         let big_d = (dz.clone() * dz + self.b.clone() * self.b.clone()).sqrt();
         let f = x.lit(1.0) / (x.pi() * x.lit(4.0));
-        let front = ff.per_hit_power(power, &self.flux)
-            * if power == 1 { f } else { f.clone() * f }
-            * ff.albedo.clone()
-            * ff.shift.exp();
+        let front =
+            ff.per_hit_power(power, &self.flux) * if power == 1 { f } else { f.clone() * f } * ff.albedo.clone();
         let o = Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
-        Ok(hits_over_distance(&ff.sigma, &ff.radius, &big_d, &o, true)?.scaled(&front))
+        Ok(hits_over_distance(&ff.sigma, &ff.radius, &big_d, &ff.shift, &o, true)?.scaled(&front))
     }
 }
 

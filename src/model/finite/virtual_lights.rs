@@ -1,0 +1,234 @@
+//! Single-scattered light through virtual point lights (`docs/model.md`
+//! §9.6): the second segment of a forward path is an uncollided ray of a
+//! point light at its start, the interaction point x₁ of the first, so
+//! any order-0 ray functional of §9.1 (μ, M₂, C₂₃, C₂₄) has a
+//! single-scattered counterpart that is its average over x₁ with the
+//! density albedo·σe^{−σr₁}/(4πr₁²) (r₁ = |x₁ − y|, isotropic scattering)
+//! ([`PointLight::virtual_average`]).
+//!
+//! The functional depends on x₁ through its foot z and distance b from the
+//! camera line only, so the average is over the half-plane (z, b) with the
+//! density integrated around the line ([`ring_density`]), in polar
+//! coordinates (m, γ) about the light's own (z_y, b_y), whose dz db = m dm dγ
+//! absorbs the density's 1/m there. Four nested levels: γ, m, and the
+//! functional's own two.
+//!
+//! For μ this is a second route to §9.5's I(D), sharing no geometry with it
+//! (the hit intervals of §9.2 against the cap of §9.5):
+//! `tests/finite_order1.rs` (ignored: ~4.5 minutes on two cores at 10⁻⁴,
+//! 3.5·10⁹ evaluations).
+//! For C₂₃, C₂₄ it is the one-segment-two-spheres part of order 1, not yet
+//! affordable this way (§9.6).
+
+use super::point::PointLight;
+use super::ray::Functional;
+use super::FiniteField;
+use crate::model::field::graded_about;
+use crate::quad::{integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
+
+/// m·ρ₂(z, b): the interaction density of a light's first segments,
+/// σe^{−σr}/(4πr²), integrated around the camera line on the circle of
+/// radius b at abscissa z, times m, the distance in the (z, b) half-plane
+/// from the light's own (z_y, b_y). With k = 4 b b_y,
+/// r² = m² + k sin²(φ/2) and
+///
+///   m ρ₂ = (m b σ/2π) ∫₀^π e^{−σ(r − m)}/r² dφ · e^{−σm},
+///
+/// returned without the e^{−σm} (the caller carries it in its shift),
+/// r − m = k sin²(φ/2)/(r + m) formed without cancellation; the kernel's
+/// width near φ = 0, 2m/√k, is graded by decades. At m = 0 the limit
+/// σb/(2√k). Domain: m, b, b_y ≥ 0.
+pub(crate) fn ring_density<T: CheckRule>(sigma: &T, m: &T, b: &T, b_y: &T, opts: &Options) -> Outcome<T> {
+    let k = b.lit(4.0) * b.clone() * b_y.clone();
+    let known = |v: T| Ok(Estimate::known(v, m.lit(0.0), 1, opts.rule));
+    if b.is_zero() {
+        return known(m.lit(0.0));
+    }
+    if k.is_zero() {
+        return known(b.clone() * sigma.clone() / (m.lit(2.0) * m.clone()));
+    }
+    if m.is_zero() {
+        return known(sigma.clone() * b.clone() / (m.lit(2.0) * k.sqrt()));
+    }
+    let f = |phi: &T, o: &Options| {
+        let h = (phi.clone() / phi.lit(2.0)).sin();
+        let ks = k.clone() * h.clone() * h;
+        let r2 = m.clone() * m.clone() + ks.clone();
+        let excess = ks / (r2.sqrt() + m.clone());
+        Ok(Estimate::known((-(sigma.clone() * excess)).exp() / r2, phi.lit(0.0), 1, o.rule))
+    };
+    let width = m.lit(2.0) * m.clone() / k.sqrt();
+    let zero = m.lit(0.0);
+    let cuts: Vec<T> = graded_about(&zero, &width, &m.pi()).into_iter().filter(|c| *c > zero).collect();
+    let front = m.clone() * b.clone() * sigma.clone() / (m.pi() * m.lit(2.0));
+    let o = Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
+    Ok(integrate_within_pass(f, &Domain::finite(zero, m.pi()).with_breakpoints(cuts), &o)?.scaled(&front))
+}
+
+impl<T: CheckRule> PointLight<T> {
+    /// albedo ∫ σe^{−σr₁}/(4πr₁²) F(x₁) d³x₁: the order-0 ray functional
+    /// `which` of a virtual point light at the interaction point x₁,
+    /// averaged over x₁ (module docs), times e^{c₀}. For Mean and Second
+    /// it is the single-scattered part of μ and of ∫σe^{−σs}⟨𝒞₁²⟩ again,
+    /// by a route that shares no geometry with [`super::scattered`]; for
+    /// Pair23, Pair24 the one-segment-two-spheres part of C₂₃, C₂₄.
+    /// Domain: R > 0, σ > 0, isotropic media.
+    pub(super) fn virtual_average(&self, ff: &FiniteField<T>, which: Functional, opts: &Options) -> Outcome<T> {
+        let like = &self.z;
+        let (r, sigma) = (&ff.radius, &ff.sigma);
+        let (zy, by) = (self.z.clone(), self.b.clone());
+        let zero = like.lit(0.0);
+        let two_pi = like.pi() * like.lit(2.0);
+        // Angles at which the ray from (z_y, b_y) is tangent to the camera's
+        // circle z² + b² = R² (x₁ within R of the camera), and the axes.
+        let mut gamma_cuts = vec![like.pi() / like.lit(2.0), like.pi(), like.pi() * like.lit(1.5)];
+        let dist = (zy.clone() * zy.clone() + by.clone() * by.clone()).sqrt();
+        if dist > *r {
+            // The direction (−z_y, −b_y) towards the camera: π + angle of (z_y, b_y), b_y ≥ 0.
+            let towards = like.pi() + (zy.clone() / dist.clone()).acos();
+            let half = (r.clone() / dist.clone()).asin();
+            for g in [towards.clone() - half.clone(), towards.clone(), towards + half] {
+                let g = if g > two_pi { g - two_pi.clone() } else { g };
+                gamma_cuts.push(g);
+            }
+        }
+        // The scale of the functional, from the light itself: inner
+        // integrals asked for a relative goal only (the coarse pass) get an
+        // absolute floor of a hundredth of their relative goal of it, as the
+        // density they are weighted with integrates to at most 1.
+        let scale = self
+            .ray_integral(ff, which, &Options { rel_tol: 1e-3, abs_tol: 0.0, ..opts.clone() })?
+            .value
+            .abs()
+            .to_f64();
+        let unit = ff.per_hit(which, &self.flux).to_f64() / (2.0 * std::f64::consts::PI);
+        let e = integrate_nested(
+            |gamma: &T, o: &Options| {
+                let (c, s) = (gamma.cos(), gamma.sin());
+                let m_max = if s < zero { Some(by.clone() / (-s.clone())) } else { None };
+                if m_max.as_ref().is_some_and(|m| m.is_zero()) {
+                    return Ok(Estimate::known(zero.clone(), zero.clone(), 0, o.rule));
+                }
+                let mut cuts = Vec::new();
+                if !s.is_zero() {
+                    cuts.push((r.clone() - by.clone()) / s.clone());
+                }
+                // The camera's circle: m² + 2m(z_y c + b_y s) + |y − o|² − R² = 0.
+                let half_b = zy.clone() * c.clone() + by.clone() * s.clone();
+                let disc = half_b.clone() * half_b.clone() - (dist.clone() - r.clone()) * (dist.clone() + r.clone());
+                if disc > zero {
+                    let root = disc.sqrt();
+                    cuts.push(-half_b.clone() - root.clone());
+                    cuts.push(-half_b.clone() + root);
+                    cuts.push(-half_b);
+                }
+                let far = like.lit(4.0) / sigma.clone();
+                cuts.extend(graded_about(&zero, &r.clone().min_of(by.clone().max_of(r.clone())), &far));
+                if let Some(m) = &m_max {
+                    cuts.extend(graded_about(m, &(r.clone() / like.lit(10.0)), m));
+                }
+                let cuts: Vec<T> =
+                    cuts.into_iter().filter(|m| *m > zero && m_max.as_ref().is_none_or(|x| m < x)).collect();
+                let domain = match &m_max {
+                    Some(m) => Domain::finite(zero.clone(), m.clone()).with_decay(sigma.clone()),
+                    None => Domain::semi_infinite(zero.clone()).with_decay(sigma.clone()),
+                }
+                .with_breakpoints(cuts);
+                integrate_within_pass(
+                    |m: &T, o2: &Options| {
+                        let z = zy.clone() + m.clone() * c.clone();
+                        let b = (by.clone() + m.clone() * s.clone()).max_of(zero.clone());
+                        let dens = ring_density(sigma, m, &b, &by, &Options { abs_tol: 0.0, ..o2.clone() })?;
+                        if dens.value.is_zero() {
+                            return Ok(Estimate::known(zero.clone(), zero.clone(), dens.evaluations, o2.rule));
+                        }
+                        let shift = ff.shift.clone() - sigma.clone() * m.clone();
+                        let light = PointLight::new(z, b, self.flux.clone(), r);
+                        // ray_integral_in's abs_tol applies before its constant.
+                        let floor = o2.rel_tol * scale / 100.0;
+                        let each = Options {
+                            abs_tol: ((o2.abs_tol / dens.value.to_f64()).max(floor) / unit).min(f64::MAX),
+                            ..o2.clone()
+                        };
+                        let v = light.ray_integral_in(ff, which, &each, true, &shift)?;
+                        let error = dens.value.abs() * v.error.clone() + v.value.abs() * dens.error.clone();
+                        Ok(Estimate::known(dens.value * v.value, error, dens.evaluations + v.evaluations, o2.rule))
+                    },
+                    &domain,
+                    o,
+                )
+            },
+            &Domain::finite(zero.clone(), two_pi.clone()).with_breakpoints(gamma_cuts),
+            &Options { abs_tol: (opts.abs_tol / ff.albedo.to_f64()).min(f64::MAX), ..opts.clone() },
+        )?;
+        Ok(e.scaled(&ff.albedo))
+    }
+}
+
+impl<T: CheckRule> FiniteField<T> {
+    /// The single-scattered part of μ (Mean) or of ∫σe^{−σs}⟨𝒞₁²⟩ (Second)
+    /// by the virtual-light route: a check of [`FiniteField::scattered_mean`]
+    /// and of the ⟨𝒞₁²⟩ in [`FiniteField::order1_second_added`] that shares
+    /// no geometry with them.
+    pub fn order1_virtual(&self, which: Functional, opts: &Options) -> Result<Estimate<T>, crate::model::OracleError> {
+        self.order1_covered()?;
+        let mut total: Option<Estimate<T>> = None;
+        for light in &self.lights {
+            let super::FiniteLight::Point(p) = light else { unreachable!("order1_covered refuses beams") };
+            let e = p.virtual_average(self, which, opts).map_err(crate::model::OracleError::quad(which.name()))?;
+            total = Some(match total {
+                None => e,
+                Some(t) => t.plus(e),
+            });
+        }
+        Ok(total.expect("order1_covered needs a light"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The ring density integrates to 1 over the half-plane (every first
+    /// segment interacts somewhere): ∫dγ ∫ e^{−σm}·mρ₂ dm, for a light off
+    /// the camera line (the φ-quadrature) and on it (the closed form).
+    #[test]
+    fn ring_density_integrates_to_one() {
+        let sigma = 1.3f64;
+        for (zy, by) in [(1.0f64, 1.0f64), (0.5, 0.0), (2.0, 0.03)] {
+            let o = Options::rel(1e-9).declared();
+            let total = integrate_nested(
+                |gamma: &f64, o: &Options| {
+                    let (c, s) = (gamma.cos(), gamma.sin());
+                    let m_max = if s < 0.0 { by / -s } else { f64::INFINITY };
+                    if m_max == 0.0 {
+                        return Ok(Estimate::known(0.0, 0.0, 0, o.rule));
+                    }
+                    let cuts: Vec<f64> =
+                        graded_about(&0.0, &by.max(1e-3), &(4.0 / sigma)).into_iter().filter(|m| *m > 0.0).collect();
+                    let domain =
+                        if m_max.is_finite() { Domain::finite(0.0, m_max) } else { Domain::semi_infinite(0.0) };
+                    integrate_within_pass(
+                        |m: &f64, o2: &Options| {
+                            let b = (by + m * s).max(0.0);
+                            let _ = zy + m * c;
+                            Ok(ring_density(&sigma, m, &b, &by, o2)?.scaled(&(-sigma * m).exp()))
+                        },
+                        &domain.with_decay(sigma).with_breakpoints(cuts),
+                        o,
+                    )
+                },
+                &Domain::finite(0.0, 2.0 * std::f64::consts::PI)
+                    .with_breakpoints([std::f64::consts::PI, 1.5 * std::f64::consts::PI]),
+                &o,
+            )
+            .unwrap();
+            assert!(
+                (total.value - 1.0).abs() <= 1e-8 + total.error,
+                "(z_y, b_y) = ({zy}, {by}): {} ± {}",
+                total.value,
+                total.error
+            );
+        }
+    }
+}
