@@ -6,9 +6,9 @@
 //! spheres it hits) and, with probability albedo, the scattered one (𝒞₁),
 //! so every moment of §9.1 is a sum over the pair of segments:
 //!
-//! - ⟨𝒞⟩ = ⟨𝒞₀⟩ + ⟨𝒞₁⟩ (P and Q from it, [`FiniteField::order1_mean_with_bar`]);
+//! - ⟨𝒞⟩ = ⟨𝒞₀⟩ + ⟨𝒞₁⟩ (P and Q from it, `FiniteField::order1_mean_with_bar`);
 //! - ⟨𝒞²⟩ = ⟨𝒞₀²⟩ + ⟨𝒞₁²⟩ + 2⟨𝒞₀𝒞₁⟩: the last, one path hitting the
-//!   same sphere with both segments, is [`PointLight::same_path_moment`];
+//!   same sphere with both segments, is `PointLight::same_path_moment`;
 //! - ⟨𝒞(s)𝒞(s′)⟩ = ⟨𝒞₀𝒞₀⟩ + ⟨𝒞₁𝒞₁⟩ + ⟨𝒞₀(s)𝒞₁(s′)⟩ + ⟨𝒞₁(s)𝒞₀(s′)⟩:
 //!   one scattered segment meeting two spheres, and the two segments of
 //!   one path meeting one sphere each (`order1_pairs`).
