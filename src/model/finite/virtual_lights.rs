@@ -4,11 +4,11 @@
 //! any order-0 ray functional of §9.1 (μ, M₂, C₂₃, C₂₄) has a
 //! single-scattered counterpart that is its average over x₁ with the
 //! density albedo·σe^{−σr₁}/(4πr₁²) (r₁ = |x₁ − y|, isotropic scattering)
-//! ([`PointLight::virtual_average`]).
+//! (`PointLight::virtual_average`).
 //!
 //! The functional depends on x₁ through its foot z and distance b from the
 //! camera line only, so the average is over the half-plane (z, b) with the
-//! density integrated around the line ([`ring_density`]), in polar
+//! density integrated around the line (`ring_density`), in polar
 //! coordinates (m, γ) about the light's own (z_y, b_y), whose dz db = m dm dγ
 //! absorbs the density's 1/m there. Four nested levels: γ, m, and the
 //! functional's own two.
