@@ -11,7 +11,7 @@
 //!   same sphere with both segments, is `PointLight::same_path_moment`;
 //! - ⟨𝒞(s)𝒞(s′)⟩ = ⟨𝒞₀𝒞₀⟩ + ⟨𝒞₁𝒞₁⟩ + ⟨𝒞₀(s)𝒞₁(s′)⟩ + ⟨𝒞₁(s)𝒞₀(s′)⟩:
 //!   one scattered segment meeting two spheres, and the two segments of
-//!   one path meeting one sphere each (`order1_pairs`).
+//!   one path meeting one sphere each (to come, §9.6).
 //!
 //! In an isotropic medium f = 1/4π on every segment, so each moment is
 //! (c f)^k times a probability of hits.
@@ -83,7 +83,9 @@ impl<T: CheckRule> PointLight<T> {
                     let each = Options { abs_tol: (inner.abs_tol / weight.to_f64()).min(f64::MAX), ..inner.clone() };
                     Ok(second_hit_after(sigma, r, w, &each)?.scaled(&weight))
                 },
-                &Domain::finite(x.lit(0.0), r.clone()),
+                // w/√(D² − R² + w²) climbs from 0 to ~1 over w ~ √(D² − R²):
+                // graded when the sphere nearly holds the light.
+                &Domain::finite(x.lit(0.0), r.clone()).with_breakpoints(graded_about(&x.lit(0.0), &gap.sqrt(), r)),
                 &o,
             )?
         } else {
@@ -139,7 +141,7 @@ impl<T: CheckRule> FiniteField<T> {
             FiniteLight::Point(p) => {
                 let own = p.scattered_moment(self, x, 2, &share)?;
                 let both = p.same_path_moment(self, x, &Options { abs_tol: share.abs_tol / 2.0, ..share.clone() })?;
-                Ok(own.plus(both.clone().plus(both)))
+                Ok(own.plus(both.scaled(&x.lit(2.0))))
             }
             FiniteLight::Beam(_) => unreachable!("order1_covered refuses beams"),
         })

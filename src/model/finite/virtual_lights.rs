@@ -37,7 +37,8 @@ use crate::quad::{integrate_nested, integrate_within_pass, CheckRule, Domain, Es
 /// returned without the e^{−σm} (the caller carries it in its shift),
 /// r − m = k sin²(φ/2)/(r + m) formed without cancellation; the kernel's
 /// width near φ = 0, 2m/√k, is graded by decades. At m = 0 the limit
-/// σb/(2√k). Domain: m, b, b_y ≥ 0.
+/// σb/(2√k). Domain: m, b, b_y ≥ 0 with |b − b_y| ≤ m (a point of the
+/// half-plane at distance m from the light's; so b = 0 when m = b_y = 0).
 pub(crate) fn ring_density<T: CheckRule>(sigma: &T, m: &T, b: &T, b_y: &T, opts: &Options) -> Outcome<T> {
     let k = b.lit(4.0) * b.clone() * b_y.clone();
     let known = |v: T| Ok(Estimate::known(v, m.lit(0.0), 1, opts.rule));
@@ -92,10 +93,12 @@ impl<T: CheckRule> PointLight<T> {
                 gamma_cuts.push(g);
             }
         }
-        // The scale of the functional, from the light itself: inner
-        // integrals asked for a relative goal only (the coarse pass) get an
-        // absolute floor of a hundredth of their relative goal of it, as the
-        // density they are weighted with integrates to at most 1.
+        // The scale of the functional, from the light itself: every inner
+        // functional gets an absolute floor of a hundredth of its relative
+        // goal of it, times e^{−σm} (the functional carries that factor in
+        // its shift, and ∫ e^{−σm}·mρ₂ dm dγ = 1), so that inner integrals
+        // asked for a relative goal only (the coarse pass) end, and all of
+        // them together add at most that floor to the total.
         let scale = self
             .ray_integral(ff, which, &Options { rel_tol: 1e-3, abs_tol: 0.0, ..opts.clone() })?
             .value
@@ -123,7 +126,11 @@ impl<T: CheckRule> PointLight<T> {
                     cuts.push(-half_b);
                 }
                 let far = like.lit(4.0) / sigma.clone();
-                cuts.extend(graded_about(&zero, &r.clone().min_of(by.clone().max_of(r.clone())), &far));
+                // mρ₂ changes on the scale b_y (σ/4 at m = 0 to σb/2m), F on R.
+                cuts.extend(graded_about(&zero, r, &far));
+                if by > zero {
+                    cuts.extend(graded_about(&zero, &by.clone().min_of(r.clone()), &far));
+                }
                 if let Some(m) = &m_max {
                     cuts.extend(graded_about(m, &(r.clone() / like.lit(10.0)), m));
                 }
@@ -145,7 +152,7 @@ impl<T: CheckRule> PointLight<T> {
                         let shift = ff.shift.clone() - sigma.clone() * m.clone();
                         let light = PointLight::new(z, b, self.flux.clone(), r);
                         // ray_integral_in's abs_tol applies before its constant.
-                        let floor = o2.rel_tol * scale / 100.0;
+                        let floor = o2.rel_tol * scale / 100.0 * (-(sigma.to_f64() * m.to_f64())).exp();
                         let each = Options {
                             abs_tol: ((o2.abs_tol / dens.value.to_f64()).max(floor) / unit).min(f64::MAX),
                             ..o2.clone()
@@ -172,10 +179,11 @@ impl<T: CheckRule> FiniteField<T> {
     /// no geometry with them.
     pub fn order1_virtual(&self, which: Functional, opts: &Options) -> Result<Estimate<T>, crate::model::OracleError> {
         self.order1_covered()?;
+        let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, ..opts.clone() };
         let mut total: Option<Estimate<T>> = None;
         for light in &self.lights {
             let super::FiniteLight::Point(p) = light else { unreachable!("order1_covered refuses beams") };
-            let e = p.virtual_average(self, which, opts).map_err(crate::model::OracleError::quad(which.name()))?;
+            let e = p.virtual_average(self, which, &share).map_err(crate::model::OracleError::quad(which.name()))?;
             total = Some(match total {
                 None => e,
                 Some(t) => t.plus(e),
