@@ -232,9 +232,9 @@ fn single_scattered_mean_by_two_routes() {
 }
 
 /// Hard cases of the order-1 moments: a sphere of radius 10 (holding light
-/// and camera), R = 10⁻⁸, a light 10⁻⁶ from the camera line, and σ × the
-/// light's distance at 693 (near the scene's bound; μ₁ and M₂ converge, P
-/// must fail there, loudly, see `docs/model.md` §9.6). Each converges with a
+/// and camera), R = 10⁻⁸, a light 10⁻⁶ from the camera line, σ × the
+/// light's distance at 42, and at 693 (near the scene's bound; μ₁ and M₂
+/// converge, P must fail there, loudly, see `docs/model.md` §9.6). Each converges with a
 /// bar ≤ 10⁻⁶ relative and a finite, positive value; at R = 10⁻⁸ M₂ and P
 /// agree with the small-sphere ones (§3a with E9) within 10⁻⁶ relative.
 #[test]
@@ -245,6 +245,9 @@ fn order1_moments_converge_in_hard_cases() {
     let mut near = scene(0.2, 1, 0.8);
     near.lights = vec![Light::Point { position: DVec3::new(1e-6, 0.0, 1.0), flux: 1.0 }];
     cases.push(("light 1e-6 from the line", near, true));
+    let mut dense = scene(0.2, 1, 0.8);
+    dense.medium.sigma_ext = 30.0;
+    cases.push(("σ·|y − o| = 42", dense, true));
     let mut thick = scene(0.01, 1, 0.8);
     thick.medium.sigma_ext = 490.0;
     cases.push(("σ·|y − o| = 693", thick, false));

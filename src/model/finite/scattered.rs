@@ -101,12 +101,15 @@ pub(super) fn hits_over_distance<T: CheckRule>(
     }
     cuts.extend(crate::model::field::graded_about(&big_d.lit(0.0), r, big_d).into_iter().filter(|c| c > r));
     let domain = Domain::semi_infinite(big_d.lit(0.0)).with_breakpoints(cuts).with_decay(sigma.clone());
+    // The result is the integral times σ/(2D): its absolute goal, before.
+    let factor = sigma.clone() / (big_d.lit(2.0) * big_d.clone());
+    let opts = &Options { abs_tol: (opts.abs_tol / factor.to_f64()).min(f64::MAX), ..opts.clone() };
     let e = if within {
         integrate_within_pass(|d: &T, o: &Options| Ok(Estimate::known(f(d), d.lit(0.0), 1, o.rule)), &domain, opts)?
     } else {
         integrate(f, &domain, opts)?
     };
-    Ok(e.scaled(&(sigma.clone() / (big_d.lit(2.0) * big_d.clone()))))
+    Ok(e.scaled(&factor))
 }
 
 impl<T: CheckRule> PointLight<T> {
