@@ -16,7 +16,7 @@
 //! For μ this is a second route to §9.5's I(D), sharing no geometry with it
 //! (the hit intervals of §9.2 against the cap of §9.5):
 //! `tests/finite_order1.rs` (ignored: ~4.5 minutes on two cores at 10⁻⁴,
-//! 3.5·10⁹ evaluations).
+//! 3.6·10⁹ evaluations).
 //! For C₂₃, C₂₄ it is the one-segment-two-spheres part of order 1, not yet
 //! affordable this way (§9.6).
 
