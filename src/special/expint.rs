@@ -14,11 +14,8 @@ const E2_CF_FROM: f64 = 0.45;
 /// E₁(x) = ∫₁^∞ e^{−xt}/t dt (the appendix's Ei(1, x)). Domain x > 0
 /// (+∞ at 0, NaN below). Underflows to 0 past x ≈ 745 in f64.
 pub fn exp_int_e1<T: Real>(x: &T) -> T {
-    if !(x.clone() >= x.lit(0.0)) {
-        return x.lit(f64::NAN);
-    }
-    if x.is_zero() {
-        return x.lit(f64::INFINITY);
+    if let Some(edge) = domain_edge(x) {
+        return edge;
     }
     if x.clone() >= x.lit(E1_CF_FROM) {
         return en_continued_fraction(1, x);
@@ -45,11 +42,8 @@ pub fn exp_int_e1<T: Real>(x: &T) -> T {
 /// below). Same split as [`exp_int_e1`]: the continued fraction without its
 /// factor e^{−x} for x ≥ 0.5, e^{x} times the series below.
 pub fn exp_int_e1_scaled<T: Real>(x: &T) -> T {
-    if !(x.clone() >= x.lit(0.0)) {
-        return x.lit(f64::NAN);
-    }
-    if x.is_zero() {
-        return x.lit(f64::INFINITY);
+    if let Some(edge) = domain_edge(x) {
+        return edge;
     }
     if x.clone() >= x.lit(E1_CF_FROM) {
         return en_continued_fraction_scaled(1, x);
@@ -62,11 +56,8 @@ pub fn exp_int_e1_scaled<T: Real>(x: &T) -> T {
 /// difference e^{−X} − X E₁(X) cancels; there E₂ comes from its own continued
 /// fraction.
 pub fn exp_int_tail2<T: Real>(x: &T) -> T {
-    if !(x.clone() >= x.lit(0.0)) {
-        return x.lit(f64::NAN);
-    }
-    if x.is_zero() {
-        return x.lit(f64::INFINITY);
+    if let Some(edge) = domain_edge(x) {
+        return edge;
     }
     let e2 = if x.clone() >= x.lit(E2_CF_FROM) {
         en_continued_fraction(2, x)
@@ -101,6 +92,18 @@ fn en_denominator<T: Real>(n: u32, x: &T) -> T {
         f = b(k) + a(k + 1) / f;
     }
     f
+}
+
+/// The value at the edge of the domain x > 0 shared by E₁, e^{x}E₁ and
+/// E₂/x: NaN below 0 (and for NaN), +∞ at 0; `None` inside.
+fn domain_edge<T: Real>(x: &T) -> Option<T> {
+    if !(x.clone() >= x.lit(0.0)) {
+        return Some(x.lit(f64::NAN));
+    }
+    if x.is_zero() {
+        return Some(x.lit(f64::INFINITY));
+    }
+    None
 }
 
 /// Depth at which the forward (Lentz) evaluation of the E_n fraction has

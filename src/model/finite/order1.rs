@@ -64,12 +64,19 @@ impl<T: CheckRule> PointLight<T> {
     /// R > 0. Deviation: the paper has no such term (E9: §3b's small-sphere
     /// limit of it).
     pub(crate) fn same_path_moment(&self, ff: &FiniteField<T>, x: &T, opts: &Options) -> Outcome<T> {
-        let dz = (ff.center.clone() - self.z.clone()) + x.clone();
-        let big_d = (dz.clone() * dz + self.b.clone() * self.b.clone()).sqrt();
+        let (big_d, _) = self.distance_to(ff, x);
         let (sigma, r) = (&ff.sigma, &ff.radius);
         let f = x.lit(1.0) / (x.pi() * x.lit(4.0));
         let front = ff.per_hit_power(2, &self.flux) * f.clone() * f * ff.albedo.clone() / x.lit(2.0);
         let o = Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
+        // weight·K(w): the cap's measure and reach times the second hit.
+        let weighted = |w: &T, weight: T, inner: &Options| {
+            if weight.is_zero() {
+                return Ok(Estimate::known(w.lit(0.0), w.lit(0.0), 0, inner.rule));
+            }
+            let each = Options { abs_tol: (inner.abs_tol / weight.to_f64()).min(f64::MAX), ..inner.clone() };
+            Ok(second_hit_after(sigma, r, w, &each)?.scaled(&weight))
+        };
         let e = if big_d > *r {
             let gap = (big_d.clone() - r.clone()) * (big_d.clone() + r.clone());
             integrate_within_pass(
@@ -77,11 +84,7 @@ impl<T: CheckRule> PointLight<T> {
                     let reach = (gap.clone() + w.clone() * w.clone()).sqrt();
                     let weight =
                         w.clone() / (big_d.clone() * reach.clone()) * (ff.shift.clone() - sigma.clone() * reach).exp();
-                    if weight.is_zero() {
-                        return Ok(Estimate::known(w.lit(0.0), w.lit(0.0), 0, inner.rule));
-                    }
-                    let each = Options { abs_tol: (inner.abs_tol / weight.to_f64()).min(f64::MAX), ..inner.clone() };
-                    Ok(second_hit_after(sigma, r, w, &each)?.scaled(&weight))
+                    weighted(w, weight, inner)
                 },
                 // w/√(D² − R² + w²) climbs from 0 to ~1 over w ~ √(D² − R²):
                 // graded when the sphere nearly holds the light.
@@ -94,11 +97,7 @@ impl<T: CheckRule> PointLight<T> {
                     let p = big_d.clone() * psi.sin();
                     let w = ((r.clone() - p.clone()) * (r.clone() + p)).sqrt();
                     let weight = psi.sin() * (ff.shift.clone() - sigma.clone() * big_d.clone() * psi.cos()).exp();
-                    if weight.is_zero() {
-                        return Ok(Estimate::known(psi.lit(0.0), psi.lit(0.0), 0, inner.rule));
-                    }
-                    let each = Options { abs_tol: (inner.abs_tol / weight.to_f64()).min(f64::MAX), ..inner.clone() };
-                    Ok(second_hit_after(sigma, r, &w, &each)?.scaled(&weight))
+                    weighted(&w, weight, inner)
                 },
                 &Domain::finite(x.lit(0.0), cap_half_angle(&big_d, r)),
                 &o,

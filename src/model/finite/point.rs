@@ -279,9 +279,15 @@ impl<T: CheckRule> PointLight<T> {
     /// Distance d from the light and (cos γ, sin γ) of w = (x(s) − y)/d
     /// against u, at s = center + x.
     fn seen_from(&self, ff: &FiniteField<T>, x: &T) -> (T, T, T) {
-        let dz = (ff.center.clone() - self.z.clone()) + x.clone(); // s − z
-        let d = (dz.clone() * dz.clone() + self.b.clone() * self.b.clone()).sqrt();
+        let (d, dz) = self.distance_to(ff, x);
         (d.clone(), dz / d.clone(), self.b.clone() / d)
+    }
+
+    /// (D, s − z): the distance from the light to the sphere's centre at
+    /// s = center + x, and its axial part.
+    pub(super) fn distance_to(&self, ff: &FiniteField<T>, x: &T) -> (T, T) {
+        let dz = (ff.center.clone() - self.z.clone()) + x.clone(); // s − z
+        ((dz.clone() * dz.clone() + self.b.clone() * self.b.clone()).sqrt(), dz)
     }
 
     /// ⟨𝒞^k⟩_R·e^{c₀} at s = center + x in an isotropic medium (f = 1/4π),

@@ -28,7 +28,6 @@ use crate::model::OracleError;
 use crate::quad::{integrate, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
 use crate::real::Real;
 use crate::special::{exp_int_e1_scaled, exp_segment};
-use mcrt_scene::Phase;
 
 /// H(d): the chance that an isotropic ray from distance d, with a free
 /// path ~ Exp(σ), hits a sphere of radius R (its closest point ahead,
@@ -118,8 +117,7 @@ impl<T: CheckRule> PointLight<T> {
     /// there (module docs). Isotropic media only. Not in the paper: exact
     /// at R where its §3a takes the field at the centre.
     pub(crate) fn scattered_moment(&self, ff: &FiniteField<T>, x: &T, power: i32, opts: &Options) -> Outcome<T> {
-        let dz = (ff.center.clone() - self.z.clone()) + x.clone();
-        let big_d = (dz.clone() * dz + self.b.clone() * self.b.clone()).sqrt();
+        let (big_d, _) = self.distance_to(ff, x);
         let f = x.lit(1.0) / (x.pi() * x.lit(4.0));
         let front =
             ff.per_hit_power(power, &self.flux) * if power == 1 { f } else { f.clone() * f } * ff.albedo.clone();
@@ -134,21 +132,14 @@ impl<T: CheckRule> FiniteField<T> {
     /// lights (refused otherwise). The uncollided part is
     /// [`FiniteField::ray_total`] of the mean.
     pub fn scattered_mean(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
-        if self.phase != Phase::Isotropic || self.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
-            return Err(OracleError::Unsupported(
-                "the finite-sphere single-scattered mean covers isotropic media with point lights".into(),
-            ));
-        }
+        self.order1_covered()?;
         self.with_line(|line| {
             line.integral_nested("finite-sphere ∫⟨𝒞⟩₁, single-scattered", opts, |x, o| {
-                let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
                 let share = Options { abs_tol: o.abs_tol / self.lights.len() as f64, ..o.clone() };
-                for light in &self.lights {
-                    if let FiniteLight::Point(p) = light {
-                        total = total.plus(p.scattered_moment(self, x, 1, &share)?);
-                    }
-                }
-                Ok(total)
+                self.sum_over_lights(x, o, |_, light| match light {
+                    FiniteLight::Point(p) => p.scattered_moment(self, x, 1, &share),
+                    FiniteLight::Beam(_) => unreachable!("order1_covered refuses beams"),
+                })
             })
         })
     }
