@@ -18,7 +18,9 @@
 
 use super::point::{cap_half_angle, PointLight};
 use super::scattered::hit_chance;
-use super::{FiniteField, FiniteLight};
+use super::cross_segments::CrossPair;
+use super::ray::Functional;
+use super::{FiniteField, FiniteIntegrals, FiniteLight};
 use crate::model::field::graded_about;
 use crate::model::OracleError;
 use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
@@ -168,5 +170,47 @@ impl<T: CheckRule> FiniteField<T> {
         let with_bar = |x: &T, _tol: f64, o: &Options| self.order1_mean_with_bar(x, o);
         let source = crate::model::along::MeanSource::WithBar(&with_bar);
         self.with_line(|line| rayon::join(|| line.p_single(&source, opts), || line.q_pair(&source, opts)))
+    }
+}
+
+impl<T: CheckRule> FiniteField<T> {
+    /// What single scattering adds to C₂₃ (`Pair23`) or C₂₄ (`Pair24`),
+    /// times e^{c₀}: one scattered segment meeting both spheres (the
+    /// virtual-light average of the order-0 pair functional,
+    /// [`FiniteField::order1_virtual`]) plus the two segments of one path
+    /// meeting one sphere each ([`FiniteField::order1_cross`]).
+    pub fn order1_pair_added(&self, which: Functional, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        let pair = match which {
+            Functional::Pair23 => CrossPair::C23,
+            Functional::Pair24 => CrossPair::C24,
+            _ => return Err(OracleError::Unsupported(format!("{} is not a correlation", which.name()))),
+        };
+        let half = Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() };
+        let (one, two) = rayon::join(|| self.order1_virtual(which, &half), || self.order1_cross(pair, &half));
+        Ok(one?.plus(two?))
+    }
+
+    /// Every integral of the order-1 model (uncollided plus single-scattered
+    /// light; isotropic media, point lights), each times e^{c₀}.
+    pub fn order1_integrals(&self, opts: &Options) -> Result<FiniteIntegrals<T>, OracleError> {
+        self.order1_covered()?;
+        let o = &opts.clone().declared();
+        let add = |a: Result<Estimate<T>, OracleError>, b: Result<Estimate<T>, OracleError>| Ok::<_, OracleError>(a?.plus(b?));
+        let (((mean0, mean1), (m20, m21)), ((c230, c231), (c240, c241))) = rayon::join(
+            || {
+                rayon::join(
+                    || rayon::join(|| self.ray_total(Functional::Mean, o), || self.scattered_mean(o)),
+                    || rayon::join(|| self.ray_total(Functional::Second, o), || self.order1_second_added(o)),
+                )
+            },
+            || {
+                rayon::join(
+                    || rayon::join(|| self.ray_total(Functional::Pair23, o), || self.order1_pair_added(Functional::Pair23, o)),
+                    || rayon::join(|| self.ray_total(Functional::Pair24, o), || self.order1_pair_added(Functional::Pair24, o)),
+                )
+            },
+        );
+        let (p, q) = self.order1_p_and_q(o);
+        Ok(FiniteIntegrals { mean: add(mean0, mean1)?, m2: add(m20, m21)?, p: p?, q: q?, c23: add(c230, c231)?, c24: add(c240, c241)? })
     }
 }

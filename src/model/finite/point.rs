@@ -63,7 +63,7 @@ pub struct PointLight<T> {
 
 /// A ray's azimuth as the hit geometry needs it.
 #[derive(Debug, Clone)]
-struct Azimuth<T> {
+pub(super) struct Azimuth<T> {
     /// B = b cos χ (> 0: heading towards the camera line).
     bcos: T,
     /// ρ = √(R² − b² sin²χ), half-width of the window (in the plane ⊥ v).
@@ -93,13 +93,13 @@ impl<T: CheckRule> PointLight<T> {
         PointLight { z, b, flux, disc_camera, b2_minus_r2 }
     }
 
-    fn azimuth(&self, bcos: T, rho: T) -> Azimuth<T> {
+    pub(super) fn azimuth(&self, bcos: T, rho: T) -> Azimuth<T> {
         let (plus, minus) = sum_and_difference(&bcos, &rho, &self.b2_minus_r2);
         Azimuth { bcos, rho, plus, minus }
     }
 
     /// The hit interval of the ray (ϑ, χ), or `None` when it hits nothing.
-    fn hit(&self, dir: &Direction<T>, az: &Azimuth<T>) -> Option<Hit<T>> {
+    pub(super) fn hit(&self, dir: &Direction<T>, az: &Azimuth<T>) -> Option<Hit<T>> {
         let (s, mu, z) = (&dir.sin, &dir.mu, &self.z);
         let (bb, rho) = (&az.bcos, &az.rho);
         let zero = s.lit(0.0);

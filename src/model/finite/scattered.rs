@@ -44,7 +44,7 @@ pub fn hit_chance<T: Real>(sigma: &T, r: &T, d: &T) -> T {
 /// the sphere's surface along the cap's rim (0 when d ≤ R) and rest =
 /// ½F₁(σd, 1 − c_R), so that a caller can put the attenuation into one
 /// exponent with others.
-fn hit_chance_parts<T: Real>(sigma: &T, r: &T, d: &T) -> (T, T) {
+pub(super) fn hit_chance_parts<T: Real>(sigma: &T, r: &T, d: &T) -> (T, T) {
     let half = d.lit(0.5);
     if d <= r {
         return (d.lit(0.0), half * exp_segment(&(sigma.clone() * d.clone()), Some(&d.lit(1.0))));

@@ -66,6 +66,18 @@ pub(crate) fn ring_density<T: CheckRule>(sigma: &T, m: &T, b: &T, b_y: &T, opts:
     Ok(integrate_within_pass(f, &Domain::finite(zero, m.pi()).with_breakpoints(cuts), &o)?.scaled(&front))
 }
 
+/// A point of the half-plane (z, b) about the camera line, m from the
+/// light's own (z_y, b_y): z = z_y + dz, b = b_y + db ≥ 0, the offsets as
+/// formed from m and γ (exact where z and b round them away).
+#[derive(Debug, Clone)]
+pub(super) struct Offset<T> {
+    pub z: T,
+    pub b: T,
+    pub m: T,
+    pub dz: T,
+    pub db: T,
+}
+
 impl<T: CheckRule> PointLight<T> {
     /// albedo ∫ σe^{−σr₁}/(4πr₁²) F(x₁) d³x₁: the order-0 ray functional
     /// `which` of a virtual point light at the interaction point x₁,
@@ -75,6 +87,59 @@ impl<T: CheckRule> PointLight<T> {
     /// Pair23, Pair24 the one-segment-two-spheres part of C₂₃, C₂₄.
     /// Domain: R > 0, σ > 0, isotropic media.
     pub(super) fn virtual_average(&self, ff: &FiniteField<T>, which: Functional, opts: &Options) -> Outcome<T> {
+        let (r, sigma) = (&ff.radius, &ff.sigma);
+        let zero = self.z.lit(0.0);
+        // The scale of the functional, from the light itself: every inner
+        // functional gets an absolute floor of a hundredth of its relative
+        // goal of it, times e^{−σm} (the functional carries that factor in
+        // its shift, and ∫ e^{−σm}·mρ₂ dm dγ = 1), so that inner integrals
+        // asked for a relative goal only (the coarse pass) end, and all of
+        // them together add at most that floor to the total.
+        let scale = self
+            .ray_integral(ff, which, &Options { rel_tol: 1e-3, abs_tol: 0.0, ..opts.clone() })?
+            .value
+            .abs()
+            .to_f64();
+        let unit = ff.per_hit(which, &self.flux).to_f64() / (2.0 * std::f64::consts::PI);
+        let node = |at: &Offset<T>, o2: &Options| {
+            let (m, z, b) = (&at.m, &at.z, &at.b);
+            let dens = ring_density(sigma, m, b, &self.b, &Options { abs_tol: 0.0, ..o2.clone() })?;
+            if dens.value.is_zero() {
+                return Ok(Estimate::known(zero.clone(), zero.clone(), dens.evaluations, o2.rule));
+            }
+            let shift = ff.shift.clone() - sigma.clone() * m.clone();
+            let light = PointLight::new(z.clone(), b.clone(), self.flux.clone(), r);
+            // ray_integral_in's abs_tol applies before its constant.
+            let floor = o2.rel_tol * scale / 100.0 * (-(sigma.to_f64() * m.to_f64())).exp();
+            let each = Options {
+                abs_tol: ((o2.abs_tol / dens.value.to_f64()).max(floor) / unit).min(f64::MAX),
+                ..o2.clone()
+            };
+            let v = light.ray_integral_in(ff, which, &each, true, &shift)?;
+            let error = dens.value.abs() * v.error.clone() + v.value.abs() * dens.error.clone();
+            Ok(Estimate::known(dens.value * v.value, error, dens.evaluations + v.evaluations, o2.rule))
+        };
+        let e = self.over_half_plane(
+            ff,
+            &node,
+            &Options { abs_tol: (opts.abs_tol / ff.albedo.to_f64()).min(f64::MAX), ..opts.clone() },
+        )?;
+        Ok(e.scaled(&ff.albedo))
+    }
+
+    /// ∫₀^{2π} dγ ∫ dm node(m, z, b) over the half-plane (z, b) of points
+    /// about the camera line, in polar coordinates (m, γ) about the light's
+    /// own (z_y, b_y): z = z_y + m cos γ, b = b_y + m sin γ ≥ 0 (`node`
+    /// carries the Jacobian m). Declared: the axes, the rays from the light
+    /// tangent to the camera's circle z² + b² = R² and its crossings, the
+    /// line b = R, gradings about m = 0 on the scales R and b_y, the edge
+    /// b = 0 and the decay rate σ.
+    pub(super) fn over_half_plane(
+        &self,
+        ff: &FiniteField<T>,
+        node: &(dyn Fn(&Offset<T>, &Options) -> Outcome<T> + Sync),
+        opts: &Options,
+    ) -> Outcome<T> {
         let like = &self.z;
         let (r, sigma) = (&ff.radius, &ff.sigma);
         let (zy, by) = (self.z.clone(), self.b.clone());
@@ -93,19 +158,7 @@ impl<T: CheckRule> PointLight<T> {
                 gamma_cuts.push(g);
             }
         }
-        // The scale of the functional, from the light itself: every inner
-        // functional gets an absolute floor of a hundredth of its relative
-        // goal of it, times e^{−σm} (the functional carries that factor in
-        // its shift, and ∫ e^{−σm}·mρ₂ dm dγ = 1), so that inner integrals
-        // asked for a relative goal only (the coarse pass) end, and all of
-        // them together add at most that floor to the total.
-        let scale = self
-            .ray_integral(ff, which, &Options { rel_tol: 1e-3, abs_tol: 0.0, ..opts.clone() })?
-            .value
-            .abs()
-            .to_f64();
-        let unit = ff.per_hit(which, &self.flux).to_f64() / (2.0 * std::f64::consts::PI);
-        let e = integrate_nested(
+        integrate_nested(
             |gamma: &T, o: &Options| {
                 let (c, s) = (gamma.cos(), gamma.sin());
                 let m_max = if s < zero { Some(by.clone() / (-s.clone())) } else { None };
@@ -143,32 +196,17 @@ impl<T: CheckRule> PointLight<T> {
                 .with_breakpoints(cuts);
                 integrate_within_pass(
                     |m: &T, o2: &Options| {
-                        let z = zy.clone() + m.clone() * c.clone();
-                        let b = (by.clone() + m.clone() * s.clone()).max_of(zero.clone());
-                        let dens = ring_density(sigma, m, &b, &by, &Options { abs_tol: 0.0, ..o2.clone() })?;
-                        if dens.value.is_zero() {
-                            return Ok(Estimate::known(zero.clone(), zero.clone(), dens.evaluations, o2.rule));
-                        }
-                        let shift = ff.shift.clone() - sigma.clone() * m.clone();
-                        let light = PointLight::new(z, b, self.flux.clone(), r);
-                        // ray_integral_in's abs_tol applies before its constant.
-                        let floor = o2.rel_tol * scale / 100.0 * (-(sigma.to_f64() * m.to_f64())).exp();
-                        let each = Options {
-                            abs_tol: ((o2.abs_tol / dens.value.to_f64()).max(floor) / unit).min(f64::MAX),
-                            ..o2.clone()
-                        };
-                        let v = light.ray_integral_in(ff, which, &each, true, &shift)?;
-                        let error = dens.value.abs() * v.error.clone() + v.value.abs() * dens.error.clone();
-                        Ok(Estimate::known(dens.value * v.value, error, dens.evaluations + v.evaluations, o2.rule))
+                        let (dz, db) = (m.clone() * c.clone(), (m.clone() * s.clone()).max_of(-by.clone()));
+                        let at = Offset { z: zy.clone() + dz.clone(), b: by.clone() + db.clone(), m: m.clone(), dz, db };
+                        node(&at, o2)
                     },
                     &domain,
                     o,
                 )
             },
             &Domain::finite(zero.clone(), two_pi.clone()).with_breakpoints(gamma_cuts),
-            &Options { abs_tol: (opts.abs_tol / ff.albedo.to_f64()).min(f64::MAX), ..opts.clone() },
-        )?;
-        Ok(e.scaled(&ff.albedo))
+            opts,
+        )
     }
 }
 

@@ -1,0 +1,325 @@
+//! Order-1 correlations of the two segments of one path (`docs/model.md`
+//! §9.7): the uncollided segment hits the sphere at s, the scattered one
+//! the sphere at s′ (and the mirror pair). Isotropic media, point lights.
+//!
+//! Given the interaction point x₁ (density σe^{−σr₁}/(4πr₁²), r₁ = |x₁ − y|)
+//! the first segment is the chord y → x₁: it hits exactly the spheres of
+//! its hit interval J (§9.2) whose closest points it reaches, τ(s) ≤ r₁,
+//! an interval [s₀, s₁] of the camera line. The second segment, isotropic
+//! from x₁, hits the sphere at s′ with the chance H(|x₁ − x(s′)|) (§9.5)
+//! whatever the first did. With the weights of §9.1 the pair adds
+//!
+//!   X₂₄ = 2∫∫σ²e^{−σ(s+s′)}⟨𝒞₀(s)𝒞₁(s′)⟩ = 2κ ∫ρ(x₁) σe^{−σs₀}F₁(σ, s₁ − s₀) · σB(∞) d³x₁,
+//!   X₂₃ = ∫∫σ²e^{−σ max(s,s′)}⟨𝒞₀(s)𝒞₁(s′)⟩ = κ ∫ρ(x₁) [𝒦(s₁) − 𝒦(s₀)] d³x₁,
+//!
+//! κ = albedo c²f² Φ/𝓕 (f = 1/4π), to C₂₄ and C₂₃, where with the
+//! cumulants A, B, C of H along the camera line from x₁
+//! (`hit_cumulants`) and E(s) = σ(B(∞) − B(s)),
+//!
+//!   K(s) = ∫σ²e^{−σ max(s,s′)}H(s′)ds′ = σ²e^{−σs}A(s) + σE(s),
+//!   𝒦(s) = ∫₀^s K = −σe^{−σs}A(s) + σB(s) + σsE(s) + σ²C(s)
+//!
+//! (by parts; 𝒦′ = K is checked in `tests/finite_order1.rs`). x₁ is
+//! integrated in cylindrical coordinates about the camera line: the
+//! half-plane (z, b) by `PointLight::over_half_plane` and the azimuth φ
+//! about the line, measured from the light's, here.
+
+use super::hit_cumulants::HitCumulants;
+use super::point::PointLight;
+use super::virtual_lights::Offset;
+use super::ray::Functional;
+use super::FiniteField;
+use crate::model::angular::Direction;
+use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Failure, Options, Outcome};
+use crate::special::exp_segment;
+use std::sync::OnceLock;
+
+/// Which correlation the pair feeds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CrossPair {
+    /// C₂₃ (16): the later sphere's attenuation, σ²e^{−σ max(s, s′)}.
+    C23,
+    /// C₂₄ (18): both spheres', σ²e^{−σ(s + s′)}.
+    C24,
+}
+
+/// The first segment y → x₁ as the hit geometry of §9.2 sees it.
+struct Chord<T> {
+    dir: Direction<T>,
+    /// B = b_y cos χ and the window half-width ρ (`None`: the chord's line
+    /// passes farther than R from the camera line).
+    window: Option<(T, T)>,
+    r1: T,
+}
+
+impl<T: CheckRule> PointLight<T> {
+    /// X₂₃ or X₂₄ of this light (module docs), times e^{c₀}, without κ.
+    pub(super) fn cross_segments(&self, ff: &FiniteField<T>, pair: CrossPair, opts: &Options) -> Outcome<T> {
+        let like = &self.z;
+        let sigma = &ff.sigma;
+        // Floors for inner integrals asked for a relative goal only (the
+        // coarse pass): a hundredth of their goal of the light's own
+        // order-0 pair functional, spread as σ²m e^{−σm}/2π over the plane.
+        let which = match pair {
+            CrossPair::C23 => Functional::Pair23,
+            CrossPair::C24 => Functional::Pair24,
+        };
+        let kappa = self.cross_constant(ff);
+        let scale = (self
+            .ray_integral(ff, which, &Options { rel_tol: 1e-3, abs_tol: 0.0, ..opts.clone() })?
+            .value
+            .abs()
+            / kappa.clone())
+        .to_f64();
+        let node = |at: &Offset<T>, o2: &Options| -> Outcome<T> {
+            let (m, b) = (&at.m, &at.b);
+            if b.is_zero() || m.is_zero() {
+                return Ok(Estimate::known(like.lit(0.0), like.lit(0.0), 1, o2.rule));
+            }
+            let spread = sigma.to_f64().powi(2) * m.to_f64() * (-(sigma.to_f64() * m.to_f64())).exp()
+                / (2.0 * std::f64::consts::PI);
+            let floor = o2.rel_tol * scale / 100.0 * spread;
+            let each = Options { abs_tol: (o2.abs_tol / m.to_f64()).max(floor / m.to_f64()), ..o2.clone() };
+            self.around_line(ff, pair, at, &each)
+        };
+        let o = Options { abs_tol: (opts.abs_tol / kappa.to_f64()).min(f64::MAX), ..opts.clone() };
+        let e = self.over_half_plane(ff, &node, &o).map_err(|f| f.scaled(&kappa))?;
+        Ok(e.scaled(&kappa))
+    }
+
+    /// κ = albedo c²f²Φ/𝓕 with f = 1/4π.
+    pub(super) fn cross_constant(&self, ff: &FiniteField<T>) -> T {
+        let f = self.z.lit(1.0) / (self.z.pi() * self.z.lit(4.0));
+        ff.per_hit_power(2, &self.flux) * f.clone() * f * ff.albedo.clone()
+    }
+
+    /// m b ∫₀^{2π} ρ(x₁) W(x₁) dφ at the ring (z, b), m from the light (W:
+    /// 2σe^{−σs₀}F₁σB(∞) or 𝒦(s₁) − 𝒦(s₀)), times e^{c₀}; φ ↔ −φ
+    /// symmetric. ρ's 1/r₁² is formed as (m/r₁)/r₁ (r₁ ≥ m), which neither
+    /// overflows nor underflows as x₁ nears the light. The cumulants of x₁
+    /// are built at the first φ whose chord hits.
+    fn around_line(&self, ff: &FiniteField<T>, pair: CrossPair, at: &Offset<T>, opts: &Options) -> Outcome<T> {
+        let like = &self.z;
+        let (m, z, b) = (&at.m, &at.z, &at.b);
+        let (sigma, r) = (&ff.sigma, &ff.radius);
+        let zero = like.lit(0.0);
+        let cumulants: OnceLock<Result<HitCumulants<T>, Failure<T>>> = OnceLock::new();
+        let f = |phi: &T, o: &Options| -> Outcome<T> {
+            let nothing = Ok(Estimate::known(zero.clone(), zero.clone(), 1, o.rule));
+            let chord = self.chord(r, at, phi);
+            let Some((bcos, rho)) = chord.window.clone() else { return nothing };
+            let Some(hit) = self.hit(&chord.dir, &self.azimuth(bcos, rho)) else { return nothing };
+            let Some((s0, s1)) = reached(&hit, &chord.dir.mu, &chord.r1) else { return nothing };
+            // Both weights carry e^{c₀ − σ(r₁ + s₀)} (W ≤ 2σ² up to it).
+            if (ff.shift.clone() - sigma.clone() * (chord.r1.clone() + s0.clone())).exp().is_zero() {
+                return nothing;
+            }
+            let c = cumulants.get_or_init(|| HitCumulants::new(sigma, r, z, b));
+            let c = c.as_ref().map_err(|f| Failure { reason: f.reason.clone(), ..f.clone() })?;
+            let r1 = &chord.r1;
+            let density = (m.clone() / r1.clone()).min_of(like.lit(1.0)) / r1.clone() * sigma.clone() * b.clone()
+                / (like.pi() * like.lit(4.0));
+            let (value, error) = match pair {
+                CrossPair::C24 => {
+                    let len = if s1.is_finite() { Some(s1.clone() - s0.clone()) } else { None };
+                    // e^{−σt₀} of B's scaling in the same exponent.
+                    let u = sigma.clone()
+                        * (ff.shift.clone() - sigma.clone() * (chord.r1.clone() + s0.clone() + c.t0.clone())).exp()
+                        * exp_segment(sigma, len.as_ref());
+                    let v = sigma.clone() * c.b_total();
+                    let k = like.lit(2.0) * u * density.clone();
+                    (k.clone() * v, k * sigma.clone() * c.error[1].clone())
+                }
+                CrossPair::C23 => {
+                    let lambda = ff.shift.clone() - sigma.clone() * (chord.r1.clone() + c.t0.clone());
+                    let (k1, e1) = big_k(sigma, c, &s1, &lambda);
+                    let (k0, e0) = big_k(sigma, c, &s0, &lambda);
+                    ((k1 - k0) * density.clone(), (e1 + e0) * density.clone())
+                }
+            };
+            if !value.is_finite() {
+                return Err(Failure {
+                    reason: format!("cross-segment weight not finite at z {:e}, b {:e}", z.to_f64(), b.to_f64()),
+                    best_guess: None,
+                    error_estimate: None,
+                    evaluations: 1,
+                });
+            }
+            Ok(Estimate::known(value, error, 1, o.rule))
+        };
+        let cuts = self.window_edges(r, b);
+        let e = integrate_within_pass(f, &Domain::finite(like.lit(0.0), like.pi()).with_breakpoints(cuts), opts)?;
+        Ok(e.scaled(&like.lit(2.0)))
+    }
+
+    /// The chord y → x₁ for x₁ at foot z, distance b, azimuth φ from the
+    /// light's about the camera line, in the light's frame (ϑ about u, χ = 0
+    /// towards the line), its quantities formed without cancellation.
+    fn chord(&self, r: &T, at: &Offset<T>, phi: &T) -> Chord<T> {
+        let like = &self.z;
+        let (by, two) = (&self.b, like.lit(2.0));
+        let b = &at.b;
+        let half = (phi.clone() / two.clone()).sin();
+        // |d_⊥|² = (b − b_y)² + 4 b b_y sin²(φ/2), b − b_y and z − z_y as
+        // formed from m (`Offset`).
+        let db = at.db.clone();
+        let across = like.lit(2.0) * (b.clone() * by.clone()).sqrt() * half.abs();
+        let dz = at.dz.clone();
+        // Scaled, so that nothing underflows as x₁ nears the light.
+        let big = db.abs().max_of(across.clone()).max_of(dz.abs());
+        if big.is_zero() {
+            let dir = Direction { mu: like.lit(0.0), one_minus_mu: like.lit(1.0), one_plus_mu: like.lit(1.0), sin: like.lit(0.0) };
+            return Chord { dir, window: None, r1: big };
+        }
+        let (u, v, w) = (db.clone() / big.clone(), across / big.clone(), dz / big.clone());
+        // Normalised by `big`: p2 = |d_⊥|²/big², rn = r₁/big.
+        let p2 = u.clone() * u + v.clone() * v;
+        let rn = (p2.clone() + w.clone() * w.clone()).sqrt();
+        let (perp, r1) = (p2.clone().sqrt() * big.clone(), rn.clone() * big.clone());
+        let mu = w.clone() / rn.clone();
+        let (one_minus_mu, one_plus_mu) = if w >= like.lit(0.0) {
+            (p2.clone() / (rn.clone() * (rn.clone() + w.clone())), (rn.clone() + w) / rn.clone())
+        } else {
+            ((rn.clone() - w.clone()) / rn.clone(), p2.clone() / (rn.clone() * (rn.clone() - w)))
+        };
+        let dir = Direction { mu, one_minus_mu, one_plus_mu, sin: p2.sqrt() / rn };
+        if perp.is_zero() {
+            return Chord { dir, window: None, r1 };
+        }
+        // cos χ = (b_y − b cos φ)/|d_⊥|, b_y − b cos φ = (b_y − b) + 2b sin²(φ/2);
+        // the line's distance from the camera line is b_y b |sin φ|/|d_⊥|.
+        let towards = -db + two * b.clone() * half.clone() * half;
+        let bcos = by.clone() * towards / perp.clone();
+        let q = by.clone() * b.clone() * phi.sin().abs() / perp;
+        let window = if q > *r { None } else { Some((bcos, ((r.clone() - q.clone()) * (r.clone() + q)).sqrt())) };
+        Chord { dir, window, r1 }
+    }
+
+    /// The azimuths φ ∈ (0, π) where the chord's line passes exactly R from
+    /// the camera line: cos φ = (R² ± √((b² − R²)(b_y² − R²)))/(b b_y).
+    fn window_edges(&self, r: &T, b: &T) -> Vec<T> {
+        let by = &self.b;
+        let one = r.lit(1.0);
+        let prod = ((b.clone() - r.clone()) * (b.clone() + r.clone())) * ((by.clone() - r.clone()) * (by.clone() + r.clone()));
+        if b.is_zero() || by.is_zero() || prod < r.lit(0.0) {
+            return Vec::new();
+        }
+        let root = prod.sqrt();
+        let r2 = r.clone() * r.clone();
+        [r2.clone() - root.clone(), r2 + root]
+            .into_iter()
+            .map(|t| t / (b.clone() * by.clone()))
+            .filter(|c| *c > -one.clone() && *c < one)
+            .map(|c| c.acos())
+            .collect()
+    }
+}
+
+/// The spheres [s₀, s₁] of J whose closest points a chord of length r₁
+/// reaches (τ(s) ≤ r₁; τ(s) = τ(a) + μ(s − a)), or `None`.
+fn reached<T: CheckRule>(hit: &super::ray::Hit<T>, mu: &T, r1: &T) -> Option<(T, T)> {
+    let zero = mu.lit(0.0);
+    let (a, len) = (&hit.start, &hit.len);
+    let tau_a = hit.path.clone() - a.clone();
+    let end = a.clone() + len.clone();
+    let (s0, s1) = if *mu > zero {
+        (a.clone(), (a.clone() + (r1.clone() - tau_a) / mu.clone()).min_of(end))
+    } else if *mu < zero {
+        ((a.clone() + (tau_a - r1.clone()) / (-mu.clone())).max_of(a.clone()), end)
+    } else if tau_a <= *r1 {
+        (a.clone(), end)
+    } else {
+        return None;
+    };
+    (s1 > s0).then_some((s0, s1))
+}
+
+/// e^{λ}·e^{σt₀}𝒦(s) and its bar from the cumulants (module docs; B, C
+/// come scaled by e^{σt₀}, and e^{−σs}A becomes e^{−σ(s − t₀)}A, formed in
+/// one exponent with ln A and its bar's with λ, so that nothing overflows
+/// where s lies far below the start's foot).
+fn big_k<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s: &T, lambda: &T) -> (T, T) {
+    let [a, b, cc] = c.at(s);
+    let [ea, eb, ec] = c.error.clone();
+    let shifted = sigma.clone() * (s.clone() - c.t0.clone());
+    let front = lambda.clone().exp();
+    let decay_a = if a.is_zero() { a.clone() } else { (lambda.clone() + a.ln() - shifted.clone()).exp() };
+    let s = if s.is_finite() { s.clone() } else { s.lit(0.0) };
+    let e = sigma.clone() * (c.b_total() - b.clone());
+    let rest = sigma.clone() * b + sigma.clone() * s.clone() * e + sigma.clone() * sigma.clone() * cc;
+    let value = -(sigma.clone() * decay_a) + rest * front.clone();
+    let error = sigma.clone() * (lambda.clone() - shifted).exp() * ea
+        + (sigma.clone() * eb * (s.lit(1.0) + s.lit(2.0) * sigma.clone() * s.clone()) + sigma.clone() * sigma.clone() * ec)
+            * front;
+    (value, error)
+}
+
+impl<T: CheckRule> FiniteField<T> {
+    /// Σ over the lights of X₂₃ or X₂₄ (`cross_segments`), times e^{c₀}.
+    pub fn order1_cross(&self, pair: CrossPair, opts: &Options) -> Result<Estimate<T>, crate::model::OracleError> {
+        self.order1_covered()?;
+        let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, ..opts.clone() };
+        let mut total: Option<Estimate<T>> = None;
+        for light in &self.lights {
+            let super::FiniteLight::Point(p) = light else { unreachable!("order1_covered refuses beams") };
+            let e = p
+                .cross_segments(self, pair, &share)
+                .map_err(crate::model::OracleError::quad("finite-sphere cross-segment pairs"))?;
+            total = Some(match total {
+                None => e,
+                Some(t) => t.plus(e),
+            });
+        }
+        Ok(total.expect("order1_covered needs a light"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::finite::scattered::hit_chance;
+    use crate::quad::integrate;
+
+    /// 𝒦(s₁) − 𝒦(s₀) against ∫ds′ H(s′) σ²∫_{s₀}^{s₁}e^{−σ max(s, s′)} ds by
+    /// direct quadrature (the inner s-integral in closed form), for starts
+    /// inside, at and outside the cylinder and intervals before, around and
+    /// after the start's foot.
+    #[test]
+    fn big_k_is_the_weighted_hit_count() {
+        let (sigma, r) = (0.9f64, 0.25f64);
+        for (z, b) in [(1.0, 0.1), (0.6, 0.25), (2.0, 0.8), (0.2, 1.5)] {
+            let c = HitCumulants::new(&sigma, &r, &z, &b).unwrap();
+            for (s0, s1) in [(0.1, 0.4), (0.8, 1.3), (1.9, 2.05), (0.0, 6.0), (3.0, 3.0001)] {
+                let lambda = -sigma * c.t0;
+                let (k1, e1) = big_k(&sigma, &c, &s1, &lambda);
+                let (k0, e0) = big_k(&sigma, &c, &s0, &lambda);
+                // σ²∫_{s₀}^{s₁} e^{−σ max(s, s′)} ds, piecewise in s′.
+                let weight = |sp: f64| {
+                    let inner = if sp <= s0 {
+                        ((-sigma * s0).exp() - (-sigma * s1).exp()) / sigma
+                    } else if sp >= s1 {
+                        (s1 - s0) * (-sigma * sp).exp()
+                    } else {
+                        (sp - s0) * (-sigma * sp).exp() + ((-sigma * sp).exp() - (-sigma * s1).exp()) / sigma
+                    };
+                    sigma * sigma * inner
+                };
+                let f = |sp: &f64| {
+                    let d = ((sp - z) * (sp - z) + b * b).sqrt();
+                    hit_chance(&sigma, &r, &d) * weight(*sp)
+                };
+                let mut bps = vec![z, s0, s1];
+                if b < r {
+                    let h = (r * r - b * b).sqrt();
+                    bps.extend([z - h, z + h]);
+                }
+                let bps: Vec<f64> = bps.into_iter().filter(|x| *x > 0.0).collect();
+                let q = integrate(f, &Domain::semi_infinite(0.0).with_breakpoints(bps).with_decay(sigma), &Options::rel(1e-12))
+                    .unwrap();
+                let got = k1 - k0;
+                let bar = e1 + e0 + q.error + 1e-14 * q.value.abs();
+                assert!((got - q.value).abs() <= bar, "z {z} b {b} [{s0}, {s1}]: {got:e} vs {:e} (bar {bar:e})", q.value);
+            }
+        }
+    }
+}

@@ -1,0 +1,382 @@
+//! The cumulative hits along the camera line of an isotropic ray from one
+//! point (`docs/model.md` §9.7): for a start x₁ at foot z and distance b
+//! from the camera line, H(t) = H(√((t − z)² + b²)) is the chance that the
+//! ray hits the sphere at s = t (§9.5), and
+//!
+//!   A(s) = ∫₀^s H dt,   B(s) = ∫₀^s e^{−σt} H dt,   C(s) = ∫₀^s t e^{−σt} H dt
+//!
+//! (B and C kept as e^{σt₀}B, e^{σt₀}C with t₀ = max(z − R, 0), the attenuation
+//! of the integrand's peak, so that a start hundreds of decay lengths down
+//! the line neither underflows nor loses the integrands to subnormals)
+//! give every weighted hit count the order-1 correlations need
+//! (`cross_segments`) by differences, at any s, in closed form.
+//!
+//! H is closed (`scattered::hit_chance`), so the three are built once per
+//! x₁ from piecewise Chebyshev interpolants of their integrands (n = 32
+//! first-kind nodes per piece), integrated term by term. Pieces are cut
+//! where H has structure: at z ± √(R² − b²) (the ray's start enters the
+//! sphere: a √-kink on the outside) and graded towards them by factors 4 from 10⁻⁴R,
+//! about z on the scale min(b, √|b² − R²|, R) (d, or √(d² − R²), nearly
+//! vanishing there), then by 4, 8, 16, … decay lengths 1/σ up to
+//! s_end = max(z, 0) + max(b, R) + 80/σ. A piece is accepted when the last
+//! two Chebyshev coefficients of each integrand sum to at most 10⁻¹² of its
+//! largest sample, else bisected (at most [`MAX_PIECES`]). The absolute
+//! error bar of each cumulant is Σ 2·tail·length over the pieces plus a
+//! bound of the integral beyond s_end, e^{−σ(d_end − R)}/(2σ²d_end).
+
+use crate::quad::Failure;
+use crate::real::Real;
+
+use super::scattered::{hit_chance, hit_chance_parts};
+
+/// The most pieces one set of cumulants may use.
+pub const MAX_PIECES: usize = 600;
+
+/// Nodes per piece.
+const NODES: usize = 32;
+
+/// One piece [lo, hi] of the three antiderivatives, as Chebyshev series
+/// (plain sums Σ C_k T_k on the piece mapped to [−1, 1]), each 0 at lo.
+#[derive(Debug, Clone)]
+struct Piece<T> {
+    lo: T,
+    hi: T,
+    series: [Vec<T>; 3],
+    /// A, B, C at lo (the sums over the pieces before).
+    start: [T; 3],
+}
+
+/// A(s), B(s), C(s) of one start x₁ (module docs).
+#[derive(Debug, Clone)]
+pub struct HitCumulants<T> {
+    pieces: Vec<Piece<T>>,
+    /// A, e^{σt₀}B, e^{σt₀}C at s_end (the totals, up to the bounded rest).
+    total: [T; 3],
+    /// t₀ = max(z − R, 0): B and C are kept times e^{σt₀}.
+    pub t0: T,
+    /// Absolute error bars of A, e^{σt₀}B, e^{σt₀}C.
+    pub error: [T; 3],
+    /// Evaluations of H.
+    pub evaluations: u64,
+}
+
+impl<T: Real> HitCumulants<T> {
+    /// Builds the cumulants of the start at foot `z`, distance `b` ≥ 0 from
+    /// the camera line, in a medium of extinction `sigma` > 0, spheres of
+    /// radius `r` > 0. Fails (never silently) when the pieces run out.
+    pub fn new(sigma: &T, r: &T, z: &T, b: &T) -> Result<Self, Failure<T>> {
+        let zero = z.lit(0.0);
+        let far = z.lit(80.0) / sigma.clone();
+        let end = z.clone().max_of(zero.clone()) + b.clone().max_of(r.clone()) + far.clone();
+        let cuts = cuts(sigma, r, z, b, &end);
+        let b2 = b.clone() * b.clone();
+        let t0 = (z.clone() - r.clone()).max_of(zero.clone());
+        // (H, e^{−σ(t − t₀)}H), the second with both attenuations in one exponent.
+        let h = |t: &T| {
+            let dz = t.clone() - z.clone();
+            let d = (dz.clone() * dz + b2.clone()).sqrt();
+            let (reach, rest) = hit_chance_parts(sigma, r, &d);
+            let damped = rest.clone() * (-(sigma.clone() * (t.clone() - t0.clone() + reach))).exp();
+            (hit_chance(sigma, r, &d), damped)
+        };
+        // Absolute floors: a piece whose integral is below 10⁻¹⁵ of the
+        // integrands' peak times the width max(b, R) is accepted as it is
+        // (the pieces next to a √-kink converge only algebraically).
+        let peak_at = z.clone().max_of(zero.clone()).min_of(end.clone());
+        let (hp, damped) = h(&peak_at);
+        let width = b.clone().max_of(r.clone()) * z.lit(1e-15);
+        let lever = peak_at.clone().max_of(z.lit(1.0) / sigma.clone());
+        let floors = [hp * width.clone(), damped.clone() * width.clone(), damped * lever * width];
+        let mut todo: Vec<(T, T)> =
+            cuts.windows(2).filter(|w| w[0] < w[1]).map(|w| (w[0].clone(), w[1].clone())).rev().collect();
+        let mut done: Vec<(T, T, [Vec<T>; 3], [T; 3])> = Vec::new();
+        let mut evaluations = 0u64;
+        while let Some((lo, hi)) = todo.pop() {
+            if done.len() + todo.len() > MAX_PIECES {
+                return Err(failure(format!("the cumulative hits needed more than {MAX_PIECES} pieces"), evaluations));
+            }
+            let (series, tails, evals) = piece_series(&lo, &hi, &h, &floors);
+            evaluations += evals;
+            match tails {
+                Some(tails) => done.push((lo, hi, series, tails)),
+                None => {
+                    let mid = (lo.clone() + hi.clone()) / z.lit(2.0);
+                    if !(mid > lo && mid < hi) {
+                        return Err(failure(
+                            format!("the cumulative hits cannot split [{:e}, {:e}]", lo.to_f64(), hi.to_f64()),
+                            evaluations,
+                        ));
+                    }
+                    todo.push((mid.clone(), hi));
+                    todo.push((lo, mid));
+                }
+            }
+        }
+        done.sort_by(|p, q| p.0.partial_cmp(&q.0).expect("finite piece ends"));
+        let mut running = [zero.clone(), zero.clone(), zero.clone()];
+        let mut error = [zero.clone(), zero.clone(), zero.clone()];
+        let mut pieces = Vec::with_capacity(done.len());
+        for (lo, hi, series, tails) in done {
+            let start = running.clone();
+            for i in 0..3 {
+                running[i] = running[i].clone() + clenshaw(&series[i], &z.lit(1.0));
+                error[i] = error[i].clone() + tails[i].clone();
+            }
+            pieces.push(Piece { lo, hi, series, start });
+        }
+        // Beyond s_end: H ≤ e^{−σ(d − R)}/(2σd) (F₁ ≤ 1/(σd)) with d ≥ d_end.
+        let d_end = ((end.clone() - z.clone()) * (end.clone() - z.clone()) + b2).sqrt();
+        let rest = (-(sigma.clone() * (d_end.clone() - r.clone()))).exp()
+            / (z.lit(2.0) * sigma.clone() * sigma.clone() * d_end);
+        let rest_b = rest.clone() * (-(sigma.clone() * (end.clone() - t0.clone()))).exp();
+        let rest_c = rest_b.clone() * (end.clone() + z.lit(1.0) / sigma.clone());
+        error[0] = error[0].clone() + rest;
+        error[1] = error[1].clone() + rest_b;
+        error[2] = error[2].clone() + rest_c;
+        Ok(HitCumulants { pieces, total: running, t0, error, evaluations })
+    }
+
+    /// (A(s), e^{σt₀}B(s), e^{σt₀}C(s)); beyond the last piece the totals,
+    /// within their bars.
+    pub fn at(&self, s: &T) -> [T; 3] {
+        let Some(last) = self.pieces.last() else {
+            return self.total.clone();
+        };
+        if *s >= last.hi {
+            return self.total.clone();
+        }
+        let first = &self.pieces[0];
+        if *s <= first.lo {
+            let zero = s.lit(0.0);
+            return [zero.clone(), zero.clone(), zero];
+        }
+        let i = self.pieces.partition_point(|p| p.hi < *s).min(self.pieces.len() - 1);
+        let p = &self.pieces[i];
+        let x = (s.lit(2.0) * s.clone() - p.lo.clone() - p.hi.clone()) / (p.hi.clone() - p.lo.clone());
+        let mut out = p.start.clone();
+        for (o, c) in out.iter_mut().zip(&p.series) {
+            *o = o.clone() + clenshaw(c, &x);
+        }
+        out
+    }
+
+    /// e^{σt₀}B(∞) = ∫₀^∞ e^{−σ(t − t₀)} H dt (within the bar `error[1]`).
+    pub fn b_total(&self) -> T {
+        self.total[1].clone()
+    }
+}
+
+/// The cut points of [0, end] (module docs), sorted and inside it.
+fn cuts<T: Real>(sigma: &T, r: &T, z: &T, b: &T, end: &T) -> Vec<T> {
+    let zero = z.lit(0.0);
+    let four = z.lit(4.0);
+    let decay = z.lit(1.0) / sigma.clone();
+    let mut cuts = vec![zero.clone(), end.clone(), z.clone()];
+    // Graded by factors 4 from `width` about `a` up to `scale`.
+    let grade = |a: &T, width: &T, scale: &T, cuts: &mut Vec<T>| {
+        let mut step = width.clone();
+        for _ in 0..40 {
+            if !(step < *scale) || step.is_zero() {
+                break;
+            }
+            cuts.push(a.clone() - step.clone());
+            cuts.push(a.clone() + step.clone());
+            step = step * four.clone();
+        }
+    };
+    let diff = (b.clone() - r.clone()) * (b.clone() + r.clone());
+    let scale = b.clone().max_of(r.clone()).max_of(decay.clone());
+    if b < r {
+        let half = (-diff.clone()).sqrt();
+        for k in [z.clone() - half.clone(), z.clone() + half] {
+            cuts.push(k.clone());
+            grade(&k, &(r.clone() * z.lit(1e-4)), &r.clone(), &mut cuts);
+        }
+    }
+    // About z: d (b < R) or √(d² − R²) (b > R) nearly vanishes on this scale.
+    let near = b.clone().min_of(r.clone()).min_of(diff.abs().sqrt());
+    // (b = 0: z is an exact kink, cut; below 10⁻⁶R bisection takes over.)
+    if !b.is_zero() {
+        grade(z, &near.max_of(r.clone() * z.lit(1e-6)), &scale, &mut cuts);
+    }
+    // Then 4, 8, 16, … decay lengths towards both ends (32 nodes resolve
+    // e^{−σt} over 8 of them to the goal; far pieces end on the floors).
+    let mut step = decay.clone() * four.clone();
+    while step < end.clone() - z.clone() || step < *z {
+        cuts.push(z.clone() + scale.clone() + step.clone());
+        cuts.push(z.clone() - scale.clone() - step.clone());
+        step = step * z.lit(2.0);
+    }
+    let mut cuts: Vec<T> = cuts.into_iter().filter(|c| *c >= zero && c <= end).collect();
+    cuts.sort_by(|a, b| a.partial_cmp(b).expect("finite cuts"));
+    cuts.dedup_by(|a, b| a == b);
+    cuts
+}
+
+/// The antiderivative series of H, e^{−σ(t−t₀)}H and t e^{−σ(t−t₀)}H on [lo, hi],
+/// and their error bars (2·tail·length) when accepted (`None`: bisect):
+/// the tail is within 10⁻¹² of the largest sample, or the piece's error
+/// within `floors`.
+#[allow(clippy::type_complexity)]
+fn piece_series<T: Real>(
+    lo: &T,
+    hi: &T,
+    h: &impl Fn(&T) -> (T, T),
+    floors: &[T; 3],
+) -> ([Vec<T>; 3], Option<[T; 3]>, u64) {
+    let two = lo.lit(2.0);
+    let half_len = (hi.clone() - lo.clone()) / two.clone();
+    let mid = (hi.clone() + lo.clone()) / two;
+    let mut values: [Vec<T>; 3] = [Vec::with_capacity(NODES), Vec::with_capacity(NODES), Vec::with_capacity(NODES)];
+    for j in 0..NODES {
+        let angle = lo.pi() * lo.lit((2 * j + 1) as f64) / lo.lit((2 * NODES) as f64);
+        let t = mid.clone() + half_len.clone() * angle.cos();
+        let (hv, damped) = h(&t);
+        values[0].push(hv);
+        values[1].push(damped.clone());
+        values[2].push(damped * t);
+    }
+    let cosines = cosine_table(lo);
+    let goal = lo.lit(1e-12);
+    let mut tails = [lo.lit(0.0), lo.lit(0.0), lo.lit(0.0)];
+    let mut ok = true;
+    let series = std::array::from_fn(|i| {
+        let c = coefficients(&values[i], &cosines);
+        let tail = c[NODES - 2].abs() + c[NODES - 1].abs();
+        let big = values[i].iter().fold(lo.lit(0.0), |m, v| m.max_of(v.abs()));
+        let len = half_len.clone() * lo.lit(2.0);
+        // ∫|f − p| over the piece ≤ 2·tail·length, plus rounding; a piece
+        // whose whole integral is below the floor (underflowing tails) has
+        // the bar max|f|·length.
+        let negligible = big.clone() * len.clone() <= floors[i];
+        let small = tail.clone() * len.clone() <= floors[i];
+        if tail > goal.clone() * big.clone() && tail > big.clone() * lo.eps() * lo.lit(64.0) && !small && !negligible {
+            ok = false;
+        }
+        tails[i] = if negligible {
+            big * len
+        } else {
+            (tail * lo.lit(2.0) + lo.eps() * lo.lit(64.0) * c[0].abs()) * len
+        };
+        antiderivative(&c, &half_len)
+    });
+    (series, ok.then_some(tails), NODES as u64)
+}
+
+/// cos(mπ/2n) for m = 0 … 4n − 1 (n = [`NODES`]): every angle the
+/// coefficients need, k(2j + 1)π/2n reduced modulo 2π.
+fn cosine_table<T: Real>(like: &T) -> Vec<T> {
+    (0..4 * NODES).map(|m| (like.pi() * like.lit(m as f64) / like.lit((2 * NODES) as f64)).cos()).collect()
+}
+
+/// The first-kind Chebyshev coefficients of samples at the nodes
+/// cos((2j + 1)π/2n): c_k = (2/n) Σ_j f_j cos(k(2j + 1)π/2n), so that the
+/// interpolant is c₀/2 + Σ_{k≥1} c_k T_k (as `chebyshev::coefficients`,
+/// with the cosines from `cosines`).
+fn coefficients<T: Real>(values: &[T], cosines: &[T]) -> Vec<T> {
+    let n = values.len();
+    let scale = values[0].lit(2.0) / values[0].lit(n as f64);
+    (0..n)
+        .map(|k| {
+            let mut s = values[0].lit(0.0);
+            for (j, v) in values.iter().enumerate() {
+                s = s + v.clone() * cosines[(k * (2 * j + 1)) % (4 * n)].clone();
+            }
+            s * scale.clone()
+        })
+        .collect()
+}
+
+/// The plain Chebyshev series (Σ C_k T_k) of ∫_{−1}^x f, f = c₀/2 + Σ c_k T_k,
+/// times `half_len` (the piece's dx/dx̂): C_k = (c_{k−1} − c_{k+1})/(2k),
+/// C₀ such that the sum vanishes at −1.
+fn antiderivative<T: Real>(c: &[T], half_len: &T) -> Vec<T> {
+    let n = c.len();
+    let zero = half_len.lit(0.0);
+    let at = |k: usize| if k < n { c[k].clone() } else { zero.clone() };
+    let mut out = vec![zero.clone(); n + 1];
+    for (k, o) in out.iter_mut().enumerate().skip(1) {
+        *o = (at(k - 1) - at(k + 1)) / half_len.lit((2 * k) as f64) * half_len.clone();
+    }
+    let mut c0 = zero;
+    for (k, v) in out.iter().enumerate().skip(1) {
+        c0 = if k % 2 == 1 { c0 + v.clone() } else { c0 - v.clone() };
+    }
+    out[0] = c0;
+    out
+}
+
+/// Σ C_k T_k(x), by Clenshaw's recurrence.
+fn clenshaw<T: Real>(c: &[T], x: &T) -> T {
+    let two_x = x.lit(2.0) * x.clone();
+    let (mut b1, mut b2) = (x.lit(0.0), x.lit(0.0));
+    for ck in c.iter().skip(1).rev() {
+        let b0 = two_x.clone() * b1.clone() + (ck.clone() - b2);
+        b2 = b1;
+        b1 = b0;
+    }
+    c[0].clone() + x.clone() * b1 - b2
+}
+
+fn failure<T>(reason: String, evaluations: u64) -> Failure<T> {
+    Failure { reason, best_guess: None, error_estimate: None, evaluations }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::quad::{integrate, Domain, Options};
+
+    /// A, B and C against adaptive quadrature of H at several starts: on the
+    /// line, inside the cylinder, at its surface, outside, behind the camera.
+    #[test]
+    fn cumulants_match_quadrature() {
+        let (sigma, r) = (1.3f64, 0.2f64);
+        for (z, b) in [(1.0, 0.0), (1.0, 0.05), (0.7, 0.2), (2.0, 0.9), (-0.5, 0.3), (0.1, 0.19999)] {
+            let c = HitCumulants::new(&sigma, &r, &z, &b).unwrap();
+            for s in [0.05, 0.5, 0.9, 1.0, 1.3, 3.0, 100.0] {
+                let k = (-sigma * c.t0).exp();
+                let got = c.at(&s);
+                let got = [got[0], got[1] * k, got[2] * k];
+                for (i, g) in got.iter().enumerate() {
+                    let f = |t: &f64| {
+                        let d = ((t - z) * (t - z) + b * b).sqrt();
+                        let w = match i {
+                            0 => 1.0,
+                            1 => (-sigma * t).exp(),
+                            _ => t * (-sigma * t).exp(),
+                        };
+                        w * hit_chance(&sigma, &r, &d)
+                    };
+                    let mut bps = vec![z];
+                    if b < r {
+                        let h = (r * r - b * b).sqrt();
+                        bps.extend([z - h, z + h]);
+                    }
+                    let bps: Vec<f64> = bps.into_iter().filter(|x| *x > 0.0 && *x < s).collect();
+                    let q = integrate(f, &Domain::finite(0.0, s).with_breakpoints(bps), &Options::rel(1e-12)).unwrap();
+                    let bar = c.error[i] * if i == 0 { 1.0 } else { k } + q.error;
+                    assert!(
+                        (g - q.value).abs() <= bar.max(1e-15),
+                        "z {z} b {b} s {s} cumulant {i}: {g:e} vs {:e} (bar {bar:e})",
+                        q.value
+                    );
+                    let total = c.at(&1e9)[i];
+                    assert!(c.error[i] <= 1e-11 * total, "bar {:e} of a total {total:e}", c.error[i]);
+                }
+            }
+        }
+    }
+
+    /// A start hundreds of decay lengths down the line, inside the cylinder
+    /// (where the unscaled B and C would be subnormal): built, finite, and
+    /// its scaled B(∞) of the order of a near start's.
+    #[test]
+    fn far_starts_keep_their_scale() {
+        let near = HitCumulants::new(&1.0f64, &0.2, &1.0, &0.1).unwrap();
+        let far = HitCumulants::new(&1.0f64, &0.2, &722.6, &0.1).unwrap();
+        assert!(far.pieces.len() < MAX_PIECES / 4, "{} pieces", far.pieces.len());
+        let ratio = far.b_total() / near.b_total();
+        assert!(ratio.is_finite() && (0.5..2.0).contains(&ratio), "scaled B(∞) ratio {ratio}");
+    }
+}
