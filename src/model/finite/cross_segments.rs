@@ -19,7 +19,8 @@
 //!   K(s) = ∫σ²e^{−σ max(s,s′)}H(s′)ds′ = σ²e^{−σs}A(s) + σE(s),
 //!   𝒦(s) = ∫₀^s K = −σe^{−σs}A(s) + σB(s) + σsE(s) + σ²C(s)
 //!
-//! (by parts; 𝒦′ = K is checked in `tests/finite_order1.rs`). x₁ is
+//! (by parts; the unit test `big_k_is_the_weighted_hit_count` checks
+//! 𝒦(s₁) − 𝒦(s₀) against a direct quadrature). x₁ is
 //! integrated in cylindrical coordinates about the camera line: the
 //! half-plane (z, b) by `PointLight::over_half_plane` and the azimuth φ
 //! about the line, measured from the light's, here.
@@ -46,14 +47,15 @@ pub enum CrossPair {
 /// The first segment y → x₁ as the hit geometry of §9.2 sees it.
 struct Chord<T> {
     dir: Direction<T>,
-    /// B = b_y cos χ and the window half-width ρ (`None`: the chord's line
-    /// passes farther than R from the camera line).
+    /// B = b_y cos χ and the window half-width √(R² − q²) (`None`: the
+    /// chord's line passes farther than R from the camera line, or runs
+    /// along it).
     window: Option<(T, T)>,
     r1: T,
 }
 
 impl<T: CheckRule> PointLight<T> {
-    /// X₂₃ or X₂₄ of this light (module docs), times e^{c₀}, without κ.
+    /// X₂₃ or X₂₄ of this light (module docs), times e^{c₀}.
     pub(super) fn cross_segments(&self, ff: &FiniteField<T>, pair: CrossPair, opts: &Options) -> Outcome<T> {
         let like = &self.z;
         let sigma = &ff.sigma;
@@ -79,7 +81,7 @@ impl<T: CheckRule> PointLight<T> {
             let spread = sigma.to_f64().powi(2) * m.to_f64() * (-(sigma.to_f64() * m.to_f64())).exp()
                 / (2.0 * std::f64::consts::PI);
             let floor = o2.rel_tol * scale / 100.0 * spread;
-            let each = Options { abs_tol: (o2.abs_tol / m.to_f64()).max(floor / m.to_f64()), ..o2.clone() };
+            let each = Options { abs_tol: o2.abs_tol.max(floor).min(f64::MAX), ..o2.clone() };
             self.around_line(ff, pair, at, &each)
         };
         let o = Options { abs_tol: (opts.abs_tol / kappa.to_f64()).min(f64::MAX), ..opts.clone() };
@@ -114,8 +116,11 @@ impl<T: CheckRule> PointLight<T> {
             if (ff.shift.clone() - sigma.clone() * (chord.r1.clone() + s0.clone())).exp().is_zero() {
                 return nothing;
             }
+            // The build's evaluations are charged to the sample that needs it.
+            let first = cumulants.get().is_none();
             let c = cumulants.get_or_init(|| HitCumulants::new(sigma, r, z, b));
-            let c = c.as_ref().map_err(|f| Failure { reason: f.reason.clone(), ..f.clone() })?;
+            let c = c.as_ref().map_err(Failure::clone)?;
+            let evaluations = if first { 1 + c.evaluations } else { 1 };
             let r1 = &chord.r1;
             let density = (m.clone() / r1.clone()).min_of(like.lit(1.0)) / r1.clone() * sigma.clone() * b.clone()
                 / (like.pi() * like.lit(4.0));
@@ -137,7 +142,7 @@ impl<T: CheckRule> PointLight<T> {
                     ((k1 - k0) * density.clone(), (e1 + e0) * density.clone())
                 }
             };
-            if !value.is_finite() {
+            if !value.is_finite() || !error.is_finite() {
                 return Err(Failure {
                     reason: format!("cross-segment weight not finite at z {:e}, b {:e}", z.to_f64(), b.to_f64()),
                     best_guess: None,
@@ -145,7 +150,7 @@ impl<T: CheckRule> PointLight<T> {
                     evaluations: 1,
                 });
             }
-            Ok(Estimate::known(value, error, 1, o.rule))
+            Ok(Estimate::known(value, error, evaluations, o.rule))
         };
         let cuts = self.window_edges(r, b);
         let e = integrate_within_pass(f, &Domain::finite(like.lit(0.0), like.pi()).with_breakpoints(cuts), opts)?;
@@ -163,7 +168,7 @@ impl<T: CheckRule> PointLight<T> {
         // |d_⊥|² = (b − b_y)² + 4 b b_y sin²(φ/2), b − b_y and z − z_y as
         // formed from m (`Offset`).
         let db = at.db.clone();
-        let across = like.lit(2.0) * (b.clone() * by.clone()).sqrt() * half.abs();
+        let across = two.clone() * (b.clone() * by.clone()).sqrt() * half.abs();
         let dz = at.dz.clone();
         // Scaled, so that nothing underflows as x₁ nears the light.
         let big = db.abs().max_of(across.clone()).max_of(dz.abs());
@@ -243,7 +248,8 @@ fn big_k<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s: &T, lambda: &T) -> (T,
     let [ea, eb, ec] = c.error.clone();
     let shifted = sigma.clone() * (s.clone() - c.t0.clone());
     let front = lambda.clone().exp();
-    let decay_a = if a.is_zero() { a.clone() } else { (lambda.clone() + a.ln() - shifted.clone()).exp() };
+    // (A ≤ 0 only by rounding at a piece's start, where it is 0.)
+    let decay_a = if a > s.lit(0.0) { (lambda.clone() + a.ln() - shifted.clone()).exp() } else { s.lit(0.0) };
     let s = if s.is_finite() { s.clone() } else { s.lit(0.0) };
     let e = sigma.clone() * (c.b_total() - b.clone());
     let rest = sigma.clone() * b + sigma.clone() * s.clone() * e + sigma.clone() * sigma.clone() * cc;

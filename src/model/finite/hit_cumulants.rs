@@ -22,7 +22,7 @@
 //! two Chebyshev coefficients of each integrand sum to at most 10⁻¹² of its
 //! largest sample, else bisected (at most [`MAX_PIECES`]). The absolute
 //! error bar of each cumulant is Σ 2·tail·length over the pieces plus a
-//! bound of the integral beyond s_end, e^{−σ(d_end − R)}/(2σ²d_end).
+//! bound of the integral beyond s_end, e^{−σ(s_end − z − R)}/(2σ²(s_end − z)).
 
 use crate::quad::Failure;
 use crate::real::Real;
@@ -124,10 +124,10 @@ impl<T: Real> HitCumulants<T> {
             }
             pieces.push(Piece { lo, hi, series, start });
         }
-        // Beyond s_end: H ≤ e^{−σ(d − R)}/(2σd) (F₁ ≤ 1/(σd)) with d ≥ d_end.
-        let d_end = ((end.clone() - z.clone()) * (end.clone() - z.clone()) + b2).sqrt();
-        let rest = (-(sigma.clone() * (d_end.clone() - r.clone()))).exp()
-            / (z.lit(2.0) * sigma.clone() * sigma.clone() * d_end);
+        // Beyond s_end: H ≤ e^{−σ(d − R)}/(2σd) (F₁ ≤ 1/(σd)) and d ≥ t − z
+        // ≥ s_end − z, so ∫ H ≤ e^{−σ(s_end − z − R)}/(2σ²(s_end − z)).
+        let past = end.clone() - z.clone();
+        let rest = (-(sigma.clone() * (past.clone() - r.clone()))).exp() / (z.lit(2.0) * sigma.clone() * sigma.clone() * past);
         let rest_b = rest.clone() * (-(sigma.clone() * (end.clone() - t0.clone()))).exp();
         let rest_c = rest_b.clone() * (end.clone() + z.lit(1.0) / sigma.clone());
         error[0] = error[0].clone() + rest;

@@ -27,7 +27,7 @@
 pub mod angles;
 pub mod beam;
 pub mod cross_segments;
-pub mod hit_cumulants;
+mod hit_cumulants;
 pub mod order1;
 pub mod point;
 pub mod ray;

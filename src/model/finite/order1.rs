@@ -194,7 +194,8 @@ impl<T: CheckRule> FiniteField<T> {
     /// light; isotropic media, point lights), each times e^{c₀}.
     pub fn order1_integrals(&self, opts: &Options) -> Result<FiniteIntegrals<T>, OracleError> {
         self.order1_covered()?;
-        let o = &opts.clone().declared();
+        // Each integral is a sum of two parts: half the absolute goal each.
+        let o = &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() }.declared();
         let add = |a: Result<Estimate<T>, OracleError>, b: Result<Estimate<T>, OracleError>| Ok::<_, OracleError>(a?.plus(b?));
         let (((mean0, mean1), (m20, m21)), ((c230, c231), (c240, c241))) = rayon::join(
             || {
