@@ -331,15 +331,21 @@ impl<T: Real> Component<T> {
 /// the breakpoints that resolve a Lorentzian-like feature of that width
 /// about a, each graded piece spanning a bounded dynamic range.
 pub(crate) fn graded_about<T: Real>(a: &T, width: &T, scale: &T) -> Vec<T> {
+    graded_by(a, width, scale, 10.0, 24)
+}
+
+/// a ± width·ratio^k for k = 0, 1, … while below `scale`, at most `steps`
+/// of them ([`graded_about`] with another ratio).
+pub(crate) fn graded_by<T: Real>(a: &T, width: &T, scale: &T, ratio: f64, steps: usize) -> Vec<T> {
     let mut v = Vec::new();
     let mut step = width.clone();
-    for _ in 0..24 {
+    for _ in 0..steps {
         if !(step < *scale) || step.is_zero() {
             break;
         }
         v.push(a.clone() - step.clone());
         v.push(a.clone() + step.clone());
-        step = step * a.lit(10.0);
+        step = step * a.lit(ratio);
     }
     v
 }

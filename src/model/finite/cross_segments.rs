@@ -27,8 +27,8 @@
 
 use super::hit_cumulants::HitCumulants;
 use super::point::PointLight;
-use super::virtual_lights::Offset;
 use super::ray::Functional;
+use super::virtual_lights::Offset;
 use super::FiniteField;
 use crate::model::angular::Direction;
 use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Failure, Options, Outcome};
@@ -67,12 +67,10 @@ impl<T: CheckRule> PointLight<T> {
             CrossPair::C24 => Functional::Pair24,
         };
         let kappa = self.cross_constant(ff);
-        let scale = (self
-            .ray_integral(ff, which, &Options { rel_tol: 1e-3, abs_tol: 0.0, ..opts.clone() })?
-            .value
-            .abs()
-            / kappa.clone())
-        .to_f64();
+        let scale =
+            (self.ray_integral(ff, which, &Options { rel_tol: 1e-3, abs_tol: 0.0, ..opts.clone() })?.value.abs()
+                / kappa.clone())
+            .to_f64();
         let node = |at: &Offset<T>, o2: &Options| -> Outcome<T> {
             let (m, b) = (&at.m, &at.b);
             if b.is_zero() || m.is_zero() {
@@ -173,7 +171,12 @@ impl<T: CheckRule> PointLight<T> {
         // Scaled, so that nothing underflows as x₁ nears the light.
         let big = db.abs().max_of(across.clone()).max_of(dz.abs());
         if big.is_zero() {
-            let dir = Direction { mu: like.lit(0.0), one_minus_mu: like.lit(1.0), one_plus_mu: like.lit(1.0), sin: like.lit(0.0) };
+            let dir = Direction {
+                mu: like.lit(0.0),
+                one_minus_mu: like.lit(1.0),
+                one_plus_mu: like.lit(1.0),
+                sin: like.lit(0.0),
+            };
             return Chord { dir, window: None, r1: big };
         }
         let (u, v, w) = (db.clone() / big.clone(), across / big.clone(), dz / big.clone());
@@ -205,7 +208,8 @@ impl<T: CheckRule> PointLight<T> {
     fn window_edges(&self, r: &T, b: &T) -> Vec<T> {
         let by = &self.b;
         let one = r.lit(1.0);
-        let prod = ((b.clone() - r.clone()) * (b.clone() + r.clone())) * ((by.clone() - r.clone()) * (by.clone() + r.clone()));
+        let prod =
+            ((b.clone() - r.clone()) * (b.clone() + r.clone())) * ((by.clone() - r.clone()) * (by.clone() + r.clone()));
         if b.is_zero() || by.is_zero() || prod < r.lit(0.0) {
             return Vec::new();
         }
@@ -255,7 +259,8 @@ fn big_k<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s: &T, lambda: &T) -> (T,
     let rest = sigma.clone() * b + sigma.clone() * s.clone() * e + sigma.clone() * sigma.clone() * cc;
     let value = -(sigma.clone() * decay_a) + rest * front.clone();
     let error = sigma.clone() * (lambda.clone() - shifted).exp() * ea
-        + (sigma.clone() * eb * (s.lit(1.0) + s.lit(2.0) * sigma.clone() * s.clone()) + sigma.clone() * sigma.clone() * ec)
+        + (sigma.clone() * eb * (s.lit(1.0) + s.lit(2.0) * sigma.clone() * s.clone())
+            + sigma.clone() * sigma.clone() * ec)
             * front;
     (value, error)
 }
@@ -263,20 +268,7 @@ fn big_k<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s: &T, lambda: &T) -> (T,
 impl<T: CheckRule> FiniteField<T> {
     /// Σ over the lights of X₂₃ or X₂₄ (`cross_segments`), times e^{c₀}.
     pub fn order1_cross(&self, pair: CrossPair, opts: &Options) -> Result<Estimate<T>, crate::model::OracleError> {
-        self.order1_covered()?;
-        let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, ..opts.clone() };
-        let mut total: Option<Estimate<T>> = None;
-        for light in &self.lights {
-            let super::FiniteLight::Point(p) = light else { unreachable!("order1_covered refuses beams") };
-            let e = p
-                .cross_segments(self, pair, &share)
-                .map_err(crate::model::OracleError::quad("finite-sphere cross-segment pairs"))?;
-            total = Some(match total {
-                None => e,
-                Some(t) => t.plus(e),
-            });
-        }
-        Ok(total.expect("order1_covered needs a light"))
+        self.order1_light_sum("finite-sphere cross-segment pairs", opts, |p, o| p.cross_segments(self, pair, o))
     }
 }
 
@@ -320,11 +312,19 @@ mod tests {
                     bps.extend([z - h, z + h]);
                 }
                 let bps: Vec<f64> = bps.into_iter().filter(|x| *x > 0.0).collect();
-                let q = integrate(f, &Domain::semi_infinite(0.0).with_breakpoints(bps).with_decay(sigma), &Options::rel(1e-12))
-                    .unwrap();
+                let q = integrate(
+                    f,
+                    &Domain::semi_infinite(0.0).with_breakpoints(bps).with_decay(sigma),
+                    &Options::rel(1e-12),
+                )
+                .unwrap();
                 let got = k1 - k0;
                 let bar = e1 + e0 + q.error + 1e-14 * q.value.abs();
-                assert!((got - q.value).abs() <= bar, "z {z} b {b} [{s0}, {s1}]: {got:e} vs {:e} (bar {bar:e})", q.value);
+                assert!(
+                    (got - q.value).abs() <= bar,
+                    "z {z} b {b} [{s0}, {s1}]: {got:e} vs {:e} (bar {bar:e})",
+                    q.value
+                );
             }
         }
     }

@@ -28,6 +28,7 @@ use crate::quad::Failure;
 use crate::real::Real;
 
 use super::scattered::{hit_chance, hit_chance_parts};
+use crate::model::field::graded_by;
 
 /// The most pieces one set of cumulants may use.
 pub const MAX_PIECES: usize = 600;
@@ -127,7 +128,8 @@ impl<T: Real> HitCumulants<T> {
         // Beyond s_end: H ≤ e^{−σ(d − R)}/(2σd) (F₁ ≤ 1/(σd)) and d ≥ t − z
         // ≥ s_end − z, so ∫ H ≤ e^{−σ(s_end − z − R)}/(2σ²(s_end − z)).
         let past = end.clone() - z.clone();
-        let rest = (-(sigma.clone() * (past.clone() - r.clone()))).exp() / (z.lit(2.0) * sigma.clone() * sigma.clone() * past);
+        let rest =
+            (-(sigma.clone() * (past.clone() - r.clone()))).exp() / (z.lit(2.0) * sigma.clone() * sigma.clone() * past);
         let rest_b = rest.clone() * (-(sigma.clone() * (end.clone() - t0.clone()))).exp();
         let rest_c = rest_b.clone() * (end.clone() + z.lit(1.0) / sigma.clone());
         error[0] = error[0].clone() + rest;
@@ -173,17 +175,7 @@ fn cuts<T: Real>(sigma: &T, r: &T, z: &T, b: &T, end: &T) -> Vec<T> {
     let decay = z.lit(1.0) / sigma.clone();
     let mut cuts = vec![zero.clone(), end.clone(), z.clone()];
     // Graded by factors 4 from `width` about `a` up to `scale`.
-    let grade = |a: &T, width: &T, scale: &T, cuts: &mut Vec<T>| {
-        let mut step = width.clone();
-        for _ in 0..40 {
-            if !(step < *scale) || step.is_zero() {
-                break;
-            }
-            cuts.push(a.clone() - step.clone());
-            cuts.push(a.clone() + step.clone());
-            step = step * four.clone();
-        }
-    };
+    let grade = |a: &T, width: &T, scale: &T, cuts: &mut Vec<T>| cuts.extend(graded_by(a, width, scale, 4.0, 40));
     let diff = (b.clone() - r.clone()) * (b.clone() + r.clone());
     let scale = b.clone().max_of(r.clone()).max_of(decay.clone());
     if b < r {
@@ -253,11 +245,8 @@ fn piece_series<T: Real>(
         if tail > goal.clone() * big.clone() && tail > big.clone() * lo.eps() * lo.lit(64.0) && !small && !negligible {
             ok = false;
         }
-        tails[i] = if negligible {
-            big * len
-        } else {
-            (tail * lo.lit(2.0) + lo.eps() * lo.lit(64.0) * c[0].abs()) * len
-        };
+        tails[i] =
+            if negligible { big * len } else { (tail * lo.lit(2.0) + lo.eps() * lo.lit(64.0) * c[0].abs()) * len };
         antiderivative(&c, &half_len)
     });
     (series, ok.then_some(tails), NODES as u64)

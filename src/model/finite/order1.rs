@@ -16,10 +16,10 @@
 //! In an isotropic medium f = 1/4π on every segment, so each moment is
 //! (c f)^k times a probability of hits.
 
-use super::point::{cap_half_angle, PointLight};
-use super::scattered::hit_chance;
 use super::cross_segments::CrossPair;
+use super::point::{cap_half_angle, PointLight};
 use super::ray::Functional;
+use super::scattered::hit_chance;
 use super::{FiniteField, FiniteIntegrals, FiniteLight};
 use crate::model::field::graded_about;
 use crate::model::OracleError;
@@ -120,6 +120,30 @@ impl<T: CheckRule> FiniteField<T> {
         Ok(())
     }
 
+    /// Σ over the (point) lights of `each` (light, its share of the absolute
+    /// goal), failures named `what`: the order-1 totals that are sums of
+    /// per-light integrals ([`FiniteField::order1_virtual`],
+    /// [`FiniteField::order1_cross`]).
+    pub(super) fn order1_light_sum(
+        &self,
+        what: &'static str,
+        opts: &Options,
+        each: impl Fn(&PointLight<T>, &Options) -> Outcome<T>,
+    ) -> Result<Estimate<T>, OracleError> {
+        self.order1_covered()?;
+        let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, ..opts.clone() };
+        let mut total: Option<Estimate<T>> = None;
+        for light in &self.lights {
+            let FiniteLight::Point(p) = light else { unreachable!("order1_covered refuses beams") };
+            let e = each(p, &share).map_err(OracleError::quad(what))?;
+            total = Some(match total {
+                None => e,
+                Some(t) => t.plus(e),
+            });
+        }
+        Ok(total.expect("order1_covered needs a light"))
+    }
+
     /// (⟨𝒞₀⟩ + ⟨𝒞₁⟩)·e^{c₀} at x with its bar, summed over the (point)
     /// lights: the mean contribution of a path of order ≤ 1 to the sphere
     /// at s = center + x, for P and Q.
@@ -196,7 +220,9 @@ impl<T: CheckRule> FiniteField<T> {
         self.order1_covered()?;
         // Each integral is a sum of two parts: half the absolute goal each.
         let o = &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() }.declared();
-        let add = |a: Result<Estimate<T>, OracleError>, b: Result<Estimate<T>, OracleError>| Ok::<_, OracleError>(a?.plus(b?));
+        let add = |a: Result<Estimate<T>, OracleError>, b: Result<Estimate<T>, OracleError>| {
+            Ok::<_, OracleError>(a?.plus(b?))
+        };
         let (((mean0, mean1), (m20, m21)), ((c230, c231), (c240, c241))) = rayon::join(
             || {
                 rayon::join(
@@ -206,12 +232,29 @@ impl<T: CheckRule> FiniteField<T> {
             },
             || {
                 rayon::join(
-                    || rayon::join(|| self.ray_total(Functional::Pair23, o), || self.order1_pair_added(Functional::Pair23, o)),
-                    || rayon::join(|| self.ray_total(Functional::Pair24, o), || self.order1_pair_added(Functional::Pair24, o)),
+                    || {
+                        rayon::join(
+                            || self.ray_total(Functional::Pair23, o),
+                            || self.order1_pair_added(Functional::Pair23, o),
+                        )
+                    },
+                    || {
+                        rayon::join(
+                            || self.ray_total(Functional::Pair24, o),
+                            || self.order1_pair_added(Functional::Pair24, o),
+                        )
+                    },
                 )
             },
         );
         let (p, q) = self.order1_p_and_q(o);
-        Ok(FiniteIntegrals { mean: add(mean0, mean1)?, m2: add(m20, m21)?, p: p?, q: q?, c23: add(c230, c231)?, c24: add(c240, c241)? })
+        Ok(FiniteIntegrals {
+            mean: add(mean0, mean1)?,
+            m2: add(m20, m21)?,
+            p: p?,
+            q: q?,
+            c23: add(c230, c231)?,
+            c24: add(c240, c241)?,
+        })
     }
 }

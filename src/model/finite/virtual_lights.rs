@@ -111,10 +111,8 @@ impl<T: CheckRule> PointLight<T> {
             let light = PointLight::new(z.clone(), b.clone(), self.flux.clone(), r);
             // ray_integral_in's abs_tol applies before its constant.
             let floor = o2.rel_tol * scale / 100.0 * (-(sigma.to_f64() * m.to_f64())).exp();
-            let each = Options {
-                abs_tol: ((o2.abs_tol / dens.value.to_f64()).max(floor) / unit).min(f64::MAX),
-                ..o2.clone()
-            };
+            let each =
+                Options { abs_tol: ((o2.abs_tol / dens.value.to_f64()).max(floor) / unit).min(f64::MAX), ..o2.clone() };
             let v = light.ray_integral_in(ff, which, &each, true, &shift)?;
             let error = dens.value.abs() * v.error.clone() + v.value.abs() * dens.error.clone();
             Ok(Estimate::known(dens.value * v.value, error, dens.evaluations + v.evaluations, o2.rule))
@@ -197,7 +195,8 @@ impl<T: CheckRule> PointLight<T> {
                 integrate_within_pass(
                     |m: &T, o2: &Options| {
                         let (dz, db) = (m.clone() * c.clone(), (m.clone() * s.clone()).max_of(-by.clone()));
-                        let at = Offset { z: zy.clone() + dz.clone(), b: by.clone() + db.clone(), m: m.clone(), dz, db };
+                        let at =
+                            Offset { z: zy.clone() + dz.clone(), b: by.clone() + db.clone(), m: m.clone(), dz, db };
                         node(&at, o2)
                     },
                     &domain,
@@ -216,18 +215,7 @@ impl<T: CheckRule> FiniteField<T> {
     /// and of the ⟨𝒞₁²⟩ in [`FiniteField::order1_second_added`] that shares
     /// no geometry with them.
     pub fn order1_virtual(&self, which: Functional, opts: &Options) -> Result<Estimate<T>, crate::model::OracleError> {
-        self.order1_covered()?;
-        let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, ..opts.clone() };
-        let mut total: Option<Estimate<T>> = None;
-        for light in &self.lights {
-            let super::FiniteLight::Point(p) = light else { unreachable!("order1_covered refuses beams") };
-            let e = p.virtual_average(self, which, &share).map_err(crate::model::OracleError::quad(which.name()))?;
-            total = Some(match total {
-                None => e,
-                Some(t) => t.plus(e),
-            });
-        }
-        Ok(total.expect("order1_covered needs a light"))
+        self.order1_light_sum(which.name(), opts, |p, o| p.virtual_average(self, which, o))
     }
 }
 
