@@ -11,7 +11,7 @@
 
 use mcrt_noise::model::field::Field;
 use mcrt_noise::model::finite::{FiniteField, Functional};
-use mcrt_noise::oracle::{run, FiniteReport, Precision, Report};
+use mcrt_noise::oracle::{run, FiniteReport, Precision};
 use mcrt_noise::quad::Options;
 use mcrt_scene::{DVec3, Light, Phase, Scene};
 
@@ -222,32 +222,9 @@ fn a_beam_along_the_camera_line_is_continuous() {
 #[test]
 fn finite_reports_are_pinned() {
     for name in ORDER0_SCENES {
-        let text = finite_text(&run(&scene(name), Precision::F64, None).unwrap(), 8);
+        let text = common::finite_text(&run(&scene(name), Precision::F64, None).unwrap(), 8);
         insta::with_settings!({snapshot_path => "../snapshots", prepend_module_to_snapshot => false}, {
             insta::assert_snapshot!(format!("finite_{name}"), text);
         });
     }
-}
-
-fn finite_text(r: &Report, digits: usize) -> String {
-    let f = r.finite.as_ref().expect("order 0");
-    let sig = |v: f64| format!("{v:.*e}", digits - 1);
-    let decade = |v: f64| if v > 0.0 { format!("<= 1e{}", v.log10().ceil() as i32) } else { "0".into() };
-    let mut out = format!("prediction.model {}\n", r.prediction.model);
-    for (label, v) in [
-        ("mean", f.mean),
-        ("variance", f.variance),
-        ("bias", f.bias),
-        ("relative_noise", f.relative_noise),
-        ("mean_ratio", f.mean_ratio),
-        ("variance_ratio", f.variance_ratio),
-        ("m2", f.integral_m2.into()),
-        ("p", f.integral_p.into()),
-        ("q_pair", f.integral_q.into()),
-        ("corr23", f.corr23.into()),
-        ("corr24", f.corr24.into()),
-    ] {
-        out.push_str(&format!("{label} {} ({})\n", sig(v.value), decade(v.error)));
-    }
-    out
 }

@@ -16,6 +16,8 @@ use mcrt_reference::{trace, HitMethod, Tracer};
 use mcrt_scene::{DVec3, Light, Scene};
 use std::path::Path;
 
+mod common;
+
 /// `point-isotropic-order1` with q = 1, N_B = 1 and the given R, N_F, albedo.
 fn scene(radius: f64, n_f: u64, albedo: f64) -> Scene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/point-isotropic-order1.toml");
@@ -287,4 +289,48 @@ fn order1_moments_converge_in_hard_cases() {
             assert!(e.error <= 1e-6 * e.value, "{name}: {what}: bar {} of {}", e.error, e.value);
         }
     }
+}
+
+/// What a renderer developer gets for an order-1 scene with q = 1, N_B = 1
+/// (the standard method: one sphere per camera ray, one camera ray) at
+/// R = 0.2, which `predict` refused before (the small-sphere allowance is
+/// measured only for R ≤ 0.1): the finite-sphere model, model bar 0, the
+/// bias predicted; a right renderer (the reference tracer, 2·10⁶
+/// iterations) passes `check` against it, while the small-sphere Var L
+/// (1.75 % above, ~6 standard errors) sits beyond 4, past the check's own
+/// limit of ~3.5: the same renderer would fail against it unless an
+/// allowance excused the model. The `finite` object is pinned at 6 significant
+/// digits (the bars are ≤ 10⁻⁶ of each value).
+#[test]
+fn library_predicts_order1_exactly_at_one_sphere_per_camera_ray() {
+    use mcrt_noise::{check, predict, CheckOptions, Model, Samples};
+    use rayon::prelude::*;
+    let s = scene(0.2, 20, 0.8);
+    let prediction = predict(&s).unwrap();
+    assert_eq!(prediction.model, Model::FiniteSphere);
+    assert_eq!((prediction.mean.model_bar, prediction.variance.model_bar), (0.0, 0.0));
+    assert!(prediction.bias.is_some(), "the bias of an order-1 scene is predicted");
+    let finite = prediction.report.finite.as_ref().unwrap();
+    assert_eq!(finite.covers, "uncollided and single-scattered");
+    for (what, v) in [("mean", prediction.mean), ("Var L", prediction.variance)] {
+        assert!(v.quadrature_bar <= 1e-6 * v.value, "{what}: {v:?}");
+    }
+    insta::with_settings!({snapshot_path => "../snapshots", prepend_module_to_snapshot => false}, {
+        insta::assert_snapshot!("finite_point-isotropic-order1-q1", common::finite_text(&prediction.report, 6));
+    });
+
+    let tracer = Tracer::new(&s).unwrap();
+    let values: Vec<f64> =
+        (0..2_000_000u64).into_par_iter().map(|i| tracer.trial(31, i, HitMethod::Sorted).0).collect();
+    let mut samples = Samples::new();
+    samples.extend(values).unwrap();
+    let verdict = check(&prediction, &samples, &CheckOptions::default());
+    println!("{verdict}");
+    verdict.assert_pass();
+    let var = samples.variance().unwrap();
+    let small = prediction.report.variance.exact;
+    let se = var.standard_error;
+    let z_small = (var.value - small.value) / (se * se + small.error * small.error).sqrt();
+    println!("small-sphere Var L {:.6e}: z {z_small:+.1} against the tracer", small.value);
+    assert!(z_small.abs() > 4.0, "the small-sphere Var L is not rejected here (z = {z_small:+.2})");
 }

@@ -52,6 +52,7 @@ fn finite_prediction(s: &Scene, goal: f64) -> (Barred, Barred) {
     let k = (-ff.shift).exp();
     let FiniteIntegrals { mean, m2, p, q, c23, c24 } = ff.order1_integrals(&o).unwrap();
     let g = |e: &Estimate<f64>| Barred(e.value * k, e.error * k);
+    let (q, c23, c24) = (q.unwrap(), c23.unwrap(), c24.unwrap());
     let (mu, m2, p, qq, c23, c24) = (g(&mean), g(&m2), g(&p), g(&q), g(&c23), g(&c24));
     let (q, nf, nb) = (s.estimator.q, s.estimator.forward_rays as f64, s.estimator.camera_rays as f64);
     let a = q * m2.0 + 2.0 * (1.0 - q) * c23.0;

@@ -12,10 +12,13 @@ use std::fmt;
 #[serde(rename_all = "kebab-case")]
 pub enum Model {
     /// The finite-sphere model (`docs/model.md` §9): the estimator's exact
-    /// moments at the scene's R, for uncollided light. Its model bar is 0.
+    /// moments at the scene's R, for uncollided light, and for
+    /// single-scattered light with q = 1, N_B = 1 (isotropic media, point
+    /// lights). Its model bar is 0.
     FiniteSphere,
     /// The paper's small-sphere model (§4.3), exact only as R → 0; used for
-    /// scenes with single-scattered light, with a measured model bar.
+    /// the other scenes with single-scattered light, with a measured model
+    /// bar.
     SmallSphere,
 }
 
@@ -128,10 +131,18 @@ impl From<OracleError> for PredictError {
 /// The scene is validated first (a hand-assembled [`Scene`] gets the scene
 /// file's checks). Uncollided light (scattering order 0) is predicted by the
 /// finite-sphere model, exact at the scene's R: the model bar is 0.
-/// Single-scattered light (order 1) is predicted by the small-sphere model
-/// with its measured allowance as the model bar, for R ≤ 0.1
-/// ([`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE`]); larger R with
-/// scattered light, and orders ≥ 2, are refused.
+/// Single-scattered light (order 1) in an isotropic medium from point
+/// lights with q = 1 and N_B = 1 is predicted by the finite-sphere model
+/// too, exact at any R (model bar 0; [`oracle::finite_sphere_covers`]);
+/// the oracle computes the small-sphere model beside it all the same, so
+/// where that fails (a light within ~R of the camera line: its (23) meets
+/// an infinite integrand) the prediction fails too. If the finite-sphere
+/// computation itself fails, the small-sphere model with its allowance
+/// serves for R ≤ 0.1 and the failure is returned beyond.
+/// Other order-1 scenes are predicted by the small-sphere model with its
+/// measured allowance as the model bar, for R ≤ 0.1
+/// ([`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE`]); larger R there,
+/// and orders ≥ 2, are refused.
 ///
 /// Cost: milliseconds for uncollided light in a release build; ~10 s for
 /// single scattering (`docs/library.md` gives the profile settings a
@@ -161,17 +172,30 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
     }
     let scattered = scene.effects.scattering_orders != ScatteringOrders::Limited(0);
     let radius = scene.estimator.radius;
-    if scattered && radius > MODEL_ERROR_RADIUS {
-        return Err(PredictError::Unsupported(format!(
-            "estimator.radius = {radius}: with scattered light (effects.scattering_orders ≥ 1) the prediction is the \
-             small-sphere model, whose own error is measured only for R ≤ {MODEL_ERROR_RADIUS}; use R ≤ \
-             {MODEL_ERROR_RADIUS} or scattering_orders = 0"
-        )));
+    let small_sphere_too_large = |why: &str| {
+        PredictError::Unsupported(format!(
+            "estimator.radius = {radius}: with scattered light (effects.scattering_orders ≥ 1) the prediction here \
+             is the small-sphere model ({why}), whose own error is measured only for R ≤ {MODEL_ERROR_RADIUS}; use \
+             R ≤ {MODEL_ERROR_RADIUS}, or q = 1 and N_B = 1 with scattering_orders = 1 (isotropic medium, point \
+             lights: the finite-sphere model, exact at any R), or scattering_orders = 0"
+        ))
+    };
+    if scattered && radius > MODEL_ERROR_RADIUS && !oracle::finite_sphere_covers(&scene) {
+        return Err(small_sphere_too_large("the finite-sphere model does not cover this scene"));
     }
     let report = oracle::run(&scene, precision, rel_tol)?;
     let p = &report.prediction;
-    let (model, (mean_rel, var_rel), basis) = match report.finite {
-        Some(_) => (Model::FiniteSphere, (0.0, 0.0), FINITE_BASIS.to_string()),
+    let (model, (mean_rel, var_rel), basis) = match &report.finite {
+        Some(f) if f.covers == "uncollided" => (Model::FiniteSphere, (0.0, 0.0), FINITE_BASIS.to_string()),
+        Some(_) => (Model::FiniteSphere, (0.0, 0.0), FINITE_ORDER1_BASIS.to_string()),
+        // A covered scene whose finite-sphere computation failed: beyond the
+        // small-sphere model's measured range that failure is the answer.
+        None if radius > MODEL_ERROR_RADIUS => {
+            return Err(match &report.finite_error {
+                Some(e) => PredictError::Oracle(e.clone()),
+                None => small_sphere_too_large(report.finite_not_used.as_deref().unwrap_or("no finite-sphere model")),
+            })
+        }
         None => {
             let scale = model_error_scale(radius);
             let (m, v) = SMALL_SPHERE_SCATTERED_ALLOWANCE;
@@ -194,6 +218,9 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
 }
 
 const FINITE_BASIS: &str = "none needed: the finite-sphere model is exact at this R for uncollided light";
+
+const FINITE_ORDER1_BASIS: &str = "none needed: the finite-sphere model is exact at this R for uncollided and \
+     single-scattered light (isotropic medium, point lights, q = 1, N_B = 1; docs/model.md §9.6)";
 
 fn small_sphere_basis(radius: f64, (mean, variance): (f64, f64)) -> String {
     format!(

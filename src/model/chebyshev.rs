@@ -144,6 +144,15 @@ impl<T: Real> Piecewise<T> {
         Ok(Piecewise { pieces, rel_error, evaluations })
     }
 
+    /// Whether x lies in the covered range [a of the first piece, b of the
+    /// last], where [`Piecewise::eval`] interpolates (outside it clamps).
+    pub fn covers(&self, x: &T) -> bool {
+        match (self.pieces.first(), self.pieces.last()) {
+            (Some(first), Some(last)) => *x >= first.a && *x <= last.b,
+            _ => false,
+        }
+    }
+
     /// The interpolant at x (clamped to the covered range): e^{p(x)}, p the
     /// Chebyshev interpolant of ln f, by Clenshaw's recurrence.
     pub fn eval(&self, x: &T) -> T {

@@ -3,10 +3,12 @@
 //!
 //! Two models are computed side by side: the small-sphere model of §4.3
 //! (exact only as R → 0; its exact (23), (24), their R → 0 forms and the
-//! §4.4 formula) and, for uncollided light, the finite-sphere model
-//! (`model::finite`, exact at the scene's R). The report's `prediction` is
-//! the finite-sphere model where it exists, the small-sphere one otherwise,
-//! and says which.
+//! §4.4 formula) and the finite-sphere model (`model::finite`, exact at
+//! the scene's R) for uncollided light and, in isotropic media with point
+//! lights at q = 1 and N_B = 1, for single-scattered light. The report's
+//! `prediction` is the finite-sphere model where it exists, the
+//! small-sphere one otherwise, and says which (and, with scattered light,
+//! why in `finite_not_used`).
 
 use crate::model::field::{beam_interval, Field};
 use crate::model::finite::{FiniteField, FiniteIntegrals, Functional};
@@ -24,7 +26,7 @@ mod report;
 use report::{correlation, reported, scaled};
 pub use report::{
     Asymptotic, Correlation, FiniteMean, FiniteReport, Integral, Report, ReportPrediction, ValueWithBar, Variance,
-    FINITE_NOTE, SMALL_SPHERE_NOTE,
+    FINITE_NOTE, FINITE_ORDER1_NOTE, PAIRS_NOT_NEEDED, SMALL_SPHERE_NOTE,
 };
 
 /// The largest MPFR precision a run accepts: its default tolerance
@@ -135,6 +137,7 @@ pub fn run_with<T: CheckRule>(
         return Err(no_light_on_the_camera_ray(scene, finite_field.as_ref(), &opts));
     }
     let scattered_field = scattered_mean_field(scene, &field);
+    let unpaired = scattered_field.is_some() && pairs_weigh_nothing(scene);
     let ((ints, finite), scattered) = rayon::join(
         || {
             rayon::join(
@@ -142,14 +145,27 @@ pub fn run_with<T: CheckRule>(
                 || finite_field.as_ref().map(|ff| ff.integrals(&opts)).transpose(),
             )
         },
-        || scattered_field.as_ref().map(|ff| finite_mean_of_order_one(ff, &opts)).transpose(),
+        || scattered_field.as_ref().map(|ff| order_one(ff, unpaired, &opts)).transpose(),
     );
     // A failure's best guess carries its field's e^{c₀}: in the report's units.
     let ints = ints.map_err(|e| e.unshifted(field.shift.to_f64()))?;
     let finite = finite.map_err(|e| e.unshifted(finite_field.as_ref().map_or(0.0, |ff| ff.shift.to_f64())))?;
-    // The exact order-1 mean is an addition to the report: its failure is
-    // reported as missing, with the reason, and does not fail the run.
-    let scattered = scattered.map_err(|e| e.unshifted(scattered_field.as_ref().map_or(0.0, |ff| ff.shift.to_f64())));
+    // The exact order-1 model is an addition to the small-sphere report:
+    // its failure is reported, with the reason, and does not fail the run.
+    let shift = scattered_field.as_ref().map_or(0.0, |ff| ff.shift.to_f64());
+    let scattered = scattered.map_err(|e| e.unshifted(shift)).map(|one| {
+        one.map(|one| match one {
+            OrderOne::Mean(m, failed) => OrderOne::Mean(m, failed.map(|e| e.unshifted(shift))),
+            whole => whole,
+        })
+    });
+    let finite_not_used = finite_not_used(scene, &scattered);
+    let (order1_finite, scattered, finite_error) = match scattered {
+        Ok(Some(OrderOne::Integrals(f))) => (Some(f), Ok(None), None),
+        Ok(Some(OrderOne::Mean(m, failed))) => (None, Ok(Some(m)), failed),
+        Ok(None) => (None, Ok(None), None),
+        Err(e) => (None, Err(e.clone()), pairs_weigh_nothing(scene).then_some(e)),
+    };
     if ints.mean.value.is_zero() {
         return Err(OracleError::Unsupported(
             "the mean luminance is exactly 0 (no light reaches the camera ray): Var L = 0 and the relative noise is undefined".into(),
@@ -205,8 +221,10 @@ pub fn run_with<T: CheckRule>(
     let small_mean = reported(&(ints.mean.value.clone() * k.clone()), &(ints.mean.error.clone() * k.clone()));
     let small_variance = reported(&(var.value.clone() * k.clone()), &(var.error.clone() * k.clone()));
     let small_relative = reported(&relative, &relative_error);
-    let finite_report = match (&finite, &finite_field) {
-        (Some(f), Some(ff)) => Some(finite_report(f, ff, &counts, (&mean, &var, &field.shift))),
+    let small = (&mean, &var, &field.shift);
+    let finite_report = match (&finite, &finite_field, &order1_finite, &scattered_field) {
+        (Some(f), Some(ff), _, _) => Some(finite_report(f, ff, &counts, small, "uncollided")),
+        (_, _, Some(f), Some(ff)) => Some(finite_report(f, ff, &counts, small, "uncollided and single-scattered")),
         _ => None,
     };
     let prediction = match &finite_report {
@@ -215,14 +233,17 @@ pub fn run_with<T: CheckRule>(
             mean: f.mean,
             variance: f.variance,
             relative_noise: f.relative_noise,
-            note: FINITE_NOTE.into(),
+            note: if order1_finite.is_some() { FINITE_ORDER1_NOTE } else { FINITE_NOTE }.into(),
         },
         None => ReportPrediction {
             model: "small-sphere",
             mean: small_mean,
             variance: small_variance,
             relative_noise: small_relative,
-            note: SMALL_SPHERE_NOTE.into(),
+            note: match &finite_not_used {
+                Some(why) => format!("{SMALL_SPHERE_NOTE}. Not the finite-sphere model: {why}"),
+                None => SMALL_SPHERE_NOTE.into(),
+            },
         },
     };
     let report = Report {
@@ -249,6 +270,8 @@ pub fn run_with<T: CheckRule>(
         integral_m2: scaled(&ints.m2, &k),
         integral_m2_same_path: field.is_smooth().then(|| scaled(&ints.m2_same_path, &k)),
         finite_mean: finite_mean_report(scattered, scattered_field.as_ref(), &ints.mean, &k),
+        finite_not_used,
+        finite_error,
         integral_p: scaled(&ints.p, &k),
         integral_q: scaled(&ints.q, &k),
         attenuation_shift: field.shift.to_f64(),
@@ -319,16 +342,23 @@ fn finite_report<T: CheckRule>(
     ff: &FiniteField<T>,
     counts: &Counts<T>,
     small: (&Valued<T>, &Valued<T>, &T),
+    covers: &'static str,
 ) -> FiniteReport {
     let k = (-ff.shift.clone()).exp();
     let mean_t = Valued::from(&f.mean);
+    // Q, C₂₃, C₂₄ are missing only where (7)–(9) weigh them 0 (q = 1,
+    // N_B = 1: `pairs_weigh_nothing`): they enter as exact zeros.
+    let or_zero = |e: &Option<Estimate<T>>| match e {
+        Some(e) => Valued::from(e),
+        None => Valued { value: k.lit(0.0), error: k.lit(0.0) },
+    };
     let var = variance(
         &mean_t,
         &Valued::from(&f.m2),
-        &Valued::from(&f.c23),
+        &or_zero(&f.c23),
         &Valued::from(&f.p),
-        &Valued::from(&f.q),
-        &Valued::from(&f.c24),
+        &or_zero(&f.q),
+        &or_zero(&f.c24),
         counts,
         &k,
     );
@@ -359,9 +389,11 @@ fn finite_report<T: CheckRule>(
         variance_ratio: ratio(&var, small_var),
         integral_m2: scaled(&f.m2, &k),
         integral_p: scaled(&f.p, &k),
-        integral_q: scaled(&f.q, &k),
-        corr23: scaled(&f.c23, &k),
-        corr24: scaled(&f.c24, &k),
+        integral_q: f.q.as_ref().map(|e| scaled(e, &k)),
+        corr23: f.c23.as_ref().map(|e| scaled(e, &k)),
+        corr24: f.c24.as_ref().map(|e| scaled(e, &k)),
+        not_computed: (!f.has_pairs()).then(|| PAIRS_NOT_NEEDED.to_string()),
+        covers,
         attenuation_shift: ff.shift.to_f64(),
         evaluations: f.evaluations(),
     }
@@ -393,18 +425,107 @@ pub fn run_within(
 /// covers (isotropic medium, point lights; `model::finite::scattered`), or
 /// `None`.
 fn scattered_mean_field<T: CheckRule>(scene: &Scene, field: &Field<T>) -> Option<FiniteField<T>> {
-    let covered = scene.effects.scattering_orders == mcrt_scene::ScatteringOrders::Limited(1)
-        && scene.medium.phase == mcrt_scene::Phase::Isotropic
-        && scene.lights.iter().all(|l| matches!(l, mcrt_scene::Light::Point { .. }));
-    covered.then(|| FiniteField::of_first_segments(scene, field))
+    scattered_covered(scene).then(|| FiniteField::of_first_segments(scene, field))
 }
 
-/// μ(R)·e^{c₀} = μ₀(R) + μ₁(R) of an order-1 scene: the uncollided mean
-/// (ray-centric) plus the single-scattered one (`finite::scattered`).
-fn finite_mean_of_order_one<T: CheckRule>(ff: &FiniteField<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
+/// Whether the oracle's prediction for `scene` is the finite-sphere model
+/// (exact at the scene's R; when its computation succeeds): uncollided
+/// light, and single-scattered light in an isotropic medium from point
+/// lights with q = 1 and N_B = 1.
+///
+/// ```
+/// use mcrt_noise::{oracle::finite_sphere_covers, Scene};
+///
+/// let mut scene = Scene::builder()
+///     .medium(1.0, 0.8)
+///     .point_light([1.0, 0.0, 1.0], 1.0)
+///     .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+///     .estimator(0.2, 1.0, 20, 1)
+///     .build()?;
+/// assert!(finite_sphere_covers(&scene));
+/// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
+/// assert!(finite_sphere_covers(&scene));
+/// scene.estimator.camera_rays = 4;
+/// assert!(!finite_sphere_covers(&scene));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn finite_sphere_covers(scene: &Scene) -> bool {
+    use mcrt_scene::ScatteringOrders::Limited;
+    match scene.effects.scattering_orders {
+        Limited(0) => true,
+        Limited(1) => scattered_covered(scene) && pairs_weigh_nothing(scene),
+        _ => false,
+    }
+}
+
+/// An order-1 scene whose medium and lights the finite-sphere model of
+/// single scattering covers: isotropic, point lights.
+fn scattered_covered(scene: &Scene) -> bool {
+    scene.effects.scattering_orders == mcrt_scene::ScatteringOrders::Limited(1)
+        && scene.medium.phase == mcrt_scene::Phase::Isotropic
+        && scene.lights.iter().all(|l| matches!(l, mcrt_scene::Light::Point { .. }))
+}
+
+/// Whether (7)–(9) weigh Q, C₂₃ and C₂₄ 0: q = 1 (one sphere per camera
+/// ray) and N_B = 1 (one camera ray).
+fn pairs_weigh_nothing(scene: &Scene) -> bool {
+    scene.estimator.q == 1.0 && scene.estimator.camera_rays == 1
+}
+
+/// What the finite-sphere model gives of an order-1 scene.
+enum OrderOne<T> {
+    /// μ, M₂, P: the whole model where the pairs weigh nothing.
+    Integrals(FiniteIntegrals<T>),
+    /// μ(R)·e^{c₀} alone: the pairs are not affordable yet, or (the
+    /// error) the whole model was asked for and failed.
+    Mean(Estimate<T>, Option<OracleError>),
+}
+
+/// The finite-sphere model of an order-1 scene: its μ, M₂ and P when
+/// `unpaired` (q = 1, N_B = 1: all its Var L needs), else — or when that
+/// fails (P at σ·distance ≳ 400, `docs/model.md` §9.6) — μ(R)·e^{c₀} =
+/// μ₀(R) + μ₁(R) alone, the uncollided mean (ray-centric) plus the
+/// single-scattered one (`finite::scattered`).
+fn order_one<T: CheckRule>(ff: &FiniteField<T>, unpaired: bool, opts: &Options) -> Result<OrderOne<T>, OracleError> {
+    let failed = match unpaired.then(|| ff.order1_unpaired(opts)) {
+        Some(Ok(f)) => return Ok(OrderOne::Integrals(f)),
+        Some(Err(e)) => Some(e),
+        None => None,
+    };
     let o = opts.clone().declared();
     let (uncollided, scattered) = rayon::join(|| ff.ray_total(Functional::Mean, &o), || ff.scattered_mean(&o));
-    Ok(uncollided?.plus(scattered?))
+    Ok(OrderOne::Mean(uncollided?.plus(scattered?), failed))
+}
+
+/// Why an order-1 scene's prediction is not the finite-sphere model: what
+/// the model does not cover yet, or its failure (`None` for order 0, or
+/// when it is the prediction).
+fn finite_not_used<T>(scene: &Scene, run: &Result<Option<OrderOne<T>>, OracleError>) -> Option<String> {
+    if scene.effects.scattering_orders == mcrt_scene::ScatteringOrders::Limited(0) {
+        return None;
+    }
+    let e = &scene.estimator;
+    let needed = match (e.q < 1.0, e.camera_rays > 1) {
+        (true, true) => "C₂₃, Q and C₂₄",
+        (true, false) => "C₂₃ and Q (q < 1: several spheres per camera ray)",
+        _ => "C₂₄ (N_B > 1: several camera rays)",
+    };
+    match run {
+        Ok(Some(OrderOne::Integrals(_))) => None,
+        Ok(Some(OrderOne::Mean(_, Some(err)))) => {
+            Some(format!("its computation failed (its exact mean is still `finite_mean`): {err}"))
+        }
+        Err(err) if pairs_weigh_nothing(scene) => Some(format!("its computation failed: {err}")),
+        Ok(Some(OrderOne::Mean(_, None))) | Err(_) => Some(format!(
+            "with single-scattered light it covers q = 1 and N_B = 1 only (here q = {}, N_B = {}), where (7)–(9) \
+             weigh the correlations of two spheres 0; this scene needs {needed}, which take minutes at 10⁻³ \
+             (docs/model.md §9.7) and are not in the oracle yet; its exact mean is `finite_mean`",
+            e.q, e.camera_rays
+        )),
+        Ok(None) => Some(
+            "the finite-sphere model of single-scattered light covers isotropic media with point lights only".into(),
+        ),
+    }
 }
 
 /// The report's `finite_mean` from the order-1 mean μ(R)·e^{c₀} (or its

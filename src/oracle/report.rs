@@ -104,17 +104,31 @@ pub struct FiniteReport {
     pub integral_m2: Integral,
     /// P = ∫σe^{−σs}⟨𝒞⟩_R² ds of (17).
     pub integral_p: Integral,
-    /// Q = ∫∫ σ²e^{−σ(s+s′)}⟨𝒞⟩_R(s)⟨𝒞⟩_R(s′) ds ds′ of (17).
-    pub integral_q: Integral,
-    /// C₂₃, the finite-sphere form of integral (23).
-    pub corr23: Integral,
-    /// C₂₄, the finite-sphere form of integral (24).
-    pub corr24: Integral,
+    /// Q = ∫∫ σ²e^{−σ(s+s′)}⟨𝒞⟩_R(s)⟨𝒞⟩_R(s′) ds ds′ of (17); `None`
+    /// (JSON `null`) where not computed ([`FiniteReport::not_computed`]
+    /// says why).
+    pub integral_q: Option<Integral>,
+    /// C₂₃, the finite-sphere form of integral (23); `None` as `integral_q`.
+    pub corr23: Option<Integral>,
+    /// C₂₄, the finite-sphere form of integral (24); `None` as `integral_q`.
+    pub corr24: Option<Integral>,
+    /// Why Q, C₂₃ and C₂₄ are missing, if they are: a scene with
+    /// single-scattered light and q = 1, N_B = 1, whose Var L weighs them 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_computed: Option<String>,
+    /// The light the model covers: `"uncollided"` (scattering order 0) or
+    /// `"uncollided and single-scattered"` (order 1).
+    pub covers: &'static str,
     /// This model's c₀ (`FiniteField::shift`).
     pub attenuation_shift: f64,
     /// Integrand evaluations of this model's integrals.
     pub evaluations: u64,
 }
+
+/// [`FiniteReport::not_computed`] of an order-1 scene with q = 1, N_B = 1.
+pub const PAIRS_NOT_NEEDED: &str = "Q, C₂₃ and C₂₄ enter Var L with weight 0 at q = 1 and N_B = 1 (one sphere per \
+     camera ray, one camera ray) and are not computed; with single-scattered light they take minutes \
+     (docs/model.md §9.7)";
 
 /// The finite-sphere mean of a scene with single-scattered light.
 #[derive(Debug, Clone, Serialize)]
@@ -134,8 +148,10 @@ pub struct FiniteMean {
 /// What the oracle predicts for the scene, and from which model.
 #[derive(Debug, Clone, Serialize)]
 pub struct ReportPrediction {
-    /// `"finite-sphere"` (exact at the scene's R; uncollided light) or
-    /// `"small-sphere"` (§4.3, exact as R → 0; scenes with scattered light).
+    /// `"finite-sphere"` (exact at the scene's R: uncollided light, and
+    /// single-scattered light with q = 1, N_B = 1 in isotropic media from
+    /// point lights) or `"small-sphere"` (§4.3, exact as R → 0; the other
+    /// scenes with scattered light).
     pub model: &'static str,
     /// ⟨⟨L⟩⟩ with its quadrature bar.
     pub mean: ValueWithBar,
@@ -149,14 +165,19 @@ pub struct ReportPrediction {
 
 /// The note of a small-sphere prediction: its own error is not in the bars.
 pub const SMALL_SPHERE_NOTE: &str = "exact only as R → 0; the bars are the quadrature's and do not include the \
-     model's own error at this R (the finite-sphere model covers uncollided light, and of single-scattered light the mean \
-     (isotropic media, point lights: `finite_mean`); measured with the tracer on \
+     model's own error at this R (the finite-sphere model covers uncollided light; in isotropic media with point lights \
+     it covers single-scattered light at q = 1 and N_B = 1, and of other order-1 scenes it gives the mean, \
+     `finite_mean`); measured with the tracer on \
      point-isotropic-order1 at R = 0.1: Var L 4.7 % off, falling like R ln(1/R) (tests/tracer_vs_oracle.rs); its \
      mean is 0.33 % low there, as `finite_mean` computes)";
 
-/// The note of a finite-sphere prediction.
+/// The note of a finite-sphere prediction for uncollided light.
 pub const FINITE_NOTE: &str = "exact at this R for uncollided light; the bars are the quadrature's (the model \
      approximates nothing)";
+
+/// The note of a finite-sphere prediction with single-scattered light.
+pub const FINITE_ORDER1_NOTE: &str = "exact at this R for uncollided and single-scattered light (isotropic medium, \
+     point lights, q = 1, N_B = 1); the bars are the quadrature's (the model approximates nothing)";
 
 /// Everything the oracle says about one scene.
 #[derive(Debug, Clone, Serialize)]
@@ -195,10 +216,19 @@ pub struct Report {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub integral_m2_same_path: Option<Integral>,
     /// The exact mean at R of an order-1 scene (isotropic medium, point
-    /// lights; `docs/model.md` §9.5), while its Var L is still the
-    /// small-sphere model's.
+    /// lights; `docs/model.md` §9.5) whose Var L is still the small-sphere
+    /// model's (q < 1 or N_B > 1; with q = 1 and N_B = 1 [`Report::finite`]
+    /// has the whole order-1 model).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub finite_mean: Option<FiniteMean>,
+    /// Why the prediction of a scene with scattered light is not the
+    /// finite-sphere model (what it does not cover yet, or its failure).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub finite_not_used: Option<String>,
+    /// The finite-sphere model's failure on a scene it covers (its
+    /// quadrature did not converge), kept for the library's `predict`.
+    #[serde(skip)]
+    pub finite_error: Option<crate::model::OracleError>,
     /// P = ∫σe^{−σs}⟨𝒞⟩² ds of (17).
     pub integral_p: Integral,
     /// Q = ∫∫σ²e^{−σ(s+s′)}⟨𝒞⟩(s)⟨𝒞⟩(s′) ds ds′ of (17).
@@ -212,7 +242,9 @@ pub struct Report {
     pub d_error: Option<[f64; 5]>,
     /// Evaluations of the small-sphere model's integrals.
     pub evaluations: u64,
-    /// The finite-sphere model, for uncollided light (`None` with scattered light).
+    /// The finite-sphere model: for uncollided light, and for
+    /// single-scattered light with q = 1, N_B = 1 (isotropic media, point
+    /// lights); `None` elsewhere ([`Report::finite_not_used`] says why).
     pub finite: Option<FiniteReport>,
     /// The prediction to test a renderer against: the finite-sphere model
     /// where it exists, else the small-sphere one.

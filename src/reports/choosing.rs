@@ -329,7 +329,7 @@ fn order_one_section(s: &mut String, scenes_dir: &Path, cal: &Calibration) -> Re
     let t0 = Instant::now();
     let o = crate::tuning::optimize(&scene, &opts).map_err(|e| e.to_string())?;
     writeln!(s, "\n## `scenes/{name}.toml` (single scattering): the small-sphere model\n").unwrap();
-    writeln!(s, "The finite-sphere model's Var L covers uncollided light only (of single scattering it has the exact mean, docs/model.md §9.5, not yet the variance), so here `optimize` says that the bias is not predicted, holds R at the scene's and chooses q, N_F, N_B for the noise alone ({:.1} s):\n", t0.elapsed().as_secs_f64()).unwrap();
+    writeln!(s, "The finite-sphere model's Var L covers single scattering only at q = 1, N_B = 1 (docs/model.md §9.6: the correlations of two spheres that other q and N_B need are not in the oracle yet), and `optimize` varies q and N_B, so here `optimize` says that the bias is not predicted, holds R at the scene's and chooses q, N_F, N_B for the noise alone ({:.1} s):\n", t0.elapsed().as_secs_f64()).unwrap();
     writeln!(s, "```text\n{}```", super::optimum::text(&format!("scenes/{name}.toml"), &o)).unwrap();
     Ok(())
 }

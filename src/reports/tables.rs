@@ -198,9 +198,18 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
             row(&mut s, "mean luminance", &f.mean, &r.mean_luminance, Some(&f.mean_ratio));
             row(&mut s, "Var L (one iteration)", &f.variance, &r.variance.exact, Some(&f.variance_ratio));
             row(&mut s, "relative noise Var/L²", &f.relative_noise, &small_rel, None);
-            row(&mut s, "(23) exact", &int(&f.corr23), &int(&r.corr23.exact), None);
-            row(&mut s, "(24) exact", &int(&f.corr24), &int(&r.corr24.exact), None);
+            for (name, exact, small) in [("(23) exact", &f.corr23, &r.corr23), ("(24) exact", &f.corr24, &r.corr24)] {
+                match exact {
+                    Some(e) => row(&mut s, name, &int(e), &int(&small.exact), None),
+                    None => {
+                        writeln!(s, "{name:<24} {:<30}{}", "not needed (weight 0)", col(&int(&small.exact))).unwrap()
+                    }
+                }
+            }
             writeln!(s, "{:<24} {}", "bias μ(R) − μ(0)", pm(f.bias.value, f.bias.error)).unwrap();
+            if let Some(why) = &f.not_computed {
+                writeln!(s, "{:<24} {why}", "not computed:").unwrap();
+            }
         }
         None => {
             writeln!(s, "mean luminance           {}", pm(r.mean_luminance.value, r.mean_luminance.error)).unwrap();

@@ -52,21 +52,23 @@ pub struct ModelAtRadius {
 
 impl ModelAtRadius {
     /// The prediction's integrals from an oracle report: the finite-sphere
-    /// model's where it exists, else the small-sphere model's.
+    /// model's where it has every integral (the Var L of any q, N_B), else
+    /// the small-sphere model's.
     pub fn from_report(r: &Report) -> ModelAtRadius {
         let vb = |i: crate::oracle::Integral| ValueWithBar::from(i);
-        match &r.finite {
-            Some(f) => ModelAtRadius {
+        let complete = r.finite.as_ref().and_then(|f| Some((f, f.corr23?, f.integral_q?, f.corr24?)));
+        match complete {
+            Some((f, corr23, integral_q, corr24)) => ModelAtRadius {
                 radius: r.radius,
                 model: "finite-sphere",
                 mean: f.mean,
                 mean_at_zero: r.mean_luminance,
                 bias: Some(f.bias),
                 m2: vb(f.integral_m2),
-                c23: vb(f.corr23),
+                c23: vb(corr23),
                 p: vb(f.integral_p),
-                q_pair: vb(f.integral_q),
-                c24: vb(f.corr24),
+                q_pair: vb(integral_q),
+                c24: vb(corr24),
                 small_sphere_m2: vb(r.integral_m2),
             },
             None => ModelAtRadius {

@@ -78,3 +78,35 @@ pub fn point_at(position: [f64; 3]) -> Scene {
     s.lights[0] = Light::Point { position: DVec3::from_array(position), flux: 1.0 };
     s
 }
+
+/// The report's `finite` object at `digits` significant digits (bars:
+/// their decade; integrals not computed: the reason), for snapshots.
+pub fn finite_text(r: &mcrt_noise::oracle::Report, digits: usize) -> String {
+    let f = r.finite.as_ref().expect("a finite-sphere model");
+    let sig = |v: f64| format!("{v:.*e}", digits - 1);
+    let decade = |v: f64| if v > 0.0 { format!("<= 1e{}", v.log10().ceil() as i32) } else { "0".into() };
+    let mut out = format!("prediction.model {}\n", r.prediction.model);
+    for (label, v) in [
+        ("mean", Some(f.mean)),
+        ("variance", Some(f.variance)),
+        ("bias", Some(f.bias)),
+        ("relative_noise", Some(f.relative_noise)),
+        ("mean_ratio", Some(f.mean_ratio)),
+        ("variance_ratio", Some(f.variance_ratio)),
+        ("m2", Some(f.integral_m2.into())),
+        ("p", Some(f.integral_p.into())),
+        ("q_pair", f.integral_q.map(Into::into)),
+        ("corr23", f.corr23.map(Into::into)),
+        ("corr24", f.corr24.map(Into::into)),
+    ] {
+        let v: Option<mcrt_noise::oracle::ValueWithBar> = v;
+        match v {
+            Some(v) => out.push_str(&format!("{label} {} ({})\n", sig(v.value), decade(v.error))),
+            None => out.push_str(&format!("{label} not computed\n")),
+        }
+    }
+    if f.covers != "uncollided" {
+        out.push_str(&format!("covers {}\n", f.covers));
+    }
+    out
+}

@@ -32,6 +32,7 @@ pub mod order1;
 pub mod point;
 pub mod ray;
 pub mod scattered;
+mod second_hit;
 mod tables;
 pub mod virtual_lights;
 
@@ -357,12 +358,15 @@ impl<T: CheckRule> FiniteField<T> {
             },
             || self.p_and_q(o),
         );
-        Ok(FiniteIntegrals { mean: mean?, m2: m2?, c23: c23?, c24: c24?, p: p?, q: q? })
+        Ok(FiniteIntegrals { mean: mean?, m2: m2?, c23: Some(c23?), c24: Some(c24?), p: p?, q: Some(q?) })
     }
 }
 
 /// The six integrals of the finite-sphere model, each times e^{c₀} (as
-/// the small-sphere ones, `noise::variance`).
+/// the small-sphere ones, `noise::variance`). Q, C₂₃ and C₂₄ are `None`
+/// where they were not computed because the scene's Var L weighs them 0
+/// (q = 1 and N_B = 1: one sphere per camera ray and one camera ray,
+/// [`FiniteField::order1_unpaired`]).
 #[derive(Debug, Clone)]
 pub struct FiniteIntegrals<T> {
     /// μ(R) = ⟨⟨Ĉ⟩⟩ = ∫σe^{−σs}⟨𝒞⟩_R ds, the mean luminance, ray-centric.
@@ -372,17 +376,23 @@ pub struct FiniteIntegrals<T> {
     /// P = ∫σe^{−σs}⟨𝒞⟩_R² ds, sphere-centric.
     pub p: Estimate<T>,
     /// Q = ∫∫_{s<s′}⟨𝒞⟩_R(s)⟨𝒞⟩_R(s′)σ²e^{−σs′}, sphere-centric.
-    pub q: Estimate<T>,
+    pub q: Option<Estimate<T>>,
     /// C₂₃ = ∫∫_{s<s′}⟨𝒞(s)𝒞(s′)⟩_R σ²e^{−σs′}, ray-centric.
-    pub c23: Estimate<T>,
+    pub c23: Option<Estimate<T>>,
     /// C₂₄ = ∫∫⟨𝒞(s)𝒞(s′)⟩_R σ²e^{−σ(s+s′)}, ray-centric.
-    pub c24: Estimate<T>,
+    pub c24: Option<Estimate<T>>,
 }
 
 impl<T: Real> FiniteIntegrals<T> {
-    /// Total integrand evaluations over the six integrals.
+    /// Total integrand evaluations over the integrals computed.
     pub fn evaluations(&self) -> u64 {
-        [&self.mean, &self.m2, &self.p, &self.q, &self.c23, &self.c24].iter().map(|e| e.evaluations).sum()
+        let pairs = [&self.q, &self.c23, &self.c24].into_iter().flatten();
+        [&self.mean, &self.m2, &self.p].into_iter().chain(pairs).map(|e| e.evaluations).sum()
+    }
+
+    /// Whether Q, C₂₃ and C₂₄ were computed (the Var L of any q, N_B).
+    pub fn has_pairs(&self) -> bool {
+        self.q.is_some() && self.c23.is_some() && self.c24.is_some()
     }
 }
 

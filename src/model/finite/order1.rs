@@ -19,35 +19,12 @@
 use super::cross_segments::CrossPair;
 use super::point::{cap_half_angle, PointLight};
 use super::ray::Functional;
-use super::scattered::hit_chance;
+use super::second_hit::{second_hit_after, SecondHitTable, SecondHitTables};
 use super::{FiniteField, FiniteIntegrals, FiniteLight};
 use crate::model::field::graded_about;
 use crate::model::OracleError;
 use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
 use mcrt_scene::Phase;
-
-/// K(w) = ∫₀^∞ σe^{−σu} H(√(u² + R² − w²)) du: the chance that a path
-/// whose first segment passes a sphere's centre at p = √(R² − w²) and
-/// interacts u past its closest point, scattering there isotropically,
-/// hits the sphere with its second segment ([`hit_chance`]). The second
-/// segment starts inside the sphere for u < w (H's √-kink at u = w, where
-/// it leaves); beyond it H falls like R²/d² over the decades from R to
-/// 1/σ. Domain: 0 ≤ w ≤ R, σ > 0. Not in the paper (§9.6).
-fn second_hit_after<T: CheckRule>(sigma: &T, r: &T, w: &T, opts: &Options) -> Outcome<T> {
-    let p2 = (r.clone() - w.clone()) * (r.clone() + w.clone());
-    let f = |u: &T, o: &Options| {
-        let d = (u.clone() * u.clone() + p2.clone()).sqrt();
-        let v = sigma.clone() * (-(sigma.clone() * u.clone())).exp() * hit_chance(sigma, r, &d);
-        Ok(Estimate::known(v, u.lit(0.0), 1, o.rule))
-    };
-    let zero = w.lit(0.0);
-    let far = w.lit(4.0) / sigma.clone();
-    let mut cuts = vec![w.clone()];
-    cuts.extend(graded_about(&zero, r, &far).into_iter().filter(|c| *c > zero));
-    cuts.extend(graded_about(w, &(r.clone() / w.lit(1e3)), r).into_iter().filter(|c| *c > zero));
-    let domain = Domain::semi_infinite(zero).with_breakpoints(cuts).with_decay(sigma.clone());
-    integrate_within_pass(f, &domain, opts)
-}
 
 impl<T: CheckRule> PointLight<T> {
     /// ⟨𝒞₀𝒞₁⟩·e^{c₀} at s = center + x: one path hitting the sphere there
@@ -65,16 +42,27 @@ impl<T: CheckRule> PointLight<T> {
     /// D ≤ R (the sphere holds the light) in ψ ∈ [0, π/2]. Domain: any x,
     /// R > 0. Deviation: the paper has no such term (E9: §3b's small-sphere
     /// limit of it).
-    pub(crate) fn same_path_moment(&self, ff: &FiniteField<T>, x: &T, opts: &Options) -> Outcome<T> {
+    pub(super) fn same_path_moment(
+        &self,
+        ff: &FiniteField<T>,
+        x: &T,
+        table: Option<&SecondHitTable<T>>,
+        opts: &Options,
+    ) -> Outcome<T> {
         let (big_d, _) = self.distance_to(ff, x);
         let (sigma, r) = (&ff.sigma, &ff.radius);
         let f = x.lit(1.0) / (x.pi() * x.lit(4.0));
         let front = ff.per_hit_power(2, &self.flux) * f.clone() * f * ff.albedo.clone() / x.lit(2.0);
         let o = Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
-        // weight·K(w): the cap's measure and reach times the second hit.
+        // weight·K(w): the cap's measure and reach times the second hit,
+        // K from the pass's table when there is one (its relative bar is
+        // added to the result below), else by quadrature.
         let weighted = |w: &T, weight: T, inner: &Options| {
             if weight.is_zero() {
                 return Ok(Estimate::known(w.lit(0.0), w.lit(0.0), 0, inner.rule));
+            }
+            if let Some(t) = table {
+                return Ok(Estimate::known(weight * t.eval(w), w.lit(0.0), 1, inner.rule));
             }
             let each = Options { abs_tol: (inner.abs_tol / weight.to_f64()).min(f64::MAX), ..inner.clone() };
             Ok(second_hit_after(sigma, r, w, &each)?.scaled(&weight))
@@ -104,6 +92,15 @@ impl<T: CheckRule> PointLight<T> {
                 &Domain::finite(x.lit(0.0), cap_half_angle(&big_d, r)),
                 &o,
             )?
+        };
+        // K ≥ 0 against a non-negative weight: the table's relative bar is
+        // a relative bar of the integral.
+        let e = match table {
+            Some(t) => {
+                let error = e.error.clone() + e.value.abs() * t.rel_error.clone();
+                Estimate::known(e.value, error, e.evaluations, opts.rule)
+            }
+            None => e,
         };
         Ok(e.scaled(&front))
     }
@@ -160,12 +157,14 @@ impl<T: CheckRule> FiniteField<T> {
 
     /// (⟨𝒞₁²⟩ + 2⟨𝒞₀𝒞₁⟩)·e^{c₀} at x with its bar: the part of ⟨𝒞²⟩ that
     /// single scattering adds.
-    fn order1_second_with_bar(&self, x: &T, opts: &Options) -> Outcome<T> {
+    fn order1_second_with_bar(&self, x: &T, tables: &SecondHitTables<T>, opts: &Options) -> Outcome<T> {
         let share = Options { abs_tol: opts.abs_tol / (2.0 * self.lights.len() as f64), ..opts.clone() };
+        let table = tables.for_pass(&self.sigma, &self.radius, opts);
         self.sum_over_lights(x, opts, |_, light| match light {
             FiniteLight::Point(p) => {
                 let own = p.scattered_moment(self, x, 2, &share)?;
-                let both = p.same_path_moment(self, x, &Options { abs_tol: share.abs_tol / 2.0, ..share.clone() })?;
+                let half = Options { abs_tol: share.abs_tol / 2.0, ..share.clone() };
+                let both = p.same_path_moment(self, x, table.as_deref(), &half)?;
                 Ok(own.plus(both.scaled(&x.lit(2.0))))
             }
             FiniteLight::Beam(_) => unreachable!("order1_covered refuses beams"),
@@ -176,11 +175,46 @@ impl<T: CheckRule> FiniteField<T> {
     /// to M₂ (the uncollided part is [`super::Functional::Second`]).
     pub fn order1_second_added(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
         self.order1_covered()?;
-        self.with_line(|line| {
+        let tables = SecondHitTables::default();
+        let mut e = self.with_line(|line| {
             line.integral_nested("finite-sphere ∫⟨𝒞²⟩, single-scattered part", opts, |x, o| {
-                self.order1_second_with_bar(x, o)
+                self.order1_second_with_bar(x, &tables, o)
             })
-        })
+        })?;
+        e.evaluations += tables.evaluations();
+        Ok(e)
+    }
+
+    /// μ, M₂ and P of the order-1 model (each times e^{c₀}; Q, C₂₃, C₂₄
+    /// `None`): all that Var L needs when q = 1 and N_B = 1, where (7)–(9)
+    /// weigh the correlations of two spheres 0 (one sphere per camera ray,
+    /// one camera ray: Var L = M₂/N_F + (1 − 1/N_F)P − μ²). Seconds at
+    /// 10⁻⁶ where [`FiniteField::order1_integrals`] takes minutes at 10⁻³
+    /// (`docs/model.md` §9.6, §9.7). Isotropic media, point lights.
+    pub fn order1_unpaired(&self, opts: &Options) -> Result<FiniteIntegrals<T>, OracleError> {
+        self.order1_covered()?;
+        let o = &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() }.declared();
+        let add = |a: Result<Estimate<T>, OracleError>, b: Result<Estimate<T>, OracleError>| {
+            Ok::<_, OracleError>(a?.plus(b?))
+        };
+        let ((mean0, mean1), ((m20, m21), p)) = rayon::join(
+            || rayon::join(|| self.ray_total(Functional::Mean, o), || self.scattered_mean(o)),
+            || {
+                rayon::join(
+                    || rayon::join(|| self.ray_total(Functional::Second, o), || self.order1_second_added(o)),
+                    || self.order1_p(o),
+                )
+            },
+        );
+        Ok(FiniteIntegrals { mean: add(mean0, mean1)?, m2: add(m20, m21)?, p: p?, q: None, c23: None, c24: None })
+    }
+
+    /// P of (17) from ⟨𝒞₀⟩ + ⟨𝒞₁⟩ (times e^{c₀}).
+    pub fn order1_p(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        self.order1_covered()?;
+        let with_bar = |x: &T, _tol: f64, o: &Options| self.order1_mean_with_bar(x, o);
+        let source = crate::model::along::MeanSource::WithBar(&with_bar);
+        self.with_line(|line| line.p_single(&source, opts))
     }
 
     /// P and Q of (17) from ⟨𝒞₀⟩ + ⟨𝒞₁⟩ (times e^{c₀}).
@@ -252,9 +286,9 @@ impl<T: CheckRule> FiniteField<T> {
             mean: add(mean0, mean1)?,
             m2: add(m20, m21)?,
             p: p?,
-            q: q?,
-            c23: add(c230, c231)?,
-            c24: add(c240, c241)?,
+            q: Some(q?),
+            c23: Some(add(c230, c231)?),
+            c24: Some(add(c240, c241)?),
         })
     }
 }
