@@ -199,7 +199,11 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
         None => {
             let scale = model_error_scale(radius);
             let (m, v) = SMALL_SPHERE_SCATTERED_ALLOWANCE;
-            (Model::SmallSphere, (m * scale, v * scale), small_sphere_basis(radius, (m * scale, v * scale)))
+            let mut basis = small_sphere_basis(radius, (m * scale, v * scale));
+            if let Some(why) = &report.finite_not_used {
+                basis.push_str(&format!(". Not the finite-sphere model: {why}"));
+            }
+            (Model::SmallSphere, (m * scale, v * scale), basis)
         }
     };
     let predicted = |v: ValueWithBar, rel: f64| Predicted {
