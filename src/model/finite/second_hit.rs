@@ -53,9 +53,10 @@ const MARGINS: (f64, f64) = (1e-9, 1e-14);
 /// (measured: 26× at w = R). Away from them every graded piece sees its
 /// end's singularity a decade off, where the tail is a sound estimate. In
 /// the margins K is taken at the interpolant's end, with the gap to K at
-/// w = 0 and w = R (by quadrature, O(δ² ln δ)) added to the bar; a gap
-/// above a tenth of the tolerance (MPFR goals below ~10⁻¹⁷) refuses the
-/// table, and the quadrature serves.
+/// w = 0 and w = R (by quadrature; O(δ₀² ln δ₀) and O(σ²R²δ₁ ln δ₁))
+/// added to the bar; a gap above a tenth of the tolerance (MPFR goals
+/// below ~10⁻¹³, or σR ≳ 100 at f64's) refuses the table, and the
+/// quadrature serves.
 pub(super) struct SecondHitTable<T> {
     interpolant: Piecewise<T>,
     lo: T,
