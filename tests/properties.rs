@@ -3,8 +3,9 @@
 //! mutation fuzzer over the bundled scene files. Nothing may panic or hang;
 //! every number is finite with a bar, or there is a refusal naming its field.
 //!
-//! Case counts: CI runs 2000 builder cases, 1000 oracle cases, 24 f64/128-bit
-//! draws (at least 20 compared) and 10 000 mutated files; `PROPTEST_CASES` overrides them all. The
+//! Case counts: CI runs 2000 builder cases, 1000 oracle cases, 12 f64/128-bit
+//! draws (at least 10 compared; ~8 s each at 128 bits, one of the first six
+//! took 30 s) and 10 000 mutated files; `PROPTEST_CASES` overrides them all. The
 //! long run (10⁵ cases each, ~3 h):
 //! `cargo test --release --test properties -- --ignored`.
 
@@ -209,10 +210,10 @@ fn oracle_on_random_valid_scenes(cases: u32) {
     );
 }
 
-/// f64 and 128 bits agree within their bars on 20 random scenes.
+/// f64 and 128 bits agree within their bars on at least 10 random scenes.
 #[test]
 fn f64_and_128_bits_agree_on_random_scenes() {
-    f64_and_128_bits_agree(24);
+    f64_and_128_bits_agree(12);
 }
 
 fn f64_and_128_bits_agree(cases: u32) {
@@ -222,7 +223,7 @@ fn f64_and_128_bits_agree(cases: u32) {
             // 128 bits costs ~50× f64 per call; to 10⁻⁹ (the f64 run's bars
             // are ~10⁻¹⁰ relative) a scene takes seconds; a budget of 10⁷
             // calls ends a slow one loudly rather than stalling the test;
-            // 24 draws must give at least 20 comparisons.
+            // 12 draws must give at least 10 comparisons.
             let t0 = std::time::Instant::now();
             let big = run_within(&scene, Precision::Bits(128), Some(1e-9), &Budget::new(10_000_000));
             if std::env::var("SHOW_REFUSALS").is_ok() {

@@ -135,8 +135,9 @@ impl From<OracleError> for PredictError {
 /// lights with q = 1 and N_B = 1 is predicted by the finite-sphere model
 /// too, exact at any R (model bar 0; [`oracle::finite_sphere_covers`]);
 /// the oracle computes the small-sphere model beside it all the same, so
-/// where that fails (a light within ~R of the camera line: its (23) meets
-/// an infinite integrand) the prediction fails too. If the finite-sphere
+/// a failure of that model fails the prediction too (none is known since
+/// its (23) was mended for lights near the camera line, `docs/model.md`
+/// §9.6). If the finite-sphere
 /// computation itself fails, the small-sphere model with its allowance
 /// serves for R ≤ 0.1 and the failure is returned beyond.
 /// Other order-1 scenes are predicted by the small-sphere model with its

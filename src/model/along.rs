@@ -28,7 +28,12 @@ use std::sync::{Arc, Mutex};
 /// and σe^{−σp−c₀}·⟨𝒞⟩e^{c₀}·G, never as the square of ⟨𝒞⟩e^{c₀}, which
 /// overflows near the foot of a light close to the camera line and far from
 /// the camera (e^{c₀}⟨𝒞⟩ ≈ e^{σ(|y − o| − b)} there, where the weight
-/// e^{−σs} compensates).
+/// e^{−σs} compensates). And they are integrated times an exact power of
+/// two, [`RayLine::pair_scale`], divided back out of the result: P·e^{c₀}
+/// is of the order e^{c₀ − σ·min(s + 2·path)} ≈ e^{−c₀}, 10⁻²⁸⁴ at
+/// σ·distance ≈ 700, where the engine's underflow floor (~10⁻²⁸⁹) leaves it
+/// no relative accuracy; a power of two changes no rounding, so wherever
+/// the floor played no part the result is the same to the bit.
 pub struct RayLine<'a, T> {
     /// σ = σ_ext (1/length).
     pub sigma: T,
@@ -36,6 +41,9 @@ pub struct RayLine<'a, T> {
     pub center: T,
     /// The model's shift c₀: ⟨𝒞⟩ is passed as ⟨𝒞⟩·e^{c₀}.
     pub shift: T,
+    /// The even exponent k of the power of two P and Q are integrated
+    /// times ([`pair_scale_exponent`]; 0 for none).
+    pub pair_scale: i32,
     /// The domain in x from `lo` to `hi` (`None`: ∞, decay σ declared) with
     /// every breakpoint of ⟨𝒞⟩ in between.
     pub domain: &'a (dyn Fn(&T, Option<&T>) -> Domain<T> + Sync),
@@ -70,9 +78,28 @@ impl<T: CheckRule> RayLine<'_, T> {
     /// a quadratic integrand whose two factors each carry e^{c₀} is its
     /// square, applied one factor at a time (e^{−σs − c₀} alone underflows
     /// where ⟨𝒞⟩e^{c₀} is ~10¹⁷², at the foot of a far light near the line).
+    /// Times 2^{k/2}, k = [`RayLine::pair_scale`] (exact).
     fn half_weight(&self, x: &T) -> T {
         let half = (self.sigma.clone() * self.s_of(x) + self.shift.clone()) / x.lit(2.0);
-        self.sigma.sqrt() * (-half).exp()
+        self.sigma.sqrt() * x.powi_like(self.pair_scale / 2) * (-half).exp()
+    }
+
+    /// `opts` for an integral formed times 2^k: its absolute goal scaled
+    /// alike (exactly).
+    fn scaled_options(&self, opts: &Options) -> Options {
+        Options { abs_tol: (opts.abs_tol * 2f64.powi(self.pair_scale)).min(f64::MAX), ..opts.clone() }
+    }
+
+    /// A result formed times 2^k (value, bar, or a failure's best guess),
+    /// divided back (exactly).
+    fn unscaled(&self, e: Outcome<T>) -> Outcome<T> {
+        let back = |v: T| v.clone() * v.powi_like(-self.pair_scale);
+        match e {
+            Ok(e) => Ok(Estimate { value: back(e.value), error: back(e.error), check_value: back(e.check_value), ..e }),
+            Err(f) => {
+                Err(Failure { best_guess: f.best_guess.map(back), error_estimate: f.error_estimate.map(back), ..f })
+            }
+        }
     }
 
     /// ∫₀^∞ σ e^{−σ s} g(s) ds for a plain g.
@@ -127,16 +154,16 @@ impl<T: CheckRule> RayLine<'_, T> {
         let what = "∫⟨𝒞⟩² of (17)";
         let domain = (self.domain)(&self.x_camera(), None);
         let root = |x: &T| self.half_weight(x);
-        match mean {
+        let scaled = &self.scaled_options(opts);
+        let e = match mean {
             MeanSource::Plain(m) => integrate(
                 |x: &T| {
                     let v = root(x) * m(x);
                     v.clone() * v
                 },
                 &domain,
-                opts,
-            )
-            .map_err(OracleError::quad(what)),
+                scaled,
+            ),
             MeanSource::WithBar(m) => {
                 let tol = table_tol(opts);
                 integrate_nested(
@@ -145,9 +172,16 @@ impl<T: CheckRule> RayLine<'_, T> {
                         if h.is_zero() {
                             return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule));
                         }
-                        // abs_tol/h², divided one factor at a time (h² can underflow).
-                        let hf = h.to_f64();
-                        let m_abs = (o.abs_tol / hf / hf).min(f64::MAX);
+                        // The sample (h·m)²'s error is ≈ 2h²|m|·e_m: an absolute
+                        // goal for m alone cannot bound it without |m|. Either
+                        // m meets its relative goal r (the sample then r-close
+                        // twice over) or its absolute one, e_m ≤ a, and then
+                        // |m| ≤ a/r, so the sample's error ≤ 2h²a²/r + h²a²;
+                        // a = √(r·abs_tol/2)/h keeps that at ≈ abs_tol. (It was
+                        // abs_tol/h², 2|m| times too loose: where ⟨𝒞⟩e^{c₀} ≫ 1,
+                        // in dense media, P failed with a bar 10⁻⁴ of itself.)
+                        let r = o.rel_tol.max(f64::EPSILON);
+                        let m_abs = ((r * o.abs_tol / 2.0).sqrt() / h.to_f64()).min(f64::MAX);
                         let m = m(x, tol.max(o.rel_tol), &Options { abs_tol: m_abs, ..o.clone() })?;
                         let v = h.clone() * m.value.clone();
                         let e = h * m.error.clone();
@@ -155,11 +189,11 @@ impl<T: CheckRule> RayLine<'_, T> {
                         Ok(Estimate::known(v.clone() * v, error, m.evaluations, o.rule))
                     },
                     &domain,
-                    opts,
+                    scaled,
                 )
-                .map_err(OracleError::quad(what))
             }
-        }
+        };
+        self.unscaled(e).map_err(OracleError::quad(what))
     }
 
     /// Q = ∫∫_{t>0} ⟨𝒞⟩(s)⟨𝒞⟩(s+t) σ² e^{−σ(s+t)} ds dt, the pair part of
@@ -183,7 +217,7 @@ impl<T: CheckRule> RayLine<'_, T> {
                 .or_insert_with(|| Arc::new(Mutex::new(vec![Known::start(&x0)])))
                 .clone()
         };
-        integrate_nested(
+        let e = integrate_nested(
             |p: &T, inner: &Options| {
                 let zero = || Ok(Estimate::known(p.lit(0.0), p.lit(0.0), 0, inner.rule));
                 let half = self.half_weight(p);
@@ -209,9 +243,9 @@ impl<T: CheckRule> RayLine<'_, T> {
                 }
             },
             &(self.domain)(&x0, None),
-            opts,
-        )
-        .map_err(OracleError::quad("∫∫⟨𝒞⟩⟨𝒞⟩ of (17)"))
+            &self.scaled_options(opts),
+        );
+        self.unscaled(e).map_err(OracleError::quad("∫∫⟨𝒞⟩⟨𝒞⟩ of (17)"))
     }
 
     /// σe^{−σp−c₀}⟨𝒞⟩e^{c₀}(p)G(p) where ⟨𝒞⟩ has a bar (`half` the
@@ -264,6 +298,53 @@ fn short_options<T: Real>(known: &[Known<T>], p: &T, outer: &T, inner: &Options)
     let below = known[known.partition_point(|k| k.at <= *p) - 1].value.abs().to_f64();
     let short_abs = (inner.abs_tol / (1000.0 * outer.abs().to_f64())).max(inner.rel_tol * below / 1000.0);
     Options { abs_tol: short_abs.min(f64::MAX), ..inner.clone() }
+}
+
+/// The even exponent k (0 ≤ k ≤ 1020) of the power of two that P and Q
+/// are integrated times (see [`RayLine`]): 2^k ≈ e^{σ·m − c₀}, at most,
+/// where `m` is a lower bound of s + 2·(light → sphere path) over the
+/// camera ray and the lights (`None`: none known, k = 0), so that P·e^{c₀}·2^k
+/// ≲ 1 up to algebraic factors. m ≥ c₀/σ (the path s + path ≥ c₀/σ, and
+/// path ≥ 0), so k ≥ 0 (clamped to 0 where a looser bound says less).
+///
+/// ```
+/// use mcrt_noise::model::along::pair_scale_exponent;
+///
+/// // σ = 490, c₀ = 688.06, m = 2.712: e^{σm − c₀} = e^{640.8} ≈ 2^{924.5}.
+/// assert_eq!(pair_scale_exponent(490.0, 688.06, Some(2.712)), 924);
+/// assert_eq!(pair_scale_exponent(1.0, 0.5, None), 0);
+/// assert_eq!(pair_scale_exponent(1.0, 0.5, Some(0.1)), 0);
+/// ```
+pub fn pair_scale_exponent(sigma: f64, shift: f64, m: Option<f64>) -> i32 {
+    let excess = m.map_or(0.0, |m| sigma * m - shift);
+    let k = (excess / std::f64::consts::LN_2 / 2.0).floor() * 2.0;
+    if k.is_finite() {
+        k.clamp(0.0, 1020.0) as i32
+    } else {
+        0
+    }
+}
+
+/// min over s ≥ 0 of s + 2√((s − z)² + b²): the quadratic path s + 2D of a
+/// point light whose foot lies at abscissa `z`, `b` ≥ 0 from the camera
+/// line: z + √3·b where the minimiser s = z − b/√3 is ≥ 0, else
+/// 2√(z² + b²) at the camera.
+///
+/// ```
+/// use mcrt_noise::model::along::point_quadratic_path;
+///
+/// // Foot at 1, distance 1: the minimiser s = 1 − 1/√3 lies ahead of the camera.
+/// assert!((point_quadratic_path(1.0, 1.0) - (1.0 + 3f64.sqrt())).abs() < 1e-15);
+/// // A light behind the camera: the minimum is at the camera, 2|y − o|.
+/// assert_eq!(point_quadratic_path(-3.0, 4.0), 10.0);
+/// ```
+pub fn point_quadratic_path(z: f64, b: f64) -> f64 {
+    let at = z - b / 3f64.sqrt();
+    if at >= 0.0 {
+        z + 3f64.sqrt() * b
+    } else {
+        2.0 * z.hypot(b)
+    }
 }
 
 /// The tolerance of the ⟨𝒞⟩ tables for an integral with options `opts`:

@@ -405,8 +405,9 @@ impl<T: CheckRule> Frame<T> {
     /// (both in [0, 1]; 1 when sin ϑ sin ψ_u = 0 and L₁ does not depend on φ).
     fn singular_distances(&self, theta: &T, theta_c: &T) -> (T, T) {
         let two = theta.lit(2.0);
-        let ratio = |t: &T| {
-            let num = ((t.clone() - self.psi_u.clone()) / two.clone()).sin().abs();
+        let (to_pole, to_antipode) = self.pole_gaps(theta, theta_c);
+        let ratio = |t: &T, gap: T| {
+            let num = (gap / two.clone()).sin().abs();
             let den = ((t.clone() + self.psi_u.clone()) / two.clone()).sin();
             if den > t.lit(0.0) {
                 (num / den).min_of(t.lit(1.0))
@@ -414,7 +415,28 @@ impl<T: CheckRule> Frame<T> {
                 t.lit(0.0)
             }
         };
-        (ratio(theta), ratio(theta_c))
+        (ratio(theta, to_pole), ratio(theta_c, to_antipode))
+    }
+
+    /// (ϑ − ψ_u, (π − ϑ) − ψ_u), each formed from the representation that
+    /// is exact near its zero: a node of the half [π/2, π] is its distance
+    /// ϑ′ = π − ϑ from π, and ϑ = π − ϑ′ rounds onto ψ_u when the node
+    /// lies within ulp(π) of the cut there (L₁ ~ 1/ψ was then infinite at
+    /// such a node: (23) of single-scattered light failed for a light 0.1
+    /// from the camera line), where ψ_mirror − ϑ′ (ψ_mirror = π − ψ_u,
+    /// the cut the rule approaches) does not.
+    fn pole_gaps(&self, theta: &T, theta_c: &T) -> (T, T) {
+        let to_pole = if theta_c < theta {
+            self.psi_mirror.clone() - theta_c.clone()
+        } else {
+            theta.clone() - self.psi_u.clone()
+        };
+        let to_antipode = if theta < theta_c {
+            self.psi_mirror.clone() - theta.clone()
+        } else {
+            theta_c.clone() - self.psi_u.clone()
+        };
+        (to_pole, to_antipode)
     }
 
     /// Λ(ϑ) = 2∫₀^π L₁ dφ, in φ up to π/2 and in φ′ = π − φ beyond; graded
@@ -435,8 +457,9 @@ impl<T: CheckRule> Frame<T> {
             let s = (a / two.clone()).sin();
             s.clone() * s
         };
-        let base_s = sq(theta.clone() - self.psi_u.clone());
-        let base_c = sq(theta_c.clone() - self.psi_u.clone());
+        let (to_pole, to_antipode) = self.pole_gaps(theta, theta_c);
+        let base_s = sq(to_pole.clone());
+        let base_c = sq(to_antipode.clone());
         let cross = theta.sin() * self.sin_u.clone();
         // L₁ at (ϑ, φ) from sin²(ψ/2) and cos²(ψ/2), each formed directly.
         let at = |phi: &T, phi_c: &T| {
@@ -473,7 +496,7 @@ impl<T: CheckRule> Frame<T> {
         let mut near: Vec<T> = Vec::new();
         let mut far: Vec<T> = Vec::new();
         if cross > zero {
-            let gap = (theta.clone() - self.psi_u.clone()).abs();
+            let gap = to_pole.abs();
             let floor = features.source_near_0.clone().map_or(zero.clone(), |w| w / theta.lit(10.0));
             for d in decades(&start_at(&gap, &floor)) {
                 if let Some(c) = self.chi_at(theta, &self.psi_u, &d) {
@@ -481,7 +504,7 @@ impl<T: CheckRule> Frame<T> {
                 }
             }
             if let Some(w) = &features.source_near_pi {
-                let gap = (theta_c.clone() - self.psi_u.clone()).abs();
+                let gap = to_antipode.abs();
                 for d in decades(&start_at(&gap, &(w.clone() / theta.lit(10.0)))) {
                     if let Some(c) = self.chi_at(theta_c, &self.psi_u, &d) {
                         far.push(c);

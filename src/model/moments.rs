@@ -18,10 +18,10 @@
 //! carry the weight q, so every single-sphere sum becomes
 //! ∫ … σ_ext e^{−σ_ext s} ds.
 
-use super::along::{MeanSource, RayLine};
+use super::along::{pair_scale_exponent, point_quadratic_path, MeanSource, RayLine};
 use super::angular::{Direction, Features, Pole};
 use super::chebyshev::{sample_options, Piecewise};
-use super::field::Field;
+use super::field::{Field, Geometry};
 use super::same_path;
 use super::scattered::source_features;
 use super::OracleError;
@@ -242,7 +242,18 @@ fn with_line<T: CheckRule, R>(field: &Field<T>, f: impl FnOnce(&RayLine<'_, T>) 
         sigma: field.sigma_ext.clone(),
         center: field.center.clone(),
         shift: field.shift.clone(),
+        pair_scale: pair_scale_exponent(field.sigma_ext.to_f64(), field.shift.to_f64(), quadratic_path(field)),
         domain: &domain,
+    })
+}
+
+/// A lower bound of s + 2·(light → sphere path) over the camera ray and
+/// the lights, for P's and Q's scale ([`pair_scale_exponent`]); `None`
+/// with a beam (not formed: no scale).
+fn quadratic_path<T: CheckRule>(field: &Field<T>) -> Option<f64> {
+    field.components.iter().try_fold(f64::INFINITY, |m, c| match &c.geometry {
+        Geometry::Point { a, d } => Some(m.min(point_quadratic_path(a.to_f64(), d.to_f64()))),
+        Geometry::Beam { .. } => None,
     })
 }
 

@@ -482,19 +482,22 @@ enum OrderOne<T> {
 }
 
 /// The finite-sphere model of an order-1 scene: its μ, M₂ and P when
-/// `unpaired` (q = 1, N_B = 1: all its Var L needs), else — or when that
-/// fails (P at σ·distance ≳ 400, `docs/model.md` §9.6) — μ(R)·e^{c₀} =
+/// `unpaired` (q = 1, N_B = 1: all its Var L needs), else — or when M₂ or P
+/// fails (none is known to; the fallback keeps the exact mean) — μ(R)·e^{c₀} =
 /// μ₀(R) + μ₁(R) alone, the uncollided mean (ray-centric) plus the
-/// single-scattered one (`finite::scattered`).
+/// single-scattered one (`finite::scattered`), computed once either way.
 fn order_one<T: CheckRule>(ff: &FiniteField<T>, unpaired: bool, opts: &Options) -> Result<OrderOne<T>, OracleError> {
-    let failed = match unpaired.then(|| ff.order1_unpaired(opts)) {
-        Some(Ok(f)) => return Ok(OrderOne::Integrals(f)),
-        Some(Err(e)) => Some(e),
-        None => None,
-    };
+    if unpaired {
+        let parts = ff.order1_unpaired_parts(opts)?;
+        let mean = parts.mean?;
+        return Ok(match (parts.m2, parts.p) {
+            (Ok(m2), Ok(p)) => OrderOne::Integrals(FiniteIntegrals { mean, m2, p, q: None, c23: None, c24: None }),
+            (Err(e), _) | (_, Err(e)) => OrderOne::Mean(mean, Some(e)),
+        });
+    }
     let o = opts.clone().declared();
     let (uncollided, scattered) = rayon::join(|| ff.ray_total(Functional::Mean, &o), || ff.scattered_mean(&o));
-    Ok(OrderOne::Mean(uncollided?.plus(scattered?), failed))
+    Ok(OrderOne::Mean(uncollided?.plus(scattered?), None))
 }
 
 /// Why an order-1 scene's prediction is not the finite-sphere model: what

@@ -36,7 +36,7 @@ mod second_hit;
 mod tables;
 pub mod virtual_lights;
 
-use super::along::{MeanSource, RayLine};
+use super::along::{pair_scale_exponent, point_quadratic_path, MeanSource, RayLine};
 use super::angular::Direction;
 use super::field::{beam_interval, Field};
 use super::OracleError;
@@ -322,7 +322,20 @@ impl<T: CheckRule> FiniteField<T> {
             sigma: self.sigma.clone(),
             center: self.center.clone(),
             shift: self.shift.clone(),
+            pair_scale: pair_scale_exponent(self.sigma.to_f64(), self.shift.to_f64(), self.quadratic_path()),
             domain: &domain,
+        })
+    }
+
+    /// A lower bound of s + 2·(light → sphere path) over the camera ray and
+    /// the lights, for P's and Q's scale ([`pair_scale_exponent`]): the
+    /// path to a sphere is at least D − R; `None` with a beam (not formed:
+    /// no scale).
+    fn quadratic_path(&self) -> Option<f64> {
+        let two_r = 2.0 * self.radius.to_f64();
+        self.lights.iter().try_fold(f64::INFINITY, |m, light| match light {
+            FiniteLight::Point(p) => Some(m.min(point_quadratic_path(p.z.to_f64(), p.b.to_f64()) - two_r)),
+            FiniteLight::Beam(_) => None,
         })
     }
 

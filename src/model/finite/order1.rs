@@ -192,21 +192,28 @@ impl<T: CheckRule> FiniteField<T> {
     /// 10⁻⁶ where [`FiniteField::order1_integrals`] takes minutes at 10⁻³
     /// (`docs/model.md` §9.6, §9.7). Isotropic media, point lights.
     pub fn order1_unpaired(&self, opts: &Options) -> Result<FiniteIntegrals<T>, OracleError> {
+        let Order1Parts { mean, m2, p } = self.order1_unpaired_parts(opts)?;
+        Ok(FiniteIntegrals { mean: mean?, m2: m2?, p: p?, q: None, c23: None, c24: None })
+    }
+
+    /// μ, M₂ and P of the order-1 model, each with its own outcome (the
+    /// oracle keeps the exact mean when P fails); `Err` when the model does
+    /// not cover the scene.
+    pub(crate) fn order1_unpaired_parts(&self, opts: &Options) -> Result<Order1Parts<T>, OracleError> {
         self.order1_covered()?;
         let o = &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() }.declared();
-        let add = |a: Result<Estimate<T>, OracleError>, b: Result<Estimate<T>, OracleError>| {
-            Ok::<_, OracleError>(a?.plus(b?))
-        };
-        let ((mean0, mean1), ((m20, m21), p)) = rayon::join(
+        let ((mean, m2), p) = rayon::join(|| self.order1_mean_and_m2(o), || self.order1_p(o));
+        Ok(Order1Parts { mean, m2, p })
+    }
+
+    /// μ and M₂ of order 1, each the uncollided part plus what single
+    /// scattering adds, with the options `o` of each part.
+    fn order1_mean_and_m2(&self, o: &Options) -> (Part<T>, Part<T>) {
+        let ((mean0, mean1), (m20, m21)) = rayon::join(
             || rayon::join(|| self.ray_total(Functional::Mean, o), || self.scattered_mean(o)),
-            || {
-                rayon::join(
-                    || rayon::join(|| self.ray_total(Functional::Second, o), || self.order1_second_added(o)),
-                    || self.order1_p(o),
-                )
-            },
+            || rayon::join(|| self.ray_total(Functional::Second, o), || self.order1_second_added(o)),
         );
-        Ok(FiniteIntegrals { mean: add(mean0, mean1)?, m2: add(m20, m21)?, p: p?, q: None, c23: None, c24: None })
+        (sum(mean0, mean1), sum(m20, m21))
     }
 
     /// P of (17) from ⟨𝒞₀⟩ + ⟨𝒞₁⟩ (times e^{c₀}).
@@ -254,16 +261,8 @@ impl<T: CheckRule> FiniteField<T> {
         self.order1_covered()?;
         // Each integral is a sum of two parts: half the absolute goal each.
         let o = &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() }.declared();
-        let add = |a: Result<Estimate<T>, OracleError>, b: Result<Estimate<T>, OracleError>| {
-            Ok::<_, OracleError>(a?.plus(b?))
-        };
-        let (((mean0, mean1), (m20, m21)), ((c230, c231), (c240, c241))) = rayon::join(
-            || {
-                rayon::join(
-                    || rayon::join(|| self.ray_total(Functional::Mean, o), || self.scattered_mean(o)),
-                    || rayon::join(|| self.ray_total(Functional::Second, o), || self.order1_second_added(o)),
-                )
-            },
+        let ((mean, m2), ((c230, c231), (c240, c241))) = rayon::join(
+            || self.order1_mean_and_m2(o),
             || {
                 rayon::join(
                     || {
@@ -283,12 +282,31 @@ impl<T: CheckRule> FiniteField<T> {
         );
         let (p, q) = self.order1_p_and_q(o);
         Ok(FiniteIntegrals {
-            mean: add(mean0, mean1)?,
-            m2: add(m20, m21)?,
+            mean: mean?,
+            m2: m2?,
             p: p?,
             q: Some(q?),
-            c23: Some(add(c230, c231)?),
-            c24: Some(add(c240, c241)?),
+            c23: Some(sum(c230, c231)?),
+            c24: Some(sum(c240, c241)?),
         })
     }
+}
+
+/// One integral's outcome.
+type Part<T> = Result<Estimate<T>, OracleError>;
+
+/// The sum of an integral's two parts (uncollided and single-scattered).
+fn sum<T: CheckRule>(a: Part<T>, b: Part<T>) -> Part<T> {
+    Ok(a?.plus(b?))
+}
+
+/// μ, M₂ and P of the order-1 model (times e^{c₀}), each with its own
+/// outcome ([`FiniteField::order1_unpaired_parts`]).
+pub(crate) struct Order1Parts<T> {
+    /// μ = μ₀ + μ₁.
+    pub mean: Part<T>,
+    /// M₂ with the single-scattered and same-path parts.
+    pub m2: Part<T>,
+    /// P of ⟨𝒞₀⟩ + ⟨𝒞₁⟩.
+    pub p: Part<T>,
 }

@@ -8,11 +8,11 @@
 //! from 2.5·10⁷ evaluations, 2.1 s, to ~6·10⁵).
 
 use super::scattered::hit_chance;
+use super::{Shared, TableKey};
 use crate::model::chebyshev::{sample_options, Piecewise};
 use crate::model::field::graded_about;
-use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome, Rule};
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
+use std::sync::Arc;
 
 /// K(w) = ∫₀^∞ σe^{−σu} H(√(u² + R² − w²)) du: the chance that a path
 /// whose first segment passes a sphere's centre at p = √(R² − w²) and
@@ -114,12 +114,12 @@ impl<T: CheckRule> SecondHitTable<T> {
 /// at once is the same table, one is kept): `None` when the table cannot
 /// vouch for its bar, and the quadrature serves.
 pub(super) struct SecondHitTables<T> {
-    tables: Mutex<HashMap<(Rule, u64), Option<Arc<SecondHitTable<T>>>>>,
+    tables: Shared<TableKey, Option<Arc<SecondHitTable<T>>>>,
 }
 
 impl<T> Default for SecondHitTables<T> {
     fn default() -> Self {
-        SecondHitTables { tables: Mutex::new(HashMap::new()) }
+        SecondHitTables { tables: Default::default() }
     }
 }
 

@@ -173,21 +173,7 @@ fn finite_order1_section(s: &mut String, ledger: &mut Ledger) -> Result<(), Stri
     let report = crate::oracle::run(&unit, crate::oracle::Precision::F64, Some(tol)).map_err(|e| e.to_string())?;
     let f = report.finite.ok_or("no finite-sphere model at q = 1, N_B = 1")?;
     let met = ledger.judge("finite-sphere order 1, q = 1, N_B = 1, f64", target, out.is_ok().then_some(secs));
-    match out {
-        Ok(i) => writeln!(
-            s,
-            "| 1, 1 | {tol:.1e} | {:.12e} ± {:.1e} | {} | {} | {} | {met} |",
-            f.variance.value,
-            f.variance.error,
-            i.evaluations(),
-            duration(secs),
-            target.cell()
-        )
-        .unwrap(),
-        Err(e) => {
-            writeln!(s, "| 1, 1 | {tol:.1e} | **{e}** | — | {} | {} | {met} |", duration(secs), target.cell()).unwrap()
-        }
-    }
+    timed_row(s, "1, 1", tol, out.map(|i| (f.variance, i.evaluations())), secs, target, &met);
     let met = ledger.judge("finite-sphere order 1, the scene's q = 0.5, N_B = 8, f64", target, None);
     writeln!(
         s,
@@ -198,6 +184,30 @@ fn finite_order1_section(s: &mut String, ledger: &mut Ledger) -> Result<(), Stri
     )
     .unwrap();
     Ok(())
+}
+
+/// One timed row of the finite-sphere tables: `label`, the tolerance,
+/// Var L with its bar and the evaluations of the timed computation (or its
+/// failure), its wall time and target.
+fn timed_row(
+    s: &mut String,
+    label: &str,
+    tol: f64,
+    out: Result<(crate::oracle::ValueWithBar, u64), String>,
+    secs: f64,
+    target: Target,
+    met: &str,
+) {
+    let (time, cell) = (duration(secs), target.cell());
+    match out {
+        Ok((var, evaluations)) => writeln!(
+            s,
+            "| {label} | {tol:.1e} | {:.12e} ± {:.1e} | {evaluations} | {time} | {cell} | {met} |",
+            var.value, var.error
+        ),
+        Err(e) => writeln!(s, "| {label} | {tol:.1e} | **{e}** | — | {time} | {cell} | {met} |"),
+    }
+    .unwrap();
 }
 
 /// The finite-sphere model on the isotropic point-light scene at R = 0.05,
@@ -228,20 +238,7 @@ fn finite_section(s: &mut String, ledger: &mut Ledger) -> Result<(), String> {
             target,
             out.is_ok().then_some(secs),
         );
-        match out {
-            Ok(i) => writeln!(
-                s,
-                "| f64 | {tol:.1e} | {:.12e} ± {:.1e} | {} | {} | {} | {met} |",
-                f.variance.value,
-                f.variance.error,
-                i.evaluations(),
-                duration(secs),
-                target.cell()
-            )
-            .unwrap(),
-            Err(e) => writeln!(s, "| f64 | {tol:.1e} | **{e}** | — | {} | {} | {met} |", duration(secs), target.cell())
-                .unwrap(),
-        }
+        timed_row(s, "f64", tol, out.map(|i| (f.variance, i.evaluations())), secs, target, &met);
     }
     let t0 = Instant::now();
     let big = crate::oracle::run(&scene, crate::oracle::Precision::Bits(128), None);
