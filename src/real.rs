@@ -90,7 +90,7 @@ pub trait Real:
         self.clone()
     }
     /// Magnitude below which values lose relative precision to underflow
-    /// (f64: 2⁻¹⁰²² / eps ≈ 5·10⁻²⁹¹; MPFR: 0, its exponent range is vast).
+    /// (f64: 2⁻¹⁰²² / eps ≈ 1.0·10⁻²⁹²; MPFR: 0, its exponent range is vast).
     fn underflow_floor(&self) -> Self {
         self.lit(0.0)
     }

@@ -273,7 +273,16 @@ fn order1_moments_converge_in_hard_cases() {
             println!("{name}: relative gaps to the small-sphere M₂, P: {gaps:?}");
             assert!(gaps.0.abs() <= 1e-6 && gaps.1.abs() <= 1e-6, "{name}: gaps {gaps:?}");
         }
-        let parts = [("μ₁", ff.scattered_mean(&o)), ("M₂ added", ff.order1_second_added(&o)), ("P", p)];
+        // P and Q of the uncollided light alone (closed form, cheap): Q
+        // carries the same power-of-two scale as P.
+        let (p0, q0) = ff.p_and_q(&o);
+        let parts = [
+            ("μ₁", ff.scattered_mean(&o)),
+            ("M₂ added", ff.order1_second_added(&o)),
+            ("P", p),
+            ("P of order 0", p0),
+            ("Q of order 0", q0),
+        ];
         for (what, e) in parts {
             let e = e.unwrap_or_else(|err| panic!("{name}: {what}: {err}"));
             println!("{name}: {what}·e^(c₀) = {:.6e} ± {:.1e} ({} evaluations)", e.value, e.error, e.evaluations);

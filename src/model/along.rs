@@ -41,8 +41,9 @@ pub struct RayLine<'a, T> {
     pub center: T,
     /// The model's shift c₀: ⟨𝒞⟩ is passed as ⟨𝒞⟩·e^{c₀}.
     pub shift: T,
-    /// The even exponent k of the power of two P and Q are integrated
-    /// times ([`pair_scale_exponent`]; 0 for none).
+    /// The exponent k of the power of two P and Q are integrated times
+    /// ([`pair_scale_exponent`], which makes it even; an odd k is used as
+    /// k − 1; 0 for none).
     pub pair_scale: i32,
     /// The domain in x from `lo` to `hi` (`None`: ∞, decay σ declared) with
     /// every breakpoint of ⟨𝒞⟩ in between.
@@ -81,24 +82,42 @@ impl<T: CheckRule> RayLine<'_, T> {
     /// Times 2^{k/2}, k = [`RayLine::pair_scale`] (exact).
     fn half_weight(&self, x: &T) -> T {
         let half = (self.sigma.clone() * self.s_of(x) + self.shift.clone()) / x.lit(2.0);
-        self.sigma.sqrt() * x.powi_like(self.pair_scale / 2) * (-half).exp()
+        self.sigma.sqrt() * x.powi_like(self.scale_exponent() / 2) * (-half).exp()
+    }
+
+    /// The even exponent actually used: 2⌊k/2⌋.
+    fn scale_exponent(&self) -> i32 {
+        2 * (self.pair_scale / 2)
     }
 
     /// `opts` for an integral formed times 2^k: its absolute goal scaled
     /// alike (exactly).
     fn scaled_options(&self, opts: &Options) -> Options {
-        Options { abs_tol: (opts.abs_tol * 2f64.powi(self.pair_scale)).min(f64::MAX), ..opts.clone() }
+        Options { abs_tol: (opts.abs_tol * 2f64.powi(self.scale_exponent())).min(f64::MAX), ..opts.clone() }
     }
 
     /// A result formed times 2^k (value, bar, or a failure's best guess),
-    /// divided back (exactly).
+    /// divided back: exactly, unless it falls below the smallest normal
+    /// number, where rounding is absolute, at most half the smallest
+    /// subnormal, which the bar gains (and which leaves a normal bar
+    /// unchanged). A failure's message still quotes the scaled figures,
+    /// and says so.
     fn unscaled(&self, e: Outcome<T>) -> Outcome<T> {
-        let back = |v: T| v.clone() * v.powi_like(-self.pair_scale);
+        let k = self.scale_exponent();
+        if k == 0 {
+            return e;
+        }
+        let back = |v: T| v.clone() * v.powi_like(-k);
+        // The smallest subnormal: 2⁻¹⁰²²·eps (0 in MPFR, whose exponent range is vast).
+        let bar = |v: T| back(v.clone()) + v.underflow_floor() * v.eps() * v.eps();
         match e {
-            Ok(e) => Ok(Estimate { value: back(e.value), error: back(e.error), check_value: back(e.check_value), ..e }),
-            Err(f) => {
-                Err(Failure { best_guess: f.best_guess.map(back), error_estimate: f.error_estimate.map(back), ..f })
-            }
+            Ok(e) => Ok(Estimate { value: back(e.value), error: bar(e.error), check_value: back(e.check_value), ..e }),
+            Err(f) => Err(Failure {
+                reason: format!("{} (figures times 2^{k}, the integral's working scale)", f.reason),
+                best_guess: f.best_guess.map(back),
+                error_estimate: f.error_estimate.map(bar),
+                ..f
+            }),
         }
     }
 
@@ -180,7 +199,7 @@ impl<T: CheckRule> RayLine<'_, T> {
                         // a = √(r·abs_tol/2)/h keeps that at ≈ abs_tol. (It was
                         // abs_tol/h², 2|m| times too loose: where ⟨𝒞⟩e^{c₀} ≫ 1,
                         // in dense media, P failed with a bar 10⁻⁴ of itself.)
-                        let r = o.rel_tol.max(f64::EPSILON);
+                        let r = o.rel_tol.max(f64::MIN_POSITIVE);
                         let m_abs = ((r * o.abs_tol / 2.0).sqrt() / h.to_f64()).min(f64::MAX);
                         let m = m(x, tol.max(o.rel_tol), &Options { abs_tol: m_abs, ..o.clone() })?;
                         let v = h.clone() * m.value.clone();
@@ -304,8 +323,9 @@ fn short_options<T: Real>(known: &[Known<T>], p: &T, outer: &T, inner: &Options)
 /// are integrated times (see [`RayLine`]): 2^k ≈ e^{σ·m − c₀}, at most,
 /// where `m` is a lower bound of s + 2·(light → sphere path) over the
 /// camera ray and the lights (`None`: none known, k = 0), so that P·e^{c₀}·2^k
-/// ≲ 1 up to algebraic factors. m ≥ c₀/σ (the path s + path ≥ c₀/σ, and
-/// path ≥ 0), so k ≥ 0 (clamped to 0 where a looser bound says less).
+/// ≲ 1 up to algebraic factors. Usually m ≥ c₀/σ (the path s + path ≥
+/// c₀/σ, and path ≥ 0); where a looser bound gives less (the finite-sphere
+/// model's D − R with a light within R of the line), k is clamped to 0.
 ///
 /// ```
 /// use mcrt_noise::model::along::pair_scale_exponent;
@@ -398,4 +418,36 @@ fn cumulative_with<T: CheckRule>(
     let error = base.error + piece.error.clone();
     known.insert(idx, Known { at: p.clone(), value: value.clone(), error: error.clone() });
     Ok(Estimate::known(value, error, piece.evaluations, inner.rule))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// P and Q of a smooth ⟨𝒞⟩ (plain, and with a bar through the nested
+    /// path) integrated times 2⁴⁰ and divided back are the same to the bit
+    /// as without the scale: a power of two changes no rounding where the
+    /// engine's underflow floor plays no part.
+    #[test]
+    fn the_pair_scale_changes_no_bit() {
+        let mean = |x: &f64| (-(x - 1.0) * (x - 1.0)).exp() + 0.5 / (1.0 + x * x);
+        let with_bar = |x: &f64, _tol: f64, o: &Options| Ok(Estimate::known(mean(x), mean(x) * 1e-13, 1, o.rule));
+        let domain = |lo: &f64, hi: Option<&f64>| match hi {
+            Some(h) => Domain::finite(*lo, *h).with_breakpoints(vec![1.0]).with_decay(1.3),
+            None => Domain::semi_infinite(*lo).with_breakpoints(vec![1.0]).with_decay(1.3),
+        };
+        let line = |k: i32| RayLine { sigma: 1.3, center: 0.0, shift: 0.2, pair_scale: k, domain: &domain };
+        let opts = Options::rel(1e-8);
+        for source in [MeanSource::Plain(&mean), MeanSource::WithBar(&with_bar)] {
+            let (plain, scaled) = (line(0), line(40));
+            let (p0, p1) = (plain.p_single(&source, &opts).unwrap(), scaled.p_single(&source, &opts).unwrap());
+            let (q0, q1) = (plain.q_pair(&source, &opts).unwrap(), scaled.q_pair(&source, &opts).unwrap());
+            for (what, a, b) in [("P", p0, p1), ("Q", q0, q1)] {
+                assert!(a.value > 0.0 && a.error < 1e-7 * a.value, "{what}: {} ± {}", a.value, a.error);
+                assert_eq!(a.value.to_bits(), b.value.to_bits(), "{what}: {} against {}", a.value, b.value);
+                assert_eq!(a.error.to_bits(), b.error.to_bits(), "{what}'s bar: {} against {}", a.error, b.error);
+                assert_eq!(a.evaluations, b.evaluations, "{what}'s evaluations");
+            }
+        }
+    }
 }

@@ -132,15 +132,21 @@ impl<T: Real> Frame<T> {
     /// The law is symmetric in the two frames: with ψ ↔ ϑ it gives the
     /// azimuth about u at which the circle ϑ is at angle ψ from w₀.
     fn chi_at(&self, psi: &T, psi_pole: &T, theta: &T) -> Option<T> {
-        let two = psi.lit(2.0);
-        let delta = psi.clone() - psi_pole.clone();
-        let num = ((theta.clone() + delta.clone()) / two.clone()).sin() * ((theta.clone() - delta) / two.clone()).sin();
-        let den = psi.sin() * psi_pole.sin();
-        if !(den > psi.lit(0.0)) {
+        self.chi_at_gap(&psi.sin(), &(psi.clone() - psi_pole.clone()), psi_pole, theta)
+    }
+
+    /// [`Frame::chi_at`] from sin ψ and Δ = ψ − ψ_pole given (each formed
+    /// where it is exact, [`Frame::pole_gaps`]).
+    fn chi_at_gap(&self, sin_psi: &T, delta: &T, psi_pole: &T, theta: &T) -> Option<T> {
+        let two = theta.lit(2.0);
+        let num = ((theta.clone() + delta.clone()) / two.clone()).sin()
+            * ((theta.clone() - delta.clone()) / two.clone()).sin();
+        let den = sin_psi.clone() * psi_pole.sin();
+        if !(den > theta.lit(0.0)) {
             return None;
         }
         let s2 = num / den;
-        if !(s2 > psi.lit(0.0) && s2 < psi.lit(1.0)) {
+        if !(s2 > theta.lit(0.0) && s2 < theta.lit(1.0)) {
             return None;
         }
         Some(two * s2.sqrt().asin())
@@ -460,7 +466,9 @@ impl<T: CheckRule> Frame<T> {
         let (to_pole, to_antipode) = self.pole_gaps(theta, theta_c);
         let base_s = sq(to_pole.clone());
         let base_c = sq(to_antipode.clone());
-        let cross = theta.sin() * self.sin_u.clone();
+        // sin ϑ = sin ϑ′, from the exact one of the two.
+        let sin_theta = if theta_c < theta { theta_c.sin() } else { theta.sin() };
+        let cross = sin_theta.clone() * self.sin_u.clone();
         // L₁ at (ϑ, φ) from sin²(ψ/2) and cos²(ψ/2), each formed directly.
         let at = |phi: &T, phi_c: &T| {
             let s2 = base_s.clone() + cross.clone() * sq(phi.clone());
@@ -499,14 +507,14 @@ impl<T: CheckRule> Frame<T> {
             let gap = to_pole.abs();
             let floor = features.source_near_0.clone().map_or(zero.clone(), |w| w / theta.lit(10.0));
             for d in decades(&start_at(&gap, &floor)) {
-                if let Some(c) = self.chi_at(theta, &self.psi_u, &d) {
+                if let Some(c) = self.chi_at_gap(&sin_theta, &to_pole, &self.psi_u, &d) {
                     near.push(c);
                 }
             }
             if let Some(w) = &features.source_near_pi {
                 let gap = to_antipode.abs();
                 for d in decades(&start_at(&gap, &(w.clone() / theta.lit(10.0)))) {
-                    if let Some(c) = self.chi_at(theta_c, &self.psi_u, &d) {
+                    if let Some(c) = self.chi_at_gap(&sin_theta, &to_antipode, &self.psi_u, &d) {
                         far.push(c);
                     }
                 }

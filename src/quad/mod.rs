@@ -571,7 +571,7 @@ fn reconcile<T: CheckRule>(primary: Estimate<T>, check: Option<Estimate<T>>, opt
 
 /// max(abs_tol, rel_tol·|value|) at the value's precision.
 ///
-/// Never below 1024 underflow floors (f64: ~5·10⁻²⁸⁸ absolute, room for the
+/// Never below 1024 underflow floors (f64: ~1.0·10⁻²⁸⁹ absolute, room for the
 /// per-panel floors of hundreds of panels), under which no relative accuracy
 /// exists.
 pub(crate) fn goal<T: Real>(value: &T, opts: &Options) -> T {
