@@ -62,7 +62,7 @@ pub fn cost_markdown(repeats: usize, figures_dir: &Path) -> Result<String, Strin
         "log₁₀ achieved rel. error",
         kernel_series,
     )?;
-    writeln!(body, "\nIn the figure \"command\" is `mcrt-noise kernel` (the first table) and \"2-D\" the 2-D engine (the second), each along the f64 tolerances and along the MPFR precisions.").unwrap();
+    writeln!(body, "\nIn the figure \"kernel\" is `mcrt-noise kernel` (the first table) and \"2-D\" the 2-D engine (the second), each along the f64 tolerances and along the MPFR precisions.").unwrap();
     writeln!(body, "\n{}\n", figures::write(figures_dir, "cost-kernel.svg", &svg)?).unwrap();
     let oracle_series = oracle::order0_section(&mut body, &mut ledger)?;
     let svg = figures::log_log_svg(
