@@ -345,6 +345,20 @@ pub fn pair_scale_exponent(sigma: f64, shift: f64, m: Option<f64>) -> i32 {
     }
 }
 
+/// The least [`point_quadratic_path`] over `lights` given as (z, b) of
+/// each point light, `None` for a light whose bound is not formed (a
+/// beam): then `None` (no scale).
+///
+/// ```
+/// use mcrt_noise::model::along::lowest_quadratic_path;
+///
+/// assert_eq!(lowest_quadratic_path([Some((-3.0, 4.0)), Some((0.0, 1.0))]), Some(2.0));
+/// assert_eq!(lowest_quadratic_path([Some((-3.0, 4.0)), None]), None);
+/// ```
+pub fn lowest_quadratic_path(lights: impl IntoIterator<Item = Option<(f64, f64)>>) -> Option<f64> {
+    lights.into_iter().try_fold(f64::INFINITY, |m, light| light.map(|(z, b)| m.min(point_quadratic_path(z, b))))
+}
+
 /// min over s ≥ 0 of s + 2√((s − z)² + b²): the quadratic path s + 2D of a
 /// point light whose foot lies at abscissa `z`, `b` ≥ 0 from the camera
 /// line: z + √3·b where the minimiser s = z − b/√3 is ≥ 0, else

@@ -409,9 +409,10 @@ impl<T: CheckRule> Frame<T> {
     /// sin²(φ/2), they lie at tan(φ/2) = ±i·a and cot(φ/2) = ∓i·b,
     /// a = |sin((ϑ − ψ_u)/2)|/sin((ϑ + ψ_u)/2), b the same with π − ϑ
     /// (both in [0, 1]; 1 when sin ϑ sin ψ_u = 0 and L₁ does not depend on φ).
-    fn singular_distances(&self, theta: &T, theta_c: &T) -> (T, T) {
+    /// `gaps` = [`Frame::pole_gaps`] at (ϑ, π − ϑ).
+    fn singular_distances(&self, theta: &T, theta_c: &T, gaps: (T, T)) -> (T, T) {
         let two = theta.lit(2.0);
-        let (to_pole, to_antipode) = self.pole_gaps(theta, theta_c);
+        let (to_pole, to_antipode) = gaps;
         let ratio = |t: &T, gap: T| {
             let num = (gap / two.clone()).sin().abs();
             let den = ((t.clone() + self.psi_u.clone()) / two.clone()).sin();
@@ -488,7 +489,7 @@ impl<T: CheckRule> Frame<T> {
         // rule (unrelated to tanh–sinh) converges geometrically once the
         // circle is mapped so that both singularities lie far from it.
         if opts.rule == Rule::Check && features.source_near_0.is_none() && features.source_near_pi.is_none() {
-            let (a, b) = self.singular_distances(theta, theta_c);
+            let (a, b) = self.singular_distances(theta, theta_c, (to_pole.clone(), to_antipode.clone()));
             let circle = CircleMap::balanced(&a, &b);
             if circle.strip > theta.lit(MIN_STRIP) {
                 let mapped = |tau: &T, tau_c: &T| {

@@ -18,7 +18,7 @@
 //! carry the weight q, so every single-sphere sum becomes
 //! ∫ … σ_ext e^{−σ_ext s} ds.
 
-use super::along::{pair_scale_exponent, point_quadratic_path, MeanSource, RayLine};
+use super::along::{lowest_quadratic_path, pair_scale_exponent, MeanSource, RayLine};
 use super::angular::{Direction, Features, Pole};
 use super::chebyshev::{sample_options, Piecewise};
 use super::field::{Field, Geometry};
@@ -251,10 +251,10 @@ fn with_line<T: CheckRule, R>(field: &Field<T>, f: impl FnOnce(&RayLine<'_, T>) 
 /// the lights, for P's and Q's scale ([`pair_scale_exponent`]); `None`
 /// with a beam (not formed: no scale).
 fn quadratic_path<T: CheckRule>(field: &Field<T>) -> Option<f64> {
-    field.components.iter().try_fold(f64::INFINITY, |m, c| match &c.geometry {
-        Geometry::Point { a, d } => Some(m.min(point_quadratic_path(a.to_f64(), d.to_f64()))),
+    lowest_quadratic_path(field.components.iter().map(|c| match &c.geometry {
+        Geometry::Point { a, d } => Some((a.to_f64(), d.to_f64())),
         Geometry::Beam { .. } => None,
-    })
+    }))
 }
 
 /// ⟨𝒞⟩ of the small-sphere model as [`super::along`] takes it, handed to `f`.

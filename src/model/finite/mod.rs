@@ -36,7 +36,7 @@ mod second_hit;
 mod tables;
 pub mod virtual_lights;
 
-use super::along::{pair_scale_exponent, point_quadratic_path, MeanSource, RayLine};
+use super::along::{lowest_quadratic_path, pair_scale_exponent, MeanSource, RayLine};
 use super::angular::Direction;
 use super::field::{beam_interval, Field};
 use super::OracleError;
@@ -332,11 +332,11 @@ impl<T: CheckRule> FiniteField<T> {
     /// path to a sphere is at least D − R; `None` with a beam (not formed:
     /// no scale).
     fn quadratic_path(&self) -> Option<f64> {
-        let two_r = 2.0 * self.radius.to_f64();
-        self.lights.iter().try_fold(f64::INFINITY, |m, light| match light {
-            FiniteLight::Point(p) => Some(m.min(point_quadratic_path(p.z.to_f64(), p.b.to_f64()) - two_r)),
+        let points = self.lights.iter().map(|light| match light {
+            FiniteLight::Point(p) => Some((p.z.to_f64(), p.b.to_f64())),
             FiniteLight::Beam(_) => None,
-        })
+        });
+        lowest_quadratic_path(points).map(|m| m - 2.0 * self.radius.to_f64())
     }
 
     /// Runs `f` with the camera ray and this model's ⟨𝒞⟩_R.
