@@ -36,6 +36,10 @@ pub const MAX_PIECES: usize = 600;
 /// Nodes per piece.
 const NODES: usize = 32;
 
+/// A converged piece while the pieces are built: [lo, hi], its three
+/// series and their tail estimates.
+type DonePiece<T> = (T, T, [Vec<T>; 3], [T; 3]);
+
 /// One piece [lo, hi] of the three antiderivatives, as Chebyshev series
 /// (plain sums Σ C_k T_k on the piece mapped to [−1, 1]), each 0 at lo.
 #[derive(Debug, Clone)]
@@ -90,7 +94,7 @@ impl<T: Real> HitCumulants<T> {
         let floors = [hp * width.clone(), damped.clone() * width.clone(), damped * lever * width];
         let mut todo: Vec<(T, T)> =
             cuts.windows(2).filter(|w| w[0] < w[1]).map(|w| (w[0].clone(), w[1].clone())).rev().collect();
-        let mut done: Vec<(T, T, [Vec<T>; 3], [T; 3])> = Vec::new();
+        let mut done: Vec<DonePiece<T>> = Vec::new();
         let mut evaluations = 0u64;
         while let Some((lo, hi)) = todo.pop() {
             if done.len() + todo.len() > MAX_PIECES {

@@ -32,6 +32,7 @@ pub mod order1;
 pub mod point;
 pub mod ray;
 pub mod scattered;
+mod scattered_table;
 mod second_hit;
 mod tables;
 pub mod virtual_lights;
@@ -85,6 +86,8 @@ pub struct FiniteField<T> {
     /// Origin of the along-ray variable, s = center + x (as [`Field::center`]).
     pub center: T,
     tables: tables::Tables<T>,
+    /// I(D) of single scattering per pass (`scattered_table`).
+    scattered_tables: scattered_table::ScatteredTables<T>,
     /// The along-ray range of the tables ([`FiniteField::table_range`]).
     range: (T, T),
 }
@@ -172,6 +175,7 @@ impl<T: CheckRule> FiniteField<T> {
             shift: like.lit(sigma * shortest_path(scene, o, u, r)),
             center: field.center.clone(),
             tables: tables::Tables::default(),
+            scattered_tables: scattered_table::ScatteredTables::default(),
             range: (like.lit(0.0), like.lit(0.0)),
         };
         ff.range = ff.along_range();

@@ -40,7 +40,7 @@ impl Path {
     /// The name in the figure's legend.
     fn short_name(self) -> &'static str {
         match self {
-            Path::Command => "kernel",
+            Path::Command => "cmd",
             Path::Engine => "2-D",
         }
     }

@@ -62,7 +62,7 @@ pub fn cost_markdown(repeats: usize, figures_dir: &Path) -> Result<String, Strin
         "log₁₀ achieved rel. error",
         kernel_series,
     )?;
-    writeln!(body, "\nIn the figure \"kernel\" is `mcrt-noise kernel` (the first table) and \"2-D\" the 2-D engine (the second), each along the f64 tolerances and along the MPFR precisions.").unwrap();
+    writeln!(body, "\nIn the figure \"cmd\" is `mcrt-noise kernel` (the first table) and \"2-D\" the 2-D engine (the second), each along the f64 tolerances and along the MPFR precisions.").unwrap();
     writeln!(body, "\n{}\n", figures::write(figures_dir, "cost-kernel.svg", &svg)?).unwrap();
     let oracle_series = oracle::order0_section(&mut body, &mut ledger)?;
     let svg = figures::log_log_svg(
@@ -173,7 +173,7 @@ fn finite_order1_section(s: &mut String, ledger: &mut Ledger) -> Result<(), Stri
     let report = crate::oracle::run(&unit, crate::oracle::Precision::F64, Some(tol)).map_err(|e| e.to_string())?;
     let f = report.finite.ok_or("no finite-sphere model at q = 1, N_B = 1")?;
     let met = ledger.judge("finite-sphere order 1, q = 1, N_B = 1, f64", target, out.is_ok().then_some(secs));
-    timed_row(s, "1, 1", tol, out.map(|i| (f.variance, i.evaluations())), secs, target, &met);
+    timed_row(s, "1, 1", tol, out.map(|i| (f.variance, i.evaluations())), secs, target, met);
     let met = ledger.judge("finite-sphere order 1, the scene's q = 0.5, N_B = 8, f64", target, None);
     writeln!(
         s,
@@ -238,7 +238,7 @@ fn finite_section(s: &mut String, ledger: &mut Ledger) -> Result<(), String> {
             target,
             out.is_ok().then_some(secs),
         );
-        timed_row(s, "f64", tol, out.map(|i| (f.variance, i.evaluations())), secs, target, &met);
+        timed_row(s, "f64", tol, out.map(|i| (f.variance, i.evaluations())), secs, target, met);
     }
     let t0 = Instant::now();
     let big = crate::oracle::run(&scene, crate::oracle::Precision::Bits(128), None);
