@@ -13,8 +13,9 @@
 //! Clenshaw's recurrence. The Chebyshev coefficients c_k give the estimate: a piece is
 //! accepted when |c_{n−2}| + |c_{n−1}| ≤ tol·max|f| (or is down to 4× the
 //! samples' own bars, where their noise rules), with error bar
-//! 2(|c_{n−2}| + |c_{n−1}|) plus the samples' own bars; otherwise it is
-//! bisected. The caller grades the pieces towards known singular points.
+//! 2(|c_{n−2}| + |c_{n−1}|) plus the samples' own bars times the nodes'
+//! Lebesgue constant (below 3.21: interpolation can magnify the samples'
+//! errors that much); otherwise it is bisected. The caller grades the pieces towards known singular points.
 //!
 //! The bar is reported *relative*: ρ = max over pieces of the bar of ln f
 //! (times 1.01 for e^δ − 1), so that any integral of the interpolant
@@ -44,6 +45,15 @@ pub struct Piecewise<T> {
 }
 
 const ORDERS: [usize; 2] = [16, 32];
+
+/// An upper bound of the Lebesgue constant of interpolation at the n
+/// first-kind Chebyshev points, (2/π) ln n + 1 (Rivlin, *An Introduction
+/// to the Approximation of Functions*, 1969, §4.2: Λ_n < (2/π) ln n + 1):
+/// how much the samples' own errors can grow in the interpolant (3.21 at
+/// n = 32; computed, the constant itself is 3.17).
+fn lebesgue_bound(n: usize) -> f64 {
+    2.0 / std::f64::consts::PI * (n as f64).ln() + 1.0
+}
 
 /// Options for computing the samples of a table built to `rel_tol` with
 /// the rule `rule`: a fortieth of the tolerance (at least 64 ulps),
@@ -89,7 +99,11 @@ impl<T: Real> Piecewise<T> {
             }
             let mut accepted = None;
             for &n in &ORDERS {
-                let (mut piece, bar, evals) = sample(&mut f, &a, &b, n)?;
+                // A failure carries every evaluation spent before it.
+                let (mut piece, bar, evals) = sample(&mut f, &a, &b, n).map_err(|mut e| {
+                    e.evaluations += evaluations;
+                    e
+                })?;
                 evaluations += evals;
                 piece.coeffs = coefficients(&piece.values);
                 let tail = piece.coeffs[n - 2].abs() + piece.coeffs[n - 1].abs();
@@ -99,7 +113,9 @@ impl<T: Real> Piecewise<T> {
                     // Plus the rounding of ln f and of the recurrence: 8 eps (1 + max |ln f|).
                     let big = piece.values.iter().fold(like.lit(1.0), |m, v| m.max_of(v.abs() + like.lit(1.0)));
                     let rounding = like.eps() * like.lit(8.0) * big;
-                    let mut err = tail * like.lit(2.0) + bar + rounding;
+                    // The samples' noise reaches the interpolant magnified
+                    // by at most the Lebesgue constant of the nodes.
+                    let mut err = tail * like.lit(2.0) + bar * like.lit(lebesgue_bound(n)) + rounding;
                     // Chop trailing coefficients whose sum stays below a tenth
                     // of that bar (cheaper evaluation); their sum joins it.
                     let mut dropped = like.lit(0.0);
@@ -191,7 +207,10 @@ fn sample<T: Real>(
         let angle = pi.clone() * a.lit((2 * j + 1) as f64) / a.lit((2 * n) as f64);
         let t = angle.cos();
         let x = ((a.clone() + b.clone()) + (b.clone() - a.clone()) * t.clone()) / two.clone();
-        let e = f(&x)?;
+        let e = f(&x).map_err(|mut e| {
+            e.evaluations += evals;
+            e
+        })?;
         evals += e.evaluations;
         if !(e.value > a.lit(0.0)) || !e.value.is_finite() {
             return Err(Failure {

@@ -86,8 +86,6 @@ pub struct FiniteField<T> {
     /// Origin of the along-ray variable, s = center + x (as [`Field::center`]).
     pub center: T,
     tables: tables::Tables<T>,
-    /// I(D) of single scattering per pass (`scattered_table`).
-    scattered_tables: scattered_table::ScatteredTables<T>,
     /// The along-ray range of the tables ([`FiniteField::table_range`]).
     range: (T, T),
 }
@@ -175,7 +173,6 @@ impl<T: CheckRule> FiniteField<T> {
             shift: like.lit(sigma * shortest_path(scene, o, u, r)),
             center: field.center.clone(),
             tables: tables::Tables::default(),
-            scattered_tables: scattered_table::ScatteredTables::default(),
             range: (like.lit(0.0), like.lit(0.0)),
         };
         ff.range = ff.along_range();
@@ -441,3 +438,46 @@ type TableKey = (Rule, u64);
 
 /// A shared map from keys to lazily built values.
 type Shared<K, V> = Arc<Mutex<HashMap<K, V>>>;
+
+/// Tables built once per pass of one computation: the first caller of a
+/// key builds its table, callers of the same key meanwhile wait for it
+/// (no build makes a parallel call of its own, so waiting cannot
+/// deadlock), so each is built — and charged to the budget — exactly once
+/// whatever the thread count, and [`OncePerPass::evaluations`] sums the
+/// builds, failed ones included, in a count that does not depend on which
+/// thread built what. `None` where no table serves (the quadrature does).
+#[derive(Debug)]
+pub(super) struct OncePerPass<V> {
+    cells: Shared<TableKey, Arc<OnceBuilt<V>>>,
+}
+
+/// One table of [`OncePerPass`], once built: the table (or `None`) and the
+/// evaluations its build spent.
+type OnceBuilt<V> = std::sync::OnceLock<(Option<Arc<V>>, u64)>;
+
+impl<V> Default for OncePerPass<V> {
+    fn default() -> Self {
+        OncePerPass { cells: Default::default() }
+    }
+}
+
+impl<V> OncePerPass<V> {
+    /// The table of the pass with `opts`, built by `build` (the table or
+    /// `None`, and the evaluations it spent) if no caller built it before.
+    pub(super) fn get_or_build(&self, opts: &Options, build: impl FnOnce() -> (Option<V>, u64)) -> Option<Arc<V>> {
+        let key = (opts.rule, opts.rel_tol.to_bits());
+        let cell = self.cells.lock().expect("no panic under the lock").entry(key).or_default().clone();
+        cell.get_or_init(|| {
+            let (table, spent) = build();
+            (table.map(Arc::new), spent)
+        })
+        .0
+        .clone()
+    }
+
+    /// Evaluations spent on every table built so far.
+    pub(super) fn evaluations(&self) -> u64 {
+        let cells = self.cells.lock().expect("no panic under the lock");
+        cells.values().filter_map(|c| c.get()).map(|(_, spent)| spent).sum()
+    }
+}

@@ -19,6 +19,7 @@
 use super::cross_segments::CrossPair;
 use super::point::{cap_half_angle, PointLight};
 use super::ray::Functional;
+use super::scattered_table::ScatteredTables;
 use super::second_hit::{second_hit_after, SecondHitTable, SecondHitTables};
 use super::{FiniteField, FiniteIntegrals, FiniteLight};
 use crate::model::field::graded_about;
@@ -144,11 +145,11 @@ impl<T: CheckRule> FiniteField<T> {
     /// (⟨𝒞₀⟩ + ⟨𝒞₁⟩)·e^{c₀} at x with its bar, summed over the (point)
     /// lights: the mean contribution of a path of order ≤ 1 to the sphere
     /// at s = center + x, for P and Q.
-    pub(crate) fn order1_mean_with_bar(&self, x: &T, opts: &Options) -> Outcome<T> {
+    pub(super) fn order1_mean_with_bar(&self, x: &T, tables: &ScatteredTables<T>, opts: &Options) -> Outcome<T> {
         let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, ..opts.clone() };
         self.sum_over_lights(x, opts, |_, light| match light {
             FiniteLight::Point(p) => {
-                let e = p.scattered_moment(self, x, 1, &share)?;
+                let e = p.scattered_moment(self, tables, x, 1, &share)?;
                 Ok(Estimate::known(e.value + p.moment_isotropic(self, x, 1), e.error, e.evaluations, opts.rule))
             }
             FiniteLight::Beam(_) => unreachable!("order1_covered refuses beams"),
@@ -157,12 +158,18 @@ impl<T: CheckRule> FiniteField<T> {
 
     /// (⟨𝒞₁²⟩ + 2⟨𝒞₀𝒞₁⟩)·e^{c₀} at x with its bar: the part of ⟨𝒞²⟩ that
     /// single scattering adds.
-    fn order1_second_with_bar(&self, x: &T, tables: &SecondHitTables<T>, opts: &Options) -> Outcome<T> {
+    fn order1_second_with_bar(
+        &self,
+        x: &T,
+        second_hit: &SecondHitTables<T>,
+        scattered: &ScatteredTables<T>,
+        opts: &Options,
+    ) -> Outcome<T> {
         let share = Options { abs_tol: opts.abs_tol / (2.0 * self.lights.len() as f64), ..opts.clone() };
-        let table = tables.for_pass(&self.sigma, &self.radius, opts);
+        let table = second_hit.for_pass(&self.sigma, &self.radius, opts);
         self.sum_over_lights(x, opts, |_, light| match light {
             FiniteLight::Point(p) => {
-                let own = p.scattered_moment(self, x, 2, &share)?;
+                let own = p.scattered_moment(self, scattered, x, 2, &share)?;
                 let half = Options { abs_tol: share.abs_tol / 2.0, ..share.clone() };
                 let both = p.same_path_moment(self, x, table.as_deref(), &half)?;
                 Ok(own.plus(both.scaled(&x.lit(2.0))))
@@ -174,14 +181,28 @@ impl<T: CheckRule> FiniteField<T> {
     /// ∫σe^{−σs}(⟨𝒞₁²⟩ + 2⟨𝒞₀𝒞₁⟩) ds·e^{c₀}: what single scattering adds
     /// to M₂ (the uncollided part is [`super::Functional::Second`]).
     pub fn order1_second_added(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        let tables = ScatteredTables::default();
+        let mut e = self.order1_second_added_with(&tables, opts)?;
+        e.evaluations += tables.evaluations();
+        Ok(e)
+    }
+
+    /// [`FiniteField::order1_second_added`] reading (and building) the I(D)
+    /// tables `scattered`, whose evaluations the caller charges (its own K
+    /// tables it charges itself).
+    fn order1_second_added_with(
+        &self,
+        scattered: &ScatteredTables<T>,
+        opts: &Options,
+    ) -> Result<Estimate<T>, OracleError> {
         self.order1_covered()?;
-        let tables = SecondHitTables::default();
+        let second_hit = SecondHitTables::default();
         let mut e = self.with_line(|line| {
             line.integral_nested("finite-sphere ∫⟨𝒞²⟩, single-scattered part", opts, |x, o| {
-                self.order1_second_with_bar(x, &tables, o)
+                self.order1_second_with_bar(x, &second_hit, scattered, o)
             })
         })?;
-        e.evaluations += tables.evaluations();
+        e.evaluations += second_hit.evaluations();
         Ok(e)
     }
 
@@ -199,27 +220,39 @@ impl<T: CheckRule> FiniteField<T> {
     /// μ, M₂ and P of the order-1 model, each with its own outcome (the
     /// oracle keeps the exact mean when P fails); `Err` when the model does
     /// not cover the scene.
+    ///
+    /// The three share one set of I(D) tables, each built once whichever
+    /// asks first, and charged to μ: counts that do not depend on the
+    /// thread count.
     pub(crate) fn order1_unpaired_parts(&self, opts: &Options) -> Result<Order1Parts<T>, OracleError> {
         self.order1_covered()?;
         let o = &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() }.declared();
-        let ((mean, m2), p) = rayon::join(|| self.order1_mean_and_m2(o), || self.order1_p(o));
-        Ok(Order1Parts { mean, m2, p })
+        let tables = ScatteredTables::default();
+        let ((mean, m2), p) = rayon::join(|| self.order1_mean_and_m2(&tables, o), || self.order1_p_with(&tables, o));
+        Ok(Order1Parts { mean: charged(mean, &tables), m2, p })
     }
 
     /// μ and M₂ of order 1, each the uncollided part plus what single
     /// scattering adds, with the options `o` of each part.
-    fn order1_mean_and_m2(&self, o: &Options) -> (Part<T>, Part<T>) {
+    fn order1_mean_and_m2(&self, tables: &ScatteredTables<T>, o: &Options) -> (Part<T>, Part<T>) {
         let ((mean0, mean1), (m20, m21)) = rayon::join(
-            || rayon::join(|| self.ray_total(Functional::Mean, o), || self.scattered_mean(o)),
-            || rayon::join(|| self.ray_total(Functional::Second, o), || self.order1_second_added(o)),
+            || rayon::join(|| self.ray_total(Functional::Mean, o), || self.scattered_mean_with(tables, o)),
+            || rayon::join(|| self.ray_total(Functional::Second, o), || self.order1_second_added_with(tables, o)),
         );
         (sum(mean0, mean1), sum(m20, m21))
     }
 
     /// P of (17) from ⟨𝒞₀⟩ + ⟨𝒞₁⟩ (times e^{c₀}).
     pub fn order1_p(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        let tables = ScatteredTables::default();
+        charged(self.order1_p_with(&tables, opts), &tables)
+    }
+
+    /// [`FiniteField::order1_p`] reading (and building) `tables`, whose
+    /// evaluations the caller charges.
+    fn order1_p_with(&self, tables: &ScatteredTables<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
         self.order1_covered()?;
-        let with_bar = |x: &T, _tol: f64, o: &Options| self.order1_mean_with_bar(x, o);
+        let with_bar = |x: &T, _tol: f64, o: &Options| self.order1_mean_with_bar(x, tables, o);
         let source = crate::model::along::MeanSource::WithBar(&with_bar);
         self.with_line(|line| line.p_single(&source, opts))
     }
@@ -232,7 +265,16 @@ impl<T: CheckRule> FiniteField<T> {
         if let Err(e) = self.order1_covered() {
             return (Err(e.clone()), Err(e));
         }
-        let with_bar = |x: &T, _tol: f64, o: &Options| self.order1_mean_with_bar(x, o);
+        // One set of I(D) tables for both, charged to P.
+        let tables = ScatteredTables::default();
+        let (p, q) = self.order1_p_and_q_with(&tables, opts);
+        (charged(p, &tables), q)
+    }
+
+    /// [`FiniteField::order1_p_and_q`] reading (and building) `tables`,
+    /// whose evaluations the caller charges.
+    fn order1_p_and_q_with(&self, tables: &ScatteredTables<T>, opts: &Options) -> (Part<T>, Part<T>) {
+        let with_bar = |x: &T, _tol: f64, o: &Options| self.order1_mean_with_bar(x, tables, o);
         let source = crate::model::along::MeanSource::WithBar(&with_bar);
         self.with_line(|line| rayon::join(|| line.p_single(&source, opts), || line.q_pair(&source, opts)))
     }
@@ -261,8 +303,10 @@ impl<T: CheckRule> FiniteField<T> {
         self.order1_covered()?;
         // Each integral is a sum of two parts: half the absolute goal each.
         let o = &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() }.declared();
+        // One set of I(D) tables for μ, M₂, P and Q, charged to μ.
+        let tables = ScatteredTables::default();
         let ((mean, m2), ((c230, c231), (c240, c241))) = rayon::join(
-            || self.order1_mean_and_m2(o),
+            || self.order1_mean_and_m2(&tables, o),
             || {
                 rayon::join(
                     || {
@@ -280,7 +324,8 @@ impl<T: CheckRule> FiniteField<T> {
                 )
             },
         );
-        let (p, q) = self.order1_p_and_q(o);
+        let (p, q) = self.order1_p_and_q_with(&tables, o);
+        let mean = charged(mean, &tables);
         Ok(FiniteIntegrals {
             mean: mean?,
             m2: m2?,
@@ -294,6 +339,15 @@ impl<T: CheckRule> FiniteField<T> {
 
 /// One integral's outcome.
 type Part<T> = Result<Estimate<T>, OracleError>;
+
+/// `e` with the evaluations of `tables` added (once, at a fixed place:
+/// whichever integral built a shared table, the counts are the same).
+fn charged<T: CheckRule>(e: Part<T>, tables: &ScatteredTables<T>) -> Part<T> {
+    e.map(|mut e| {
+        e.evaluations += tables.evaluations();
+        e
+    })
+}
 
 /// The sum of an integral's two parts (uncollided and single-scattered).
 fn sum<T: CheckRule>(a: Part<T>, b: Part<T>) -> Part<T> {

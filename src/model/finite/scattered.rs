@@ -26,6 +26,7 @@
 //! (`scattered_table`).
 
 use super::point::PointLight;
+use super::scattered_table::ScatteredTables;
 use super::{FiniteField, FiniteLight};
 use crate::model::OracleError;
 use crate::quad::{integrate, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
@@ -126,25 +127,31 @@ pub(super) fn hits_over_distance<T: CheckRule>(
 impl<T: CheckRule> PointLight<T> {
     /// ⟨𝒞^k⟩₁·e^{c₀} at s = center + x: the mean k-th power of the
     /// contribution of the light's paths' second segments to the sphere
-    /// there (module docs). I(D) comes from the pass's table
-    /// ([`super::scattered_table`], its relative bar in the value's) where
-    /// it reaches, else from the quadrature, with the pass's rule either
-    /// way. Isotropic media only. Not in the paper: exact at R where its
-    /// §3a takes the field at the centre.
-    pub(crate) fn scattered_moment(&self, ff: &FiniteField<T>, x: &T, power: i32, opts: &Options) -> Outcome<T> {
+    /// there (module docs). I(D) comes from the pass's table in `tables`
+    /// ([`super::scattered_table`], its relative bar in the value's; the
+    /// caller charges the tables' evaluations once, at its end) where it
+    /// reaches, else from the quadrature, with the pass's rule either way.
+    /// Isotropic media only. Not in the paper: exact at R where its §3a
+    /// takes the field at the centre.
+    pub(super) fn scattered_moment(
+        &self,
+        ff: &FiniteField<T>,
+        tables: &ScatteredTables<T>,
+        x: &T,
+        power: i32,
+        opts: &Options,
+    ) -> Outcome<T> {
         let (big_d, _) = self.distance_to(ff, x);
         let f = x.lit(1.0) / (x.pi() * x.lit(4.0));
         let front =
             ff.per_hit_power(power, &self.flux) * if power == 1 { f } else { f.clone() * f } * ff.albedo.clone();
-        let (table, spent) = ff.scattered_tables.for_pass(ff, opts);
-        if let Some(v) = table.as_ref().and_then(|t| t.hits(&ff.sigma, &ff.radius, &big_d, &ff.shift)) {
-            let bar = v.abs() * table.as_ref().expect("a value from it").rel_error.clone();
-            return Ok(Estimate::known(v, bar, 1 + spent, opts.rule).scaled(&front));
+        let table = tables.for_pass(ff, opts);
+        if let Some((v, rel)) = table.and_then(|t| t.hits(&ff.sigma, &ff.radius, &big_d, &ff.shift)) {
+            let bar = v.abs() * rel;
+            return Ok(Estimate::known(v, bar, 1, opts.rule).scaled(&front));
         }
         let o = Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
-        let mut e = hits_over_distance(&ff.sigma, &ff.radius, &big_d, &ff.shift, &o, true)?.scaled(&front);
-        e.evaluations += spent;
-        Ok(e)
+        Ok(hits_over_distance(&ff.sigma, &ff.radius, &big_d, &ff.shift, &o, true)?.scaled(&front))
     }
 }
 
@@ -154,12 +161,25 @@ impl<T: CheckRule> FiniteField<T> {
     /// lights (refused otherwise). The uncollided part is
     /// [`FiniteField::ray_total`] of the mean.
     pub fn scattered_mean(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        let tables = ScatteredTables::default();
+        let mut e = self.scattered_mean_with(&tables, opts)?;
+        e.evaluations += tables.evaluations();
+        Ok(e)
+    }
+
+    /// [`FiniteField::scattered_mean`] reading (and building) `tables`,
+    /// whose evaluations the caller charges.
+    pub(super) fn scattered_mean_with(
+        &self,
+        tables: &ScatteredTables<T>,
+        opts: &Options,
+    ) -> Result<Estimate<T>, OracleError> {
         self.order1_covered()?;
         self.with_line(|line| {
             line.integral_nested("finite-sphere ∫⟨𝒞⟩₁, single-scattered", opts, |x, o| {
                 let share = Options { abs_tol: o.abs_tol / self.lights.len() as f64, ..o.clone() };
                 self.sum_over_lights(x, o, |_, light| match light {
-                    FiniteLight::Point(p) => p.scattered_moment(self, x, 1, &share),
+                    FiniteLight::Point(p) => p.scattered_moment(self, tables, x, 1, &share),
                     FiniteLight::Beam(_) => unreachable!("order1_covered refuses beams"),
                 })
             })

@@ -23,7 +23,7 @@
 //! the table's lower end and beyond its upper one, the quadrature serves.
 
 use super::scattered::hits_over_distance;
-use super::{FiniteField, FiniteLight, Shared, TableKey};
+use super::{FiniteField, FiniteLight, OncePerPass};
 use crate::model::chebyshev::{sample_options, Piecewise};
 use crate::model::field::{graded_about, graded_by};
 use crate::quad::{CheckRule, Options};
@@ -47,22 +47,21 @@ pub(super) struct ScatteredTable<T> {
     /// Interpolants on [lo, R(1 − 10⁻⁶)] and [R(1 + 10⁻⁶), hi] (or the one
     /// of them that the range meets), as (from, to, interpolant).
     parts: Vec<(T, T, Piecewise<T>)>,
-    /// Relative bar of every value [`ScatteredTable::hits`] returns.
+    /// Relative bar of the interpolant ([`ScatteredTable::hits`] adds the
+    /// rounding of its exponent).
     pub rel_error: T,
-    /// Evaluations spent building it.
-    pub evaluations: u64,
 }
 
 impl<T: CheckRule> ScatteredTable<T> {
     /// The table of g over [max(lo, 10⁻⁴R), hi] (0 ≤ lo < hi) for a pass
     /// with `opts` (its rule, tolerance and budget), or `None` when the goal
     /// is finer than the table serves or the interpolation fails (module
-    /// docs).
-    pub(super) fn build(sigma: &T, r: &T, lo: &T, hi: &T, opts: &Options) -> Option<ScatteredTable<T>> {
+    /// docs), and the evaluations spent either way.
+    pub(super) fn build(sigma: &T, r: &T, lo: &T, hi: &T, opts: &Options) -> (Option<ScatteredTable<T>>, u64) {
         let goal = opts.rel_tol / 10.0;
         let lo = &lo.clone().max_of(r.clone() * r.lit(LOWEST));
         if goal < FINEST_GOAL || !(hi > lo) {
-            return None;
+            return (None, 0);
         }
         let samples = sample_options(r, goal, opts.rule, &opts.budget);
         let g = |d: &T| {
@@ -83,55 +82,47 @@ impl<T: CheckRule> ScatteredTable<T> {
             }
             let mut cuts = vec![from.clone(), to.clone()];
             cuts.extend(grading.iter().filter(|c| **c > from && **c < to).cloned());
-            let interpolant = Piecewise::build(&g, &cuts, goal).ok()?;
+            let interpolant = match Piecewise::build(&g, &cuts, goal) {
+                Ok(i) => i,
+                Err(f) => return (None, evaluations + f.evaluations),
+            };
             evaluations += interpolant.evaluations;
             rel_error = rel_error.max_of(interpolant.rel_error.clone());
             parts.push((from, to, interpolant));
         }
         if parts.is_empty() {
-            return None;
+            return (None, evaluations);
         }
-        Some(ScatteredTable { parts, rel_error, evaluations })
+        (Some(ScatteredTable { parts, rel_error }), evaluations)
     }
 
-    /// I(D)·e^{shift} within the relative bar [`ScatteredTable::rel_error`],
-    /// or `None` where the table does not reach (the window about R, below
-    /// its lower end, beyond its upper one).
-    pub(super) fn hits(&self, sigma: &T, r: &T, big_d: &T, shift: &T) -> Option<T> {
+    /// I(D)·e^{shift} and its relative bar — the table's
+    /// ([`ScatteredTable::rel_error`]) plus the rounding of the exponent
+    /// shift − σ·max(D − R, 0), 4ε(1 + |shift| + σ·max(D − R, 0)), which
+    /// matters where both terms are hundreds — or `None` where the table
+    /// does not reach (the window about R, below its lower end, beyond its
+    /// upper one).
+    pub(super) fn hits(&self, sigma: &T, r: &T, big_d: &T, shift: &T) -> Option<(T, T)> {
         let (_, _, part) = self.parts.iter().find(|(from, to, _)| big_d >= from && big_d <= to)?;
-        let exponent = shift.clone() - sigma.clone() * (big_d.clone() - r.clone()).max_of(big_d.lit(0.0));
-        Some(part.eval(big_d) * exponent.exp())
+        let decay = sigma.clone() * (big_d.clone() - r.clone()).max_of(big_d.lit(0.0));
+        let rounding = big_d.eps() * big_d.lit(4.0) * (big_d.lit(1.0) + shift.abs() + decay.clone());
+        let exponent = shift.clone() - decay;
+        Some((part.eval(big_d) * exponent.exp(), self.rel_error.clone() + rounding))
     }
 }
 
-/// The tables of one computation, one per pass (rule, tolerance), built
-/// when first asked for (outside the lock: a table that two threads build
-/// at once is the same table, one is kept; both builds are charged);
-/// `None` where no table can serve, and the quadrature does.
-#[derive(Debug, Clone)]
-pub(super) struct ScatteredTables<T> {
-    tables: Shared<TableKey, Option<Arc<ScatteredTable<T>>>>,
-}
-
-impl<T> Default for ScatteredTables<T> {
-    fn default() -> Self {
-        ScatteredTables { tables: Default::default() }
-    }
-}
+/// The tables of one computation, one per pass (rule, tolerance), each
+/// built once when first asked for ([`OncePerPass`]); `None` where no
+/// table can serve, and the quadrature does.
+pub(super) type ScatteredTables<T> = OncePerPass<ScatteredTable<T>>;
 
 impl<T: CheckRule> ScatteredTables<T> {
-    /// The table of the pass with `opts`, and the evaluations this call
-    /// spent building it (0 when it was there).
-    pub(super) fn for_pass(&self, ff: &FiniteField<T>, opts: &Options) -> (Option<Arc<ScatteredTable<T>>>, u64) {
-        let key = (opts.rule, opts.rel_tol.to_bits());
-        if let Some(t) = self.tables.lock().expect("no panic under the lock").get(&key) {
-            return (t.clone(), 0);
-        }
-        let built = distance_range(ff)
-            .and_then(|(lo, hi)| ScatteredTable::build(&ff.sigma, &ff.radius, &lo, &hi, opts))
-            .map(Arc::new);
-        let spent = built.as_ref().map_or(0, |t| t.evaluations);
-        (self.tables.lock().expect("no panic under the lock").entry(key).or_insert(built).clone(), spent)
+    /// The table of the pass with `opts` over the distances of `ff`.
+    pub(super) fn for_pass(&self, ff: &FiniteField<T>, opts: &Options) -> Option<Arc<ScatteredTable<T>>> {
+        self.get_or_build(opts, || match distance_range(ff) {
+            Some((lo, hi)) => ScatteredTable::build(&ff.sigma, &ff.radius, &lo, &hi, opts),
+            None => (None, 0),
+        })
     }
 }
 
@@ -173,8 +164,8 @@ mod tests {
             // start 0: a light on the camera line; the table starts at 10⁻⁴R.
             let (lo, hi) = (r * start, 40.0 / sigma + 3.0 * r);
             let opts = Options::rel(goal).declared();
-            let table = ScatteredTable::build(&sigma, &r, &lo, &hi, &opts)
-                .unwrap_or_else(|| panic!("σ {sigma}, R {r}: no table at {goal:e}"));
+            let (table, spent) = ScatteredTable::build(&sigma, &r, &lo, &hi, &opts);
+            let table = table.unwrap_or_else(|| panic!("σ {sigma}, R {r}: no table at {goal:e}"));
             assert!(table.rel_error <= goal, "σ {sigma}, R {r}: bar {:e}", table.rel_error);
             let fine = Options::rel(1e-10).declared();
             let lo = lo.max(r * LOWEST);
@@ -187,7 +178,7 @@ mod tests {
             for d in points.into_iter().filter(|d| *d >= lo && *d <= hi) {
                 let shift = 0.3;
                 let inside = (d / r - 1.0).abs() <= WINDOW * (1.0 + 1e-9);
-                let Some(got) = table.hits(&sigma, &r, &d, &shift) else {
+                let Some((got, bar)) = table.hits(&sigma, &r, &d, &shift) else {
                     assert!(inside, "σ {sigma}, R {r}, D {d}: no value outside the window");
                     continue;
                 };
@@ -195,13 +186,13 @@ mod tests {
                 let direct = hits_over_distance(&sigma, &r, &d, &shift, &fine, false)
                     .unwrap_or_else(|e| panic!("σ {sigma}, R {r}, D {d}: {e:?}"));
                 let off = (got / direct.value - 1.0).abs();
-                let allowed = table.rel_error + direct.error / direct.value + 8.0 * f64::EPSILON;
+                let allowed = bar + direct.error / direct.value + 8.0 * f64::EPSILON;
                 worst = worst.max(off / allowed);
                 assert!(off <= allowed, "σ {sigma}, R {r}, D/R = {}: off {off:e}, allowed {allowed:e}", d / r);
             }
             println!(
                 "σ {sigma}, R {r}: bar {:.1e}, {} evaluations; largest deviation {worst:.2} of what is allowed",
-                table.rel_error, table.evaluations
+                table.rel_error, spent
             );
         }
     }
@@ -211,6 +202,6 @@ mod tests {
     fn an_mpfr_goal_gets_no_table() {
         let opts = Options::rel(1e-20).declared();
         let f = |v: f64| rug::Float::with_val(128, v);
-        assert!(ScatteredTable::build(&f(1.0), &f(0.2), &f(0.1), &f(10.0), &opts).is_none());
+        assert!(ScatteredTable::build(&f(1.0), &f(0.2), &f(0.1), &f(10.0), &opts).0.is_none());
     }
 }

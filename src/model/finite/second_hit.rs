@@ -8,7 +8,7 @@
 //! from 2.5·10⁷ evaluations, 2.1 s, to ~6·10⁵).
 
 use super::scattered::hit_chance;
-use super::{Shared, TableKey};
+use super::OncePerPass;
 use crate::model::chebyshev::{sample_options, Piecewise};
 use crate::model::field::graded_about;
 use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
@@ -63,15 +63,13 @@ pub(super) struct SecondHitTable<T> {
     hi: T,
     /// Relative bar of [`SecondHitTable::eval`] anywhere in [0, R].
     pub rel_error: T,
-    /// Evaluations spent building it.
-    pub evaluations: u64,
 }
 
 impl<T: CheckRule> SecondHitTable<T> {
     /// The table for a pass with `opts` (its rule, tolerance and budget),
-    /// or `None` when it cannot vouch for its bar (module docs).
-    /// Domain: R > 0, σ > 0.
-    pub(super) fn build(sigma: &T, r: &T, opts: &Options) -> Option<SecondHitTable<T>> {
+    /// or `None` when it cannot vouch for its bar (module docs), and the
+    /// evaluations spent either way. Domain: R > 0, σ > 0.
+    pub(super) fn build(sigma: &T, r: &T, opts: &Options) -> (Option<SecondHitTable<T>>, u64) {
         let goal = opts.rel_tol / 10.0;
         let samples = sample_options(r, goal, opts.rule, &opts.budget);
         let (lo, top) = (r.clone() * r.lit(MARGINS.0), r.clone() * r.lit(MARGINS.1));
@@ -85,21 +83,31 @@ impl<T: CheckRule> SecondHitTable<T> {
         let mut evaluations = 0;
         let mut gap = r.lit(0.0);
         for (end, edge) in [(r.lit(0.0), &lo), (r.clone(), &hi)] {
-            let (at_end, at_edge) =
-                (second_hit_after(sigma, r, &end, &samples).ok()?, second_hit_after(sigma, r, edge, &samples).ok()?);
-            evaluations += at_end.evaluations + at_edge.evaluations;
+            let at_end = match second_hit_after(sigma, r, &end, &samples) {
+                Ok(e) => e,
+                Err(f) => return (None, evaluations + f.evaluations),
+            };
+            evaluations += at_end.evaluations;
+            let at_edge = match second_hit_after(sigma, r, edge, &samples) {
+                Ok(e) => e,
+                Err(f) => return (None, evaluations + f.evaluations),
+            };
+            evaluations += at_edge.evaluations;
             let this = (at_end.value.clone() / at_edge.value.clone() - r.lit(1.0)).abs()
                 + at_end.error / at_end.value
                 + at_edge.error / at_edge.value;
             gap = gap.max_of(this);
         }
         if gap.to_f64() > goal {
-            return None;
+            return (None, evaluations);
         }
-        let interpolant = Piecewise::build(|w| second_hit_after(sigma, r, w, &samples), &cuts, goal).ok()?;
+        let interpolant = match Piecewise::build(|w| second_hit_after(sigma, r, w, &samples), &cuts, goal) {
+            Ok(i) => i,
+            Err(f) => return (None, evaluations + f.evaluations),
+        };
         evaluations += interpolant.evaluations;
         let rel_error = interpolant.rel_error.clone() + gap;
-        Some(SecondHitTable { interpolant, lo, hi, rel_error, evaluations })
+        (Some(SecondHitTable { interpolant, lo, hi, rel_error }), evaluations)
     }
 
     /// K(w), within the relative bar [`SecondHitTable::rel_error`]
@@ -109,34 +117,15 @@ impl<T: CheckRule> SecondHitTable<T> {
     }
 }
 
-/// The K tables of one computation, one per pass (rule, tolerance), built
-/// when first asked for (outside the lock: a table that two threads build
-/// at once is the same table, one is kept): `None` when the table cannot
-/// vouch for its bar, and the quadrature serves.
-pub(super) struct SecondHitTables<T> {
-    tables: Shared<TableKey, Option<Arc<SecondHitTable<T>>>>,
-}
-
-impl<T> Default for SecondHitTables<T> {
-    fn default() -> Self {
-        SecondHitTables { tables: Default::default() }
-    }
-}
+/// The K tables of one computation, one per pass (rule, tolerance), each
+/// built once when first asked for ([`super::OncePerPass`]): `None` when
+/// the table cannot vouch for its bar, and the quadrature serves.
+pub(super) type SecondHitTables<T> = OncePerPass<SecondHitTable<T>>;
 
 impl<T: CheckRule> SecondHitTables<T> {
     /// The table of the pass with `opts`.
     pub(super) fn for_pass(&self, sigma: &T, r: &T, opts: &Options) -> Option<Arc<SecondHitTable<T>>> {
-        let key = (opts.rule, opts.rel_tol.to_bits());
-        if let Some(t) = self.tables.lock().expect("no panic under the lock").get(&key) {
-            return t.clone();
-        }
-        let built = SecondHitTable::build(sigma, r, opts).map(Arc::new);
-        self.tables.lock().expect("no panic under the lock").entry(key).or_insert(built).clone()
-    }
-
-    /// Evaluations spent on the tables kept.
-    pub(super) fn evaluations(&self) -> u64 {
-        self.tables.lock().expect("no panic under the lock").values().flatten().map(|t| t.evaluations).sum()
+        self.get_or_build(opts, || SecondHitTable::build(sigma, r, opts))
     }
 }
 
@@ -155,7 +144,7 @@ mod tests {
         let goal = 1e-8;
         for (sigma, r) in [(1.0f64, 0.2f64), (1.0, 10.0), (1.0, 1e-8), (50.0, 0.2)] {
             let opts = Options::rel(goal).declared();
-            let table = SecondHitTable::build(&sigma, &r, &opts);
+            let table = SecondHitTable::build(&sigma, &r, &opts).0;
             let table = table.unwrap_or_else(|| panic!("σ {sigma}, R {r}: no table at 1e-8"));
             assert!(table.rel_error <= goal, "σ {sigma}, R {r}: bar {:e}", table.rel_error);
             let fine = Options::rel(1e-13).declared();
@@ -181,6 +170,6 @@ mod tests {
         let opts = Options::rel(1e-20).declared();
         let r = rug::Float::with_val(128, 0.2);
         let sigma = rug::Float::with_val(128, 1.0);
-        assert!(SecondHitTable::build(&sigma, &r, &opts).is_none());
+        assert!(SecondHitTable::build(&sigma, &r, &opts).0.is_none());
     }
 }
