@@ -15,7 +15,8 @@
 //! samples' own bars, where their noise rules), with error bar
 //! 2(|c_{n−2}| + |c_{n−1}|) plus the samples' own bars times the nodes'
 //! Lebesgue constant (below 3.21: interpolation can magnify the samples'
-//! errors that much); otherwise it is bisected. The caller grades the pieces towards known singular points.
+//! errors that much); otherwise it is bisected. The caller grades the
+//! pieces towards known singular points.
 //!
 //! The bar is reported *relative*: ρ = max over pieces of the bar of ln f
 //! (times 1.01 for e^δ − 1), so that any integral of the interpolant

@@ -480,4 +480,14 @@ impl<V> OncePerPass<V> {
         let cells = self.cells.lock().expect("no panic under the lock");
         cells.values().filter_map(|c| c.get()).map(|(_, spent)| spent).sum()
     }
+
+    /// `result` with [`OncePerPass::evaluations`] added: the one fixed
+    /// place where an integral is charged the tables it and its siblings
+    /// read (after all of them have finished).
+    pub(super) fn charge<T, E>(&self, result: Result<Estimate<T>, E>) -> Result<Estimate<T>, E> {
+        result.map(|mut e| {
+            e.evaluations += self.evaluations();
+            e
+        })
+    }
 }

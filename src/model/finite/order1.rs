@@ -182,9 +182,7 @@ impl<T: CheckRule> FiniteField<T> {
     /// to M₂ (the uncollided part is [`super::Functional::Second`]).
     pub fn order1_second_added(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
         let tables = ScatteredTables::default();
-        let mut e = self.order1_second_added_with(&tables, opts)?;
-        e.evaluations += tables.evaluations();
-        Ok(e)
+        tables.charge(self.order1_second_added_with(&tables, opts))
     }
 
     /// [`FiniteField::order1_second_added`] reading (and building) the I(D)
@@ -197,13 +195,11 @@ impl<T: CheckRule> FiniteField<T> {
     ) -> Result<Estimate<T>, OracleError> {
         self.order1_covered()?;
         let second_hit = SecondHitTables::default();
-        let mut e = self.with_line(|line| {
+        second_hit.charge(self.with_line(|line| {
             line.integral_nested("finite-sphere ∫⟨𝒞²⟩, single-scattered part", opts, |x, o| {
                 self.order1_second_with_bar(x, &second_hit, scattered, o)
             })
-        })?;
-        e.evaluations += second_hit.evaluations();
-        Ok(e)
+        }))
     }
 
     /// μ, M₂ and P of the order-1 model (each times e^{c₀}; Q, C₂₃, C₂₄
@@ -229,7 +225,7 @@ impl<T: CheckRule> FiniteField<T> {
         let o = &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() }.declared();
         let tables = ScatteredTables::default();
         let ((mean, m2), p) = rayon::join(|| self.order1_mean_and_m2(&tables, o), || self.order1_p_with(&tables, o));
-        Ok(Order1Parts { mean: charged(mean, &tables), m2, p })
+        Ok(Order1Parts { mean: tables.charge(mean), m2, p })
     }
 
     /// μ and M₂ of order 1, each the uncollided part plus what single
@@ -245,7 +241,7 @@ impl<T: CheckRule> FiniteField<T> {
     /// P of (17) from ⟨𝒞₀⟩ + ⟨𝒞₁⟩ (times e^{c₀}).
     pub fn order1_p(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
         let tables = ScatteredTables::default();
-        charged(self.order1_p_with(&tables, opts), &tables)
+        tables.charge(self.order1_p_with(&tables, opts))
     }
 
     /// [`FiniteField::order1_p`] reading (and building) `tables`, whose
@@ -268,7 +264,7 @@ impl<T: CheckRule> FiniteField<T> {
         // One set of I(D) tables for both, charged to P.
         let tables = ScatteredTables::default();
         let (p, q) = self.order1_p_and_q_with(&tables, opts);
-        (charged(p, &tables), q)
+        (tables.charge(p), q)
     }
 
     /// [`FiniteField::order1_p_and_q`] reading (and building) `tables`,
@@ -325,7 +321,7 @@ impl<T: CheckRule> FiniteField<T> {
             },
         );
         let (p, q) = self.order1_p_and_q_with(&tables, o);
-        let mean = charged(mean, &tables);
+        let mean = tables.charge(mean);
         Ok(FiniteIntegrals {
             mean: mean?,
             m2: m2?,
@@ -339,15 +335,6 @@ impl<T: CheckRule> FiniteField<T> {
 
 /// One integral's outcome.
 type Part<T> = Result<Estimate<T>, OracleError>;
-
-/// `e` with the evaluations of `tables` added (once, at a fixed place:
-/// whichever integral built a shared table, the counts are the same).
-fn charged<T: CheckRule>(e: Part<T>, tables: &ScatteredTables<T>) -> Part<T> {
-    e.map(|mut e| {
-        e.evaluations += tables.evaluations();
-        e
-    })
-}
 
 /// The sum of an integral's two parts (uncollided and single-scattered).
 fn sum<T: CheckRule>(a: Part<T>, b: Part<T>) -> Part<T> {

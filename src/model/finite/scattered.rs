@@ -162,9 +162,7 @@ impl<T: CheckRule> FiniteField<T> {
     /// [`FiniteField::ray_total`] of the mean.
     pub fn scattered_mean(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
         let tables = ScatteredTables::default();
-        let mut e = self.scattered_mean_with(&tables, opts)?;
-        e.evaluations += tables.evaluations();
-        Ok(e)
+        tables.charge(self.scattered_mean_with(&tables, opts))
     }
 
     /// [`FiniteField::scattered_mean`] reading (and building) `tables`,
