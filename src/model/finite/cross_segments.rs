@@ -31,6 +31,7 @@ use super::ray::Functional;
 use super::virtual_lights::Offset;
 use super::FiniteField;
 use crate::model::angular::Direction;
+use crate::model::field::graded_by;
 use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Failure, Options, Outcome};
 use crate::special::exp_segment;
 use std::sync::OnceLock;
@@ -108,8 +109,8 @@ impl<T: CheckRule> PointLight<T> {
             let nothing = Ok(Estimate::known(zero.clone(), zero.clone(), 1, o.rule));
             let chord = self.chord(r, at, phi);
             let Some((bcos, rho)) = chord.window.clone() else { return nothing };
-            let Some(hit) = self.hit(&chord.dir, &self.azimuth(bcos, rho)) else { return nothing };
-            let Some((s0, s1)) = reached(&hit, &chord.dir.mu, &chord.r1) else { return nothing };
+            let Some((hit, taus)) = self.hit_with_ends(&chord.dir, &self.azimuth(bcos, rho)) else { return nothing };
+            let Some((s0, s1, len)) = reached(&hit, &taus, &chord.dir.mu, &chord.r1) else { return nothing };
             // Both weights carry e^{c₀ − σ(r₁ + s₀)} (W ≤ 2σ² up to it).
             if (ff.shift.clone() - sigma.clone() * (chord.r1.clone() + s0.clone())).exp().is_zero() {
                 return nothing;
@@ -124,7 +125,7 @@ impl<T: CheckRule> PointLight<T> {
                 / (like.pi() * like.lit(4.0));
             let (value, error) = match pair {
                 CrossPair::C24 => {
-                    let len = if s1.is_finite() { Some(s1.clone() - s0.clone()) } else { None };
+                    let len = if len.is_finite() { Some(len.clone()) } else { None };
                     // e^{−σt₀} of B's scaling in the same exponent.
                     let u = sigma.clone()
                         * (ff.shift.clone() - sigma.clone() * (chord.r1.clone() + s0.clone() + c.t0.clone())).exp()
@@ -141,8 +142,8 @@ impl<T: CheckRule> PointLight<T> {
                     // a short interval (a chord from near the light) is
                     // taken as one slice instead, whichever bar is smaller.
                     let (mut k, mut e) = (k1 - k0, e1 + e0);
-                    if s1.is_finite() {
-                        let (short, short_error) = short_k(sigma, c, &s0, &s1, &lambda);
+                    if len.is_finite() {
+                        let (short, short_error) = short_k(sigma, c, &s0, &len, &lambda);
                         if short_error < e {
                             (k, e) = (short, short_error);
                         }
@@ -160,7 +161,15 @@ impl<T: CheckRule> PointLight<T> {
             }
             Ok(Estimate::known(value, error, evaluations, o.rule))
         };
-        let cuts = self.window_edges(r, b);
+        let mut cuts = self.window_edges(r, b);
+        // ρ's 1/r₁², r₁² = m² + 4bb_y sin²(φ/2), peaks at φ = 0 with the
+        // width m/√(bb_y): graded by decades from it (a node 10⁻³⁰ from the
+        // light, ungraded, exhausted 2·10⁶ evaluations).
+        let k = b.clone() * self.b.clone();
+        if k > zero && *m > zero {
+            let width = m.clone() / k.sqrt();
+            cuts.extend(graded_by(&zero, &width, &like.pi(), 10.0, 40).into_iter().filter(|c| *c > zero));
+        }
         let e = integrate_within_pass(f, &Domain::finite(like.lit(0.0), like.pi()).with_breakpoints(cuts), opts)?;
         Ok(e.scaled(&like.lit(2.0)))
     }
@@ -234,23 +243,34 @@ impl<T: CheckRule> PointLight<T> {
     }
 }
 
-/// The spheres [s₀, s₁] of J whose closest points a chord of length r₁
-/// reaches (τ(s) ≤ r₁; τ(s) = τ(a) + μ(s − a)), or `None`.
-fn reached<T: CheckRule>(hit: &super::ray::Hit<T>, mu: &T, r1: &T) -> Option<(T, T)> {
+/// The spheres [s₀, s₀ + ℓ] of J whose closest points a chord of length
+/// r₁ reaches (0 ≤ τ(s) ≤ r₁; τ(s) = τ(a) + μ(s − a)), as (s₀, s₁, ℓ), or
+/// `None`. The length ℓ is formed from τ at J's ends (`taus`, each from its
+/// active bound): min(L, (r₁ − τ(a))/μ) for μ > 0, min(L, (r₁ − τ(a + L))/|μ|)
+/// for μ < 0, never as a difference of positions — a chord from next to the
+/// light (r₁ ~ 10⁻²⁷) reaches spheres over ~r₁, far below ulp(s), and
+/// s₁ − s₀ formed from positions was rounding (10⁻¹³ where ℓ was 10⁻²⁷).
+fn reached<T: CheckRule>(hit: &super::ray::Hit<T>, [tau_lo, tau_hi]: &[T; 2], mu: &T, r1: &T) -> Option<(T, T, T)> {
     let zero = mu.lit(0.0);
     let (a, len) = (&hit.start, &hit.len);
-    let tau_a = hit.path.clone() - a.clone();
-    let end = a.clone() + len.clone();
-    let (s0, s1) = if *mu > zero {
-        (a.clone(), (a.clone() + (r1.clone() - tau_a) / mu.clone()).min_of(end))
+    let (s0, l) = if *mu > zero {
+        if !(*tau_lo < *r1) {
+            return None;
+        }
+        (a.clone(), ((r1.clone() - tau_lo.clone()) / mu.clone()).min_of(len.clone()))
     } else if *mu < zero {
-        ((a.clone() + (tau_a - r1.clone()) / (-mu.clone())).max_of(a.clone()), end)
-    } else if tau_a <= *r1 {
-        (a.clone(), end)
+        if !(*tau_hi < *r1) {
+            return None;
+        }
+        let l = ((r1.clone() - tau_hi.clone()) / (-mu.clone())).min_of(len.clone());
+        // J is bounded above for μ < 0 (by the window or the light).
+        ((a.clone() + (len.clone() - l.clone())).max_of(a.clone()), l)
+    } else if *tau_lo <= *r1 {
+        (a.clone(), len.clone())
     } else {
         return None;
     };
-    (s1 > s0).then_some((s0, s1))
+    (l > zero).then(|| (s0.clone(), s0 + l.clone(), l))
 }
 
 /// e^{λ}·e^{σt₀}𝒦(s) and its bar from the cumulants (module docs; B, C
@@ -275,18 +295,18 @@ fn big_k<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s: &T, lambda: &T) -> (T,
     (value, error)
 }
 
-/// e^{λ}·e^{σt₀}(𝒦(s₁) − 𝒦(s₀)) and its bar as one slice, (s₁ − s₀)·K(s₀)
-/// (finite s₀ < s₁): K = σ²e^{−σs}A + σE has K′ = −σ³e^{−σs}A (E′ = −σ²e^{−σs}H
-/// cancels the H of the first term's derivative), so the rest is at most
-/// (s₁ − s₀)²/2·σ³e^{−σs₀}A(s₁) in size. Its bar grows with s₁ − s₀ where
+/// e^{λ}·e^{σt₀}(𝒦(s₁) − 𝒦(s₀)) and its bar as one slice, ℓ·K(s₀), for
+/// s₁ = s₀ + ℓ (finite ℓ = `len` > 0, formed as [`reached`] does): K =
+/// σ²e^{−σs}A + σE has K′ = −σ³e^{−σs}A (E′ = −σ²e^{−σs}H cancels the H of
+/// the first term's derivative), so the rest is at most
+/// ℓ²/2·σ³e^{−σs₀}A(s₁) in size. Its bar grows with s₁ − s₀ where
 /// [`big_k`]'s difference carries both cumulants' whole bars: for a chord
 /// from near the light (length ~m, the distance of x₁ from it, down to
 /// 10⁻²⁴ at the nodes next to the light) the difference's bar was 10¹⁰
 /// times its value and the azimuthal integral never met its goal.
-fn short_k<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s0: &T, s1: &T, lambda: &T) -> (T, T) {
+fn short_k<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s0: &T, len: &T, lambda: &T) -> (T, T) {
     let zero = s0.lit(0.0);
-    let len = s1.clone() - s0.clone();
-    let ([a0, b0, _], [a1, _, _]) = (c.at(s0), c.at(s1));
+    let ([a0, b0, _], [a1, _, _]) = (c.at(s0), c.at(&(s0.clone() + len.clone())));
     let [ea, eb, _] = c.error.clone();
     let sigma2 = sigma.clone() * sigma.clone();
     // e^{λ − σ(s₀ − t₀)} times A, formed in one exponent (as big_k).
@@ -297,7 +317,7 @@ fn short_k<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s0: &T, s1: &T, lambda:
     let k0_error = sigma2.clone() * exponent.clone().exp() * ea.clone() + sigma2.clone() * front * eb * s0.lit(2.0);
     let slope = sigma2 * sigma.clone() * times(a1 + ea);
     let rest = len.clone() * len.clone() / s0.lit(2.0) * slope;
-    (len.clone() * k0, len * k0_error + rest)
+    (len.clone() * k0, len.clone() * k0_error + rest)
 }
 
 impl<T: CheckRule> FiniteField<T> {
@@ -364,7 +384,7 @@ mod tests {
                     q.value
                 );
                 // The one-slice form, within its own bar, whatever the length.
-                let (short, short_error) = short_k(&sigma, &c, &s0, &s1, &lambda);
+                let (short, short_error) = short_k(&sigma, &c, &s0, &(s1 - s0), &lambda);
                 let bar = short_error + q.error + 1e-14 * q.value.abs();
                 assert!(
                     (short - q.value).abs() <= bar,
@@ -388,12 +408,14 @@ mod near_the_light {
     use mcrt_scene::{DVec3, Light, Scene};
 
     /// The azimuthal integral of the cross-segment weight at the virtual
-    /// light's nodes next to the light (m down to 2.7·10⁻²⁴, where the
-    /// chord's reached spheres span ~m): the light 0.1 from the camera line
-    /// of `docs/model.md` §9.7 (inside the spheres' cylinder, R = 0.2), at
-    /// the outer angle where the order-1 run ran out of budget. Before the
-    /// one-slice form ([`short_k`]) C₂₃ exhausted 2·10⁶ evaluations there at
-    /// 10⁻⁴ (the difference of two cumulants bore their whole bars).
+    /// light's nodes next to the light (m down to 10⁻³⁰, where the chord's
+    /// reached spheres span ~m): the light 0.1 from the camera line of
+    /// `docs/model.md` §9.7 (inside the spheres' cylinder, R = 0.2), at the
+    /// outer angle where the order-1 runs ran out of budget. Before the
+    /// one-slice form ([`short_k`]) C₂₃ exhausted 2·10⁶ evaluations at
+    /// m = 2.7·10⁻²⁴ at 10⁻⁴ (the difference of two cumulants bore their
+    /// whole bars); before the φ-grading about the density's peak, at
+    /// m = 10⁻³⁰.
     #[test]
     fn the_cross_weight_converges_next_to_the_light() {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic-order1.toml");
@@ -405,7 +427,7 @@ mod near_the_light {
         let ff = FiniteField::of_first_segments(&s, &field);
         let FiniteLight::Point(p) = &ff.lights[0] else { panic!("a point light") };
         let gamma = 2.305856318423849f64;
-        for m in [2.6892457956968588e-24f64, 1e-16, 1e-8] {
+        for m in [1.0201501971762524e-30f64, 2.6892457956968588e-24, 1e-16, 1e-8] {
             let (dz, db) = (m * gamma.cos(), m * gamma.sin());
             let at = Offset { z: p.z + dz, b: p.b + db, m, dz, db };
             for pair in [CrossPair::C23, CrossPair::C24] {

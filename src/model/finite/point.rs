@@ -100,6 +100,15 @@ impl<T: CheckRule> PointLight<T> {
 
     /// The hit interval of the ray (ϑ, χ), or `None` when it hits nothing.
     pub(super) fn hit(&self, dir: &Direction<T>, az: &Azimuth<T>) -> Option<Hit<T>> {
+        self.hit_with_ends(dir, az).map(|(hit, _)| hit)
+    }
+
+    /// [`PointLight::hit`] with τ at both ends of J, [τ(a), τ(a + L)], each
+    /// formed from its active bound (0 at the light's, (B ∓ μρ)/sin ϑ at
+    /// the window's, B sin ϑ − zμ at the camera), not as a difference of
+    /// positions: a chord from next to the light reaches the spheres with
+    /// τ ≤ r₁, and r₁ may lie far below ulp(s) (`cross_segments`).
+    pub(super) fn hit_with_ends(&self, dir: &Direction<T>, az: &Azimuth<T>) -> Option<(Hit<T>, [T; 2])> {
         let (s, mu, z) = (&dir.sin, &dir.mu, &self.z);
         let (bb, rho) = (&az.bcos, &az.rho);
         let zero = s.lit(0.0);
@@ -143,7 +152,17 @@ impl<T: CheckRule> PointLight<T> {
             Bound::Camera => bb.clone() * s.clone() - z.clone() * mu.clone(),
             Bound::Light => lower.1.clone(),
         };
-        Some(Hit { start: lower.1, len, path })
+        // B − μρ = (B − ρ) + ρ(1 − μ) and B + μρ = (B + ρ) − ρ(1 − μ).
+        let tau_lo = match lower.0 {
+            Bound::Window => (az.minus.clone() + rho.clone() * dir.one_minus_mu.clone()) / s.clone(),
+            Bound::Camera => path.clone(),
+            Bound::Light => zero.clone(),
+        };
+        let tau_hi = match upper.0 {
+            Bound::Window => (az.plus.clone() - rho.clone() * dir.one_minus_mu.clone()) / s.clone(),
+            _ => zero,
+        };
+        Some((Hit { start: lower.1, len, path }, [tau_lo, tau_hi]))
     }
 
     /// The kinks of the ϑ-integrand at azimuth `az` (module doc), plus
