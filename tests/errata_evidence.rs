@@ -25,6 +25,16 @@ use mcrt_reference::{trace, HitMethod, Tracer};
 use mcrt_scene::{DVec3, Light, Phase, Scene};
 use std::path::Path;
 
+/// (23) of a report of every integral (`run`).
+fn c23(r: &Report) -> &mcrt_noise::oracle::Correlation {
+    r.corr23.as_ref().expect("a run of every integral has (23)")
+}
+
+/// (24) of a report of every integral (`run`).
+fn c24(r: &Report) -> &mcrt_noise::oracle::Correlation {
+    r.corr24.as_ref().expect("a run of every integral has (24)")
+}
+
 /// Model error of `point-isotropic` at R = 0.1 (|ratio − 1| + 2 se): mean, variance.
 const MODEL_AT_R0: (f64, f64) = (0.0056, 0.020);
 
@@ -44,9 +54,9 @@ fn variance(r: &Report, corr: f64, mu2_weight: Option<f64>, inflate: f64) -> f64
     let w_b = 1.0 / nb - w_a;
     let w_c = 1.0 / nf - w_a;
     let w_mu2 = mu2_weight.unwrap_or(w_a - 1.0 / nb - 1.0 / nf);
-    let a = q * r.integral_m2.value + 2.0 * (1.0 - q) * corr * r.corr23.exact.value;
-    let b = q * r.integral_p.value + 2.0 * (1.0 - q) * r.integral_q.value;
-    let c = corr * r.corr24.exact.value;
+    let a = q * r.integral_m2.value + 2.0 * (1.0 - q) * corr * c23(r).exact.value;
+    let b = q * r.integral_p.value + 2.0 * (1.0 - q) * r.integral_q.unwrap().value;
+    let c = corr * c24(r).exact.value;
     let mu = r.mean_luminance.value;
     inflate * (w_a * a + w_b * b + w_c * c + w_mu2 * mu * mu)
 }

@@ -13,6 +13,16 @@ use mcrt_noise::oracle::{run, Precision, Report};
 use mcrt_scene::Scene;
 use std::path::Path;
 
+/// (23) of a report of every integral (`run`).
+fn c23(r: &Report) -> &mcrt_noise::oracle::Correlation {
+    r.corr23.as_ref().expect("a run of every integral has (23)")
+}
+
+/// (24) of a report of every integral (`run`).
+fn c24(r: &Report) -> &mcrt_noise::oracle::Correlation {
+    r.corr24.as_ref().expect("a run of every integral has (24)")
+}
+
 const ORDER0_SCENES: [&str; 4] = ["point-isotropic", "point-hg-forward", "point-hg-backward", "beam-isotropic"];
 
 fn scene(name: &str) -> Scene {
@@ -27,6 +37,39 @@ fn with_radius(mut s: Scene, r: f64) -> Scene {
 
 fn oracle(s: &Scene) -> Report {
     run(s, Precision::F64, None).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A prediction-scoped run (the library's `predict`) skips the
+/// small-sphere integrals of two spheres only where (7)–(9) weigh them 0
+/// (q = 1, N_B = 1), and its prediction, small-sphere Var L and
+/// finite-sphere object are then the full run's to the bit (the skipped
+/// terms enter with weights that are exactly 0); with q < 1 or N_B > 1 it
+/// computes everything.
+#[test]
+fn a_prediction_skips_only_what_var_l_weighs_0() {
+    use mcrt_noise::oracle::{run_scoped, Scope};
+    for name in ["point-isotropic", "point-hg-forward", "beam-isotropic"] {
+        let mut s = scene(name);
+        s.estimator.q = 1.0;
+        s.estimator.camera_rays = 1;
+        let (full, lean) = (oracle(&s), run_scoped(&s, Precision::F64, None, Scope::Prediction).unwrap());
+        assert!(full.corr23.is_some() && full.integral_q.is_some() && full.pairs_not_computed.is_none());
+        assert!(lean.corr23.is_none() && lean.corr24.is_none() && lean.integral_q.is_none() && lean.d.is_none());
+        assert!(lean.pairs_not_computed.as_deref().is_some_and(|w| w.contains("weight 0")), "{name}");
+        let json = |r: &Report| serde_json::to_value(r).unwrap();
+        for key in ["prediction", "finite", "mean_luminance", "integral_m2", "integral_p"] {
+            let (a, b) = (&json(&full)[key], &json(&lean)[key]);
+            assert_eq!(a, b, "{name}: {key}");
+        }
+        assert_eq!(full.variance.exact, lean.variance.exact, "{name}: small-sphere Var L");
+        assert!(lean.evaluations < full.evaluations, "{name}: {} vs {}", lean.evaluations, full.evaluations);
+        let text = mcrt_noise::reports::tables::oracle_table(&lean);
+        assert!(text.contains("not computed: ") && !text.contains("NaN"), "{name}:\n{text}");
+        // Two spheres per camera ray: the pairs enter Var L, and are computed.
+        s.estimator.camera_rays = 2;
+        let lean = run_scoped(&s, Precision::F64, None, Scope::Prediction).unwrap();
+        assert!(lean.corr23.is_some() && lean.integral_q.is_some() && lean.pairs_not_computed.is_none());
+    }
 }
 
 #[test]
@@ -50,7 +93,7 @@ fn asymptotic_forms_converge_at_first_order() {
             .iter()
             .map(|&r| {
                 let rep = oracle(&with_radius(scene(name), r));
-                [1.0 - rep.corr23.ratio.unwrap(), 1.0 - rep.corr24.ratio.unwrap()]
+                [1.0 - c23(&rep).ratio.unwrap(), 1.0 - c24(&rep).ratio.unwrap()]
             })
             .collect();
         for k in 0..2 {
@@ -71,7 +114,7 @@ fn asymptotic_forms_converge_at_first_order() {
 #[test]
 fn single_scattered_light_converges_to_4e_4_at_r_1e_4() {
     let r = oracle(&with_radius(scene("point-isotropic-order1"), 1e-4));
-    for (label, c) in [("(23)", &r.corr23), ("(24)", &r.corr24)] {
+    for (label, c) in [("(23)", c23(&r)), ("(24)", c24(&r))] {
         let (ratio, bar) = (c.ratio.unwrap(), c.ratio_error.unwrap());
         assert!((1.0 - ratio).abs() + bar <= 4e-4, "{label}: ratio {ratio} ± {bar:e} at R = 1e-4");
     }
@@ -92,8 +135,8 @@ fn f64_and_128_bits_agree_within_their_bars() {
             assert!((x - y).abs() <= ex + ey, "{name} {what}: f64 {x:e} ± {ex:e} vs 128-bit {y:e} ± {ey:e}");
         };
         close(a.mean_luminance.value, a.mean_luminance.error, b.mean_luminance.value, b.mean_luminance.error, "mean");
-        close(a.corr23.exact.value, a.corr23.exact.error, b.corr23.exact.value, b.corr23.exact.error, "(23)");
-        close(a.corr24.exact.value, a.corr24.exact.error, b.corr24.exact.value, b.corr24.exact.error, "(24)");
+        close(c23(&a).exact.value, c23(&a).exact.error, c23(&b).exact.value, c23(&b).exact.error, "(23)");
+        close(c24(&a).exact.value, c24(&a).exact.error, c24(&b).exact.value, c24(&b).exact.error, "(24)");
         close(a.variance.exact.value, a.variance.exact.error, b.variance.exact.value, b.variance.exact.error, "Var");
         let (fa, fb) = (a.finite.as_ref().unwrap(), b.finite.as_ref().unwrap());
         for (what, x, y) in [
@@ -114,8 +157,8 @@ fn f64_and_128_bits_agree_within_their_bars() {
 fn assert_sane(rep: &Report, what: &str) {
     let finite = [
         rep.mean_luminance.value,
-        rep.corr23.exact.value,
-        rep.corr24.exact.value,
+        c23(rep).exact.value,
+        c24(rep).exact.value,
         rep.variance.exact.value,
         rep.variance.relative,
         rep.variance.relative_error,
@@ -164,7 +207,7 @@ fn light_nearly_on_the_camera_line() {
         let fine = run(&s, Precision::F64, Some(1e-9)).unwrap_or_else(|e| panic!("{label}: {e}"));
         assert_sane(&fine, label);
         let coarse = run(&s, Precision::F64, Some(1e-6)).unwrap_or_else(|e| panic!("{label}: {e}"));
-        let (a, b) = (&fine.corr23.exact, &coarse.corr23.exact);
+        let (a, b) = (&c23(&fine).exact, &c23(&coarse).exact);
         assert!(
             (a.value - b.value).abs() <= a.error + b.error,
             "{label}: {} ± {} vs {} ± {}",
@@ -181,7 +224,7 @@ fn light_on_the_line_behind_the_camera_has_no_asymptotic_form() {
     let mut s = scene("point-isotropic");
     s.lights[0] = mcrt_scene::Light::Point { position: mcrt_scene::DVec3::new(0.0, 0.0, -2.0), flux: 1.0 };
     let rep = oracle(&s);
-    assert!(rep.corr23.asymptotic.missing.as_deref().unwrap_or("").contains("does not exist"));
+    assert!(c23(&rep).asymptotic.missing.as_deref().unwrap_or("").contains("does not exist"));
     assert!(rep.variance.relative_asymptotic.is_none());
     assert_sane(&rep, "light on the line behind");
 }
@@ -220,7 +263,7 @@ fn report_text(r: &Report, digits: usize) -> String {
     let decade = |v: f64| if v > 0.0 { format!("<= 1e{}", v.log10().ceil() as i32) } else { "0".into() };
     let mut out = String::new();
     out.push_str(&format!("mean_luminance {} ({})\n", sig(r.mean_luminance.value), decade(r.mean_luminance.error)));
-    for (label, c) in [("corr23", &r.corr23), ("corr24", &r.corr24)] {
+    for (label, c) in [("corr23", c23(r)), ("corr24", c24(r))] {
         out.push_str(&format!("{label}.exact {} ({})\n", sig(c.exact.value), decade(c.exact.error)));
         out.push_str(&format!("{label}.asymptotic {}\n", c.asymptotic.value.map_or("none".into(), sig)));
         out.push_str(&format!("{label}.ratio {}\n", c.ratio.map_or("none".into(), sig)));
@@ -261,13 +304,13 @@ fn order_one_report_is_consistent_and_pinned() {
     assert!(r.mean_luminance.value > r0.mean_luminance.value, "scattered light adds to the mean");
     for (label, v, e) in [
         ("mean", r.mean_luminance.value, r.mean_luminance.error),
-        ("corr23", r.corr23.exact.value, r.corr23.exact.error),
-        ("corr24", r.corr24.exact.value, r.corr24.exact.error),
+        ("corr23", c23(&r).exact.value, c23(&r).exact.error),
+        ("corr24", c24(&r).exact.value, c24(&r).exact.error),
         ("variance", r.variance.exact.value, r.variance.exact.error),
     ] {
         assert!(v.is_finite() && v > 0.0 && e <= 1e-6 * v, "{label}: {v} ± {e}");
     }
-    for c in [&r.corr23, &r.corr24] {
+    for c in [c23(&r), c24(&r)] {
         let ratio = c.ratio.unwrap();
         assert!(ratio < 1.0 && ratio > 0.95, "ratio {ratio}");
     }
@@ -328,10 +371,10 @@ fn beam_at_right_angles_matches_closed_forms() {
         );
     };
     check("mean", rep.mean_luminance.value, rep.mean_luminance.error, albedo * f * w * e1);
-    check("(23)", rep.corr23.exact.value, rep.corr23.exact.error, k * f * f * w * e1 * j);
-    check("(24)", rep.corr24.exact.value, rep.corr24.exact.error, k * f * f * w * e2 * j);
+    check("(23)", c23(&rep).exact.value, c23(&rep).exact.error, k * f * f * w * e1 * j);
+    check("(24)", c24(&rep).exact.value, c24(&rep).exact.error, k * f * f * w * e2 * j);
     let asym = 8.0 * albedo * albedo * flux * f * f * w * e1 / (3.0 * PI * PI * r);
-    check("(25)", rep.corr23.asymptotic.value.unwrap(), rep.corr23.asymptotic.error.unwrap(), asym);
+    check("(25)", c23(&rep).asymptotic.value.unwrap(), c23(&rep).asymptotic.error.unwrap(), asym);
 }
 
 #[test]
@@ -389,11 +432,11 @@ fn order_one_hard_cases() {
     hg.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g: 0.99 };
     let r = oracle(&hg);
     assert_order_one_sane(&r, "g = 0.99");
-    let ratio = r.corr23.ratio.unwrap();
+    let ratio = c23(&r).ratio.unwrap();
     assert!(ratio > 0.05 && ratio < 0.5, "g = 0.99: ratio {ratio}");
     let r = oracle(&with_radius(scene("point-isotropic-order1"), 1e-10));
     assert_order_one_sane(&r, "R = 1e-10");
-    for c in [&r.corr23, &r.corr24] {
+    for c in [c23(&r), c24(&r)] {
         assert!((1.0 - c.ratio.unwrap()).abs() < 1e-8, "R = 1e-10: ratio {:?}", c.ratio);
     }
 }
@@ -413,13 +456,13 @@ fn order_one_slow_hard_cases() {
 fn assert_order_one_sane(r: &Report, what: &str) {
     for (label, v, e) in [
         ("mean", r.mean_luminance.value, r.mean_luminance.error),
-        ("corr23", r.corr23.exact.value, r.corr23.exact.error),
-        ("corr24", r.corr24.exact.value, r.corr24.exact.error),
+        ("corr23", c23(r).exact.value, c23(r).exact.error),
+        ("corr24", c24(r).exact.value, c24(r).exact.error),
         ("variance", r.variance.exact.value, r.variance.exact.error),
     ] {
         assert!(v.is_finite() && v > 0.0 && e.is_finite() && e <= r.rel_tol * v, "{what}: {label} {v} ± {e}");
     }
-    for c in [&r.corr23, &r.corr24] {
+    for c in [c23(r), c24(r)] {
         let ratio = c.ratio.unwrap();
         assert!(ratio > 0.0 && ratio <= 1.0, "{what}: ratio {ratio}");
     }

@@ -112,7 +112,7 @@ fn the_objectives_variance_is_the_oracles() {
         for (r, model, want) in
             [(&report, "finite-sphere", report.prediction.variance), (&small, "small-sphere", report.variance.exact)]
         {
-            let m = ModelAtRadius::from_report(r);
+            let m = ModelAtRadius::from_report(r).unwrap();
             let e = s.estimator;
             let v = m.variance(e.q, e.forward_rays as f64, e.camera_rays as f64);
             assert!(
@@ -141,7 +141,8 @@ fn costs() -> CostTable {
 fn the_search_at_one_radius_matches_brute_force() {
     let s = with(scene("point-isotropic"), 0.5, 0.05, 200, 8);
     let report = run(&s, Precision::F64, None).unwrap();
-    let at = Radius { model: ModelAtRadius::from_report(&report), rates: Rates::estimate(&s, 50_000).unwrap() };
+    let at =
+        Radius { model: ModelAtRadius::from_report(&report).unwrap(), rates: Rates::estimate(&s, 50_000).unwrap() };
     let c = Constraints::free(0.1, None);
     let best = at.best(&s, &costs(), &c).unwrap();
     let mut brute = f64::INFINITY;

@@ -84,7 +84,10 @@ pub struct Prediction {
     pub bias: Option<ValueWithBar>,
     /// Where the model bar comes from, in words.
     pub model_bar_basis: String,
-    /// The oracle's whole report (both models, the integrals, their bars).
+    /// The oracle's report (both models, the integrals, their bars), to
+    /// the extent the prediction needs ([`oracle::Scope::Prediction`]: with
+    /// q = 1 and N_B = 1 the small-sphere integrals of two spheres, which
+    /// Var L weighs 0, are not computed).
     pub report: Report,
 }
 
@@ -145,9 +148,11 @@ impl From<OracleError> for PredictError {
 /// ([`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE`]); larger R there,
 /// and orders ≥ 2, are refused.
 ///
-/// Cost: milliseconds for uncollided light in a release build; ~10 s for
-/// single scattering (`docs/library.md` gives the profile settings a
-/// dependent crate needs for its debug tests).
+/// Cost: milliseconds for uncollided light in a release build; for single
+/// scattering ~0.5 s with q = 1 and N_B = 1 (isotropic medium, point
+/// lights; the small-sphere integrals of two spheres, weighed 0, are
+/// skipped) and ~10 s otherwise (`docs/library.md` gives the profile
+/// settings a dependent crate needs for its debug tests).
 pub fn predict(scene: &Scene) -> Result<Prediction, PredictError> {
     predict_with(scene, Precision::F64, None)
 }
@@ -184,7 +189,7 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
     if scattered && radius > MODEL_ERROR_RADIUS && !oracle::finite_sphere_covers(&scene) {
         return Err(small_sphere_too_large("the finite-sphere model does not cover this scene"));
     }
-    let report = oracle::run(&scene, precision, rel_tol)?;
+    let report = oracle::run_scoped(&scene, precision, rel_tol, oracle::Scope::Prediction)?;
     let p = &report.prediction;
     let (model, (mean_rel, var_rel), basis) = match &report.finite {
         Some(f) if f.covers == "uncollided" => (Model::FiniteSphere, (0.0, 0.0), FINITE_BASIS.to_string()),

@@ -219,7 +219,8 @@ pub fn compare_cmd(scene: &Scene, trials: &str, seed: u64, threads: Option<usize
         )));
     }
     let tracer = prepared(scene, &range)?;
-    let oracle = mcrt_noise::oracle::run(scene, Precision::F64, None)?;
+    // The comparison reads the prediction, mean and Var L alone.
+    let oracle = mcrt_noise::oracle::run_scoped(scene, Precision::F64, None, mcrt_noise::oracle::Scope::Prediction)?;
     let (run, _) = traced(&tracer, seed, range, threads)?;
     let cmp = Comparison::new(&oracle, &run.estimates(), run.counters.trials, seed);
     if json {

@@ -55,6 +55,17 @@ pub struct Integrals<T> {
     pub m2_same_path: Estimate<T>,
     /// P = ∫σe^{−σs}⟨𝒞⟩² ds, the single-sphere part of (17).
     pub p: Estimate<T>,
+    /// The integrals of two spheres of one camera ray (Q, (23), (24) and
+    /// their R → 0 forms); `None` when not computed
+    /// ([`Integrals::compute_single_sphere`]).
+    pub pairs: Option<PairIntegrals<T>>,
+}
+
+/// The integrals of two spheres of one camera ray, each times e^{c₀}: what
+/// (7)–(9) weigh 0 when q = 1 and N_B = 1 (one sphere per camera ray, one
+/// camera ray per iteration).
+#[derive(Debug, Clone)]
+pub struct PairIntegrals<T> {
     /// Q = ∫∫_{t>0}⟨𝒞⟩(s)⟨𝒞⟩(s+t)σ²e^{−σ(s+t)} ds dt, the pair part of (17).
     pub q: Estimate<T>,
     /// C₂₃, the integral (23) at radius R, exactly.
@@ -77,7 +88,54 @@ impl<T: CheckRule> Integrals<T> {
         // One tree, so that the moments fill the time a thread would
         // otherwise wait for the longest correlation pass; (23) before (24),
         // so that (24) mostly finds the angular work of the same nodes done.
-        let (((c23, c24), (c23_asym, c24_asym)), ((mean, m2), (p, q))) = rayon::join(
+        let (pairs, single) =
+            rayon::join(|| PairIntegrals::compute(field, r, o), || Integrals::single_sphere_parts(field, r, o));
+        // Failures in the order of the fields (the mean's first).
+        let mut ints = single?;
+        ints.pairs = Some(pairs?);
+        Ok(ints)
+    }
+
+    /// μ, M₂ and P alone (`pairs` is `None`): all that Var L needs when
+    /// q = 1 and N_B = 1, where (7)–(9) weigh the pair integrals 0. With
+    /// single-scattered light they are the costly part (4-D angular
+    /// integrals, ~97 % of the evaluations on `point-isotropic-order1`).
+    pub fn compute_single_sphere(field: &Field<T>, r: &T, opts: &Options) -> Result<Integrals<T>, OracleError> {
+        Integrals::single_sphere_parts(field, r, &opts.clone().declared())
+    }
+
+    fn single_sphere_parts(field: &Field<T>, r: &T, o: &Options) -> Result<Integrals<T>, OracleError> {
+        let ((mean, m2), p) = rayon::join(
+            || {
+                rayon::join(
+                    || moments::mean_luminance(field, o),
+                    || {
+                        let (single, same) =
+                            rayon::join(|| moments::m2(field, r, o), || moments::m2_same_path(field, r, o));
+                        Ok::<_, OracleError>((single?, same?))
+                    },
+                )
+            },
+            || moments::p_single(field, o),
+        );
+        let mean = mean?;
+        let (m2, m2_same_path) = m2?;
+        Ok(Integrals { mean, m2: m2.plus(m2_same_path.clone()), m2_same_path, p: p?, pairs: None })
+    }
+
+    /// Total evaluations of the integrand over all integrals.
+    pub fn evaluations(&self) -> u64 {
+        self.mean.evaluations
+            + self.m2.evaluations
+            + self.p.evaluations
+            + self.pairs.as_ref().map_or(0, PairIntegrals::evaluations)
+    }
+}
+
+impl<T: CheckRule> PairIntegrals<T> {
+    /// Q, (23), (24), (25) and (26) side by side.
+    fn compute(field: &Field<T>, r: &T, o: &Options) -> Result<PairIntegrals<T>, OracleError> {
+        let (((c23, c24), (c23_asym, c24_asym)), q) = rayon::join(
             || {
                 rayon::join(
                     || {
@@ -94,49 +152,15 @@ impl<T: CheckRule> Integrals<T> {
                     },
                 )
             },
-            || {
-                rayon::join(
-                    || {
-                        rayon::join(
-                            || moments::mean_luminance(field, o),
-                            || {
-                                let (single, same) =
-                                    rayon::join(|| moments::m2(field, r, o), || moments::m2_same_path(field, r, o));
-                                Ok::<_, OracleError>((single?, same?))
-                            },
-                        )
-                    },
-                    || rayon::join(|| moments::p_single(field, o), || moments::q_pair(field, o)),
-                )
-            },
+            || moments::q_pair(field, o),
         );
-        // Failures in the order of the fields (the mean's first).
-        let mean = mean?;
-        let (m2, m2_same_path) = m2?;
-        Ok(Integrals {
-            mean,
-            m2: m2.plus(m2_same_path.clone()),
-            m2_same_path,
-            p: p?,
-            q: q?,
-            c23: c23?,
-            c24: c24?,
-            c23_asym: c23_asym?,
-            c24_asym: c24_asym?,
-        })
+        Ok(PairIntegrals { q: q?, c23: c23?, c24: c24?, c23_asym: c23_asym?, c24_asym: c24_asym? })
     }
 
-    /// Total evaluations of the integrand over all integrals.
+    /// Total evaluations of the integrand over these integrals.
     pub fn evaluations(&self) -> u64 {
         let asym = |a: &Result<Estimate<T>, String>| a.as_ref().map_or(0, |e| e.evaluations);
-        self.mean.evaluations
-            + self.m2.evaluations
-            + self.p.evaluations
-            + self.q.evaluations
-            + self.c23.evaluations
-            + self.c24.evaluations
-            + asym(&self.c23_asym)
-            + asym(&self.c24_asym)
+        self.q.evaluations + self.c23.evaluations + self.c24.evaluations + asym(&self.c23_asym) + asym(&self.c24_asym)
     }
 }
 
@@ -191,9 +215,11 @@ pub fn variance<T: Real>(
 
 /// D₁…D₅ of the asymptotic relative-noise formula at the end of §4.4 (the
 /// paper leaves them implicit; definitions in the module doc), from
-/// the shifted integrals; `inv_k` = e^{c₀} undoes the shift.
+/// the shifted integrals; `inv_k` = e^{c₀} undoes the shift. `None` when
+/// the pair integrals were not computed or (25), (26) do not exist.
 pub fn d_constants<T: Real>(ints: &Integrals<T>, r: &T, sigma: &T, inv_k: &T) -> Option<[T; 5]> {
-    let (c23a, c24a) = (ints.c23_asym.as_ref().ok()?, ints.c24_asym.as_ref().ok()?);
+    let pairs = ints.pairs.as_ref()?;
+    let (c23a, c24a) = (pairs.c23_asym.as_ref().ok()?, pairs.c24_asym.as_ref().ok()?);
     let mu2 = ints.mean.value.clone() * ints.mean.value.clone();
     let two = r.lit(2.0);
     Some([
@@ -201,17 +227,18 @@ pub fn d_constants<T: Real>(ints: &Integrals<T>, r: &T, sigma: &T, inv_k: &T) ->
         inv_k.clone() * two.clone() * r.clone() * c23a.value.clone() / (sigma.clone() * mu2.clone()),
         inv_k.clone() * r.clone() * c24a.value.clone() / (sigma.clone() * mu2.clone()),
         inv_k.clone() * ints.p.value.clone() / mu2.clone(),
-        inv_k.clone() * two * ints.q.value.clone() / mu2,
+        inv_k.clone() * two * pairs.q.value.clone() / mu2,
     ])
 }
 
 /// The bars of [`d_constants`]: each D's relative bar is its integral's
 /// plus twice the mean's (D = const·integral/μ²).
 pub fn d_errors<T: Real>(ints: &Integrals<T>, d: &[T; 5]) -> Option<[T; 5]> {
-    let (c23a, c24a) = (ints.c23_asym.as_ref().ok()?, ints.c24_asym.as_ref().ok()?);
+    let pairs = ints.pairs.as_ref()?;
+    let (c23a, c24a) = (pairs.c23_asym.as_ref().ok()?, pairs.c24_asym.as_ref().ok()?);
     let mean_rel = ints.mean.error.clone() / ints.mean.value.abs();
     let rel = |e: &Estimate<T>| e.error.clone() / e.value.abs() + mean_rel.clone() * mean_rel.lit(2.0);
-    let rels = [rel(&ints.m2), rel(c23a), rel(c24a), rel(&ints.p), rel(&ints.q)];
+    let rels = [rel(&ints.m2), rel(c23a), rel(c24a), rel(&ints.p), rel(&pairs.q)];
     Some(std::array::from_fn(|i| d[i].abs() * rels[i].clone()))
 }
 

@@ -26,8 +26,37 @@ mod report;
 use report::{correlation, reported, scaled};
 pub use report::{
     Asymptotic, Correlation, FiniteMean, FiniteReport, Integral, Report, ReportPrediction, ValueWithBar, Variance,
-    FINITE_NOTE, FINITE_ORDER1_NOTE, PAIRS_NOT_NEEDED, SMALL_SPHERE_NOTE,
+    FINITE_NOTE, FINITE_ORDER1_NOTE, PAIRS_NOT_NEEDED, SMALL_SPHERE_NOTE, SMALL_SPHERE_PAIRS_NOT_NEEDED,
 };
+
+/// How much of the small-sphere model a run computes.
+///
+/// ```
+/// use mcrt_noise::oracle::{run_scoped, Precision, Scope};
+/// use mcrt_noise::Scene;
+///
+/// let scene = Scene::builder()
+///     .medium(1.0, 0.8)
+///     .point_light([1.0, 0.0, 1.0], 1.0)
+///     .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+///     .estimator(0.2, 1.0, 20, 1)
+///     .build()?;
+/// let report = run_scoped(&scene, Precision::F64, None, Scope::Prediction)?;
+/// assert!(report.corr23.is_none() && report.pairs_not_computed.is_some());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scope {
+    /// Every integral of both models (`mcrt-noise oracle`): D₁…D₅ and
+    /// (23), (24) with their R → 0 forms whatever the scene's q and N_B.
+    Everything,
+    /// What the scene's Var L needs: with q = 1 and N_B = 1, (7)–(9) weigh
+    /// the small-sphere integrals of two spheres (Q, (23), (24)) 0, and
+    /// they and their R → 0 forms are skipped ([`Report::pairs_not_computed`];
+    /// with single-scattered light they are ~97 % of the work). The
+    /// library's `predict`.
+    Prediction,
+}
 
 /// The largest MPFR precision a run accepts: its default tolerance
 /// 2^{−(bits − 22)} is then 2^{−1002} ≈ 2.3·10⁻³⁰², still a normal double
@@ -107,13 +136,15 @@ impl Precision {
 }
 
 /// Runs the oracle on `scene` at the precision of `like` with `rel_tol`,
-/// every integral of both models charged to the one `budget`.
+/// every integral of both models charged to the one `budget`, the
+/// small-sphere model to the extent `scope`.
 pub fn run_with<T: CheckRule>(
     scene: &Scene,
     like: &T,
     rel_tol: f64,
     label: String,
     budget: &Budget,
+    scope: Scope,
 ) -> Result<Report, OracleError> {
     let t0 = Instant::now();
     if scene.lights.len() > MAX_LIGHTS {
@@ -138,10 +169,17 @@ pub fn run_with<T: CheckRule>(
     }
     let scattered_field = scattered_mean_field(scene, &field);
     let unpaired = scattered_field.is_some() && pairs_weigh_nothing(scene);
+    let small_unpaired = scope == Scope::Prediction && pairs_weigh_nothing(scene);
     let ((ints, finite), scattered) = rayon::join(
         || {
             rayon::join(
-                || Integrals::compute(&field, &r, &opts),
+                || {
+                    if small_unpaired {
+                        Integrals::compute_single_sphere(&field, &r, &opts)
+                    } else {
+                        Integrals::compute(&field, &r, &opts)
+                    }
+                },
                 || finite_field.as_ref().map(|ff| ff.integrals(&opts)).transpose(),
             )
         },
@@ -180,13 +218,17 @@ pub fn run_with<T: CheckRule>(
     let k = (-field.shift.clone()).exp();
     let inv_k = field.shift.exp();
     let mean = Valued::from(&ints.mean);
+    // Without the pair integrals (q = 1, N_B = 1) (7)–(9) weigh them 0.
+    let pair =
+        |e: Option<&Estimate<T>>| e.map_or_else(|| Valued { value: r.lit(0.0), error: r.lit(0.0) }, Valued::from);
+    let pairs = ints.pairs.as_ref();
     let var = variance(
         &mean,
         &Valued::from(&ints.m2),
-        &Valued::from(&ints.c23),
+        &pair(pairs.map(|p| &p.c23)),
         &Valued::from(&ints.p),
-        &Valued::from(&ints.q),
-        &Valued::from(&ints.c24),
+        &pair(pairs.map(|p| &p.q)),
+        &pair(pairs.map(|p| &p.c24)),
         &counts,
         &k,
     );
@@ -256,8 +298,8 @@ pub fn run_with<T: CheckRule>(
         mean_luminance: small_mean,
         mean_luminance_log10: log10(&ints.mean.value) - shift_log10,
         mean_luminance_log10_error: log10_bar(&ints.mean.value, &ints.mean.error),
-        corr23: correlation(&ints.c23, &ints.c23_asym, &k),
-        corr24: correlation(&ints.c24, &ints.c24_asym, &k),
+        corr23: pairs.map(|p| correlation(&p.c23, &p.c23_asym, &k)),
+        corr24: pairs.map(|p| correlation(&p.c24, &p.c24_asym, &k)),
         variance: Variance {
             exact: small_variance,
             log10: log10(&var.value) - shift_log10,
@@ -273,7 +315,8 @@ pub fn run_with<T: CheckRule>(
         finite_not_used,
         finite_error,
         integral_p: scaled(&ints.p, &k),
-        integral_q: scaled(&ints.q, &k),
+        integral_q: pairs.map(|p| scaled(&p.q, &k)),
+        pairs_not_computed: pairs.is_none().then(|| SMALL_SPHERE_PAIRS_NOT_NEEDED.to_string()),
         attenuation_shift: field.shift.to_f64(),
         d: d.map(|d| d.map(|v| v.to_f64())),
         d_error: d_error_reported,
@@ -400,9 +443,20 @@ fn finite_report<T: CheckRule>(
 }
 
 /// Runs the oracle at `precision` with its default tolerance (or `rel_tol`)
-/// and the default evaluation budget ([`Precision::default_evaluations`]).
+/// and the default evaluation budget ([`Precision::default_evaluations`]):
+/// every integral of both models ([`Scope::Everything`]).
 pub fn run(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -> Result<Report, OracleError> {
-    run_within(scene, precision, rel_tol, &Budget::new(precision.default_evaluations()))
+    run_scoped(scene, precision, rel_tol, Scope::Everything)
+}
+
+/// [`run`] to the extent `scope` (example at [`Scope`]).
+pub fn run_scoped(
+    scene: &Scene,
+    precision: Precision,
+    rel_tol: Option<f64>,
+    scope: Scope,
+) -> Result<Report, OracleError> {
+    run_within_scoped(scene, precision, rel_tol, &Budget::new(precision.default_evaluations()), scope)
 }
 
 /// [`run`] with the evaluation budget (and deadline) `budget`, shared by
@@ -414,10 +468,21 @@ pub fn run_within(
     rel_tol: Option<f64>,
     budget: &Budget,
 ) -> Result<Report, OracleError> {
+    run_within_scoped(scene, precision, rel_tol, budget, Scope::Everything)
+}
+
+/// [`run_within`] to the extent `scope`.
+pub fn run_within_scoped(
+    scene: &Scene,
+    precision: Precision,
+    rel_tol: Option<f64>,
+    budget: &Budget,
+    scope: Scope,
+) -> Result<Report, OracleError> {
     let tol = rel_tol.unwrap_or(precision.default_tol_for(scene));
     match precision {
-        Precision::F64 => run_with(scene, &0.0f64, tol, "f64".into(), budget),
-        Precision::Bits(b) => run_with(scene, &rug::Float::with_val(b, 0), tol, format!("{b} bits"), budget),
+        Precision::F64 => run_with(scene, &0.0f64, tol, "f64".into(), budget, scope),
+        Precision::Bits(b) => run_with(scene, &rug::Float::with_val(b, 0), tol, format!("{b} bits"), budget, scope),
     }
 }
 

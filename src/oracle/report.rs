@@ -125,6 +125,11 @@ pub struct FiniteReport {
     pub evaluations: u64,
 }
 
+/// [`Report::pairs_not_computed`] of a prediction with q = 1 and N_B = 1.
+pub const SMALL_SPHERE_PAIRS_NOT_NEEDED: &str = "Q, (23), (24) and their R → 0 forms enter Var L with weight 0 at \
+     q = 1 and N_B = 1 (one sphere per camera ray, one camera ray) and a prediction does not compute them; \
+     `mcrt-noise oracle` does (they give D₁…D₅ and the other settings' noise)";
+
 /// [`FiniteReport::not_computed`] of an order-1 scene with q = 1, N_B = 1.
 pub const PAIRS_NOT_NEEDED: &str = "Q, C₂₃ and C₂₄ enter Var L with weight 0 at q = 1 and N_B = 1 (one sphere per \
      camera ray, one camera ray) and are not computed; with single-scattered light they take minutes \
@@ -201,10 +206,12 @@ pub struct Report {
     pub mean_luminance_log10: f64,
     /// Its bar, as [`Variance::log10_error`].
     pub mean_luminance_log10_error: Option<f64>,
-    /// Integral (23), exact at R and its R → 0 form (small-sphere model).
-    pub corr23: Correlation,
+    /// Integral (23), exact at R and its R → 0 form (small-sphere model);
+    /// `None` (JSON `null`) where not computed ([`Report::pairs_not_computed`]
+    /// says why).
+    pub corr23: Option<Correlation>,
     /// Integral (24), likewise.
-    pub corr24: Correlation,
+    pub corr24: Option<Correlation>,
     /// Var L of the small-sphere model, and the §4.4 formula.
     pub variance: Variance,
     /// M₂ = ∫σe^{−σs}⟨𝒞²⟩ ds, the rest of (16) beside (23) (with the
@@ -231,12 +238,19 @@ pub struct Report {
     pub finite_error: Option<crate::model::OracleError>,
     /// P = ∫σe^{−σs}⟨𝒞⟩² ds of (17).
     pub integral_p: Integral,
-    /// Q = ∫∫σ²e^{−σ(s+s′)}⟨𝒞⟩(s)⟨𝒞⟩(s′) ds ds′ of (17).
-    pub integral_q: Integral,
+    /// Q = ∫∫σ²e^{−σ(s+s′)}⟨𝒞⟩(s)⟨𝒞⟩(s′) ds ds′ of (17); `None` as
+    /// `corr23`.
+    pub integral_q: Option<Integral>,
+    /// Why the small-sphere model's integrals of two spheres (Q, (23),
+    /// (24), (25), (26)) are missing, if they are: a prediction
+    /// ([`Scope::Prediction`]) with q = 1 and N_B = 1, whose Var L weighs
+    /// them 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pairs_not_computed: Option<String>,
     /// c₀ = σ_ext × shortest light path to the camera ray: integrals are
     /// computed with W·e^{c₀} and scaled back for this report.
     pub attenuation_shift: f64,
-    /// D₁…D₅ of §4.4, if the asymptotic forms exist.
+    /// D₁…D₅ of §4.4, if the asymptotic forms exist (and were computed).
     pub d: Option<[f64; 5]>,
     /// Their bars.
     pub d_error: Option<[f64; 5]>,
@@ -328,6 +342,7 @@ impl Report {
         out.push(("relative noise (small-sphere)".into(), self.variance.relative));
         out.push(("relative noise (small-sphere, bar)".into(), self.variance.relative_error));
         for (name, c) in [("(23)", &self.corr23), ("(24)", &self.corr24)] {
+            let Some(c) = c else { continue };
             out.push((format!("{name} exact"), c.exact.value));
             out.push((format!("{name} exact (bar)"), c.exact.error));
             for (what, v) in [
@@ -366,9 +381,12 @@ impl Report {
             ("prediction: mean", self.prediction.mean),
             ("Var L (small-sphere)", self.variance.exact),
             ("prediction: Var L", self.prediction.variance),
-            ("(23) exact", int(&self.corr23.exact)),
-            ("(24) exact", int(&self.corr24.exact)),
         ];
+        for (name, c) in [("(23) exact", &self.corr23), ("(24) exact", &self.corr24)] {
+            if let Some(c) = c {
+                out.push((name, int(&c.exact)));
+            }
+        }
         if let Some(f) = &self.finite {
             out.push(("finite-sphere Var L", f.variance));
         }

@@ -157,6 +157,11 @@ fn row_at(scene: &Scene, r: f64, budget: &Budget) -> Result<Row, SweepError> {
     s.estimator.radius = r;
     let rep = run_within(&s, Precision::F64, None, budget).map_err(|error| SweepError::Oracle { radius: r, error })?;
     let missing = |which| SweepError::NoAsymptoticForm { radius: r, which };
+    // A run of every integral (`run_within`) has both correlations.
+    let (Some(c23), Some(c24)) = (&rep.corr23, &rep.corr24) else {
+        let why = rep.pairs_not_computed.clone().unwrap_or_else(|| "(23), (24) not computed".into());
+        return Err(SweepError::Oracle { radius: r, error: crate::model::OracleError::Unsupported(why) });
+    };
     let finite = rep.finite.as_ref().map(|f| FiniteColumns {
         mean_ratio: f.mean_ratio,
         variance_ratio: f.variance_ratio,
@@ -165,18 +170,18 @@ fn row_at(scene: &Scene, r: f64, budget: &Budget) -> Result<Row, SweepError> {
     Ok(Row {
         radius: r,
         finite,
-        corr23_exact: rep.corr23.exact.value,
-        corr23_exact_error: rep.corr23.exact.error,
-        corr23_asymptotic: rep.corr23.asymptotic.value.ok_or_else(|| missing("(23)"))?,
-        corr23_asymptotic_error: rep.corr23.asymptotic.error.ok_or_else(|| missing("(23)"))?,
-        ratio23: rep.corr23.ratio.ok_or_else(|| missing("(23)"))?,
-        ratio23_error: rep.corr23.ratio_error.ok_or_else(|| missing("(23)"))?,
-        corr24_exact: rep.corr24.exact.value,
-        corr24_exact_error: rep.corr24.exact.error,
-        corr24_asymptotic: rep.corr24.asymptotic.value.ok_or_else(|| missing("(24)"))?,
-        corr24_asymptotic_error: rep.corr24.asymptotic.error.ok_or_else(|| missing("(24)"))?,
-        ratio24: rep.corr24.ratio.ok_or_else(|| missing("(24)"))?,
-        ratio24_error: rep.corr24.ratio_error.ok_or_else(|| missing("(24)"))?,
+        corr23_exact: c23.exact.value,
+        corr23_exact_error: c23.exact.error,
+        corr23_asymptotic: c23.asymptotic.value.ok_or_else(|| missing("(23)"))?,
+        corr23_asymptotic_error: c23.asymptotic.error.ok_or_else(|| missing("(23)"))?,
+        ratio23: c23.ratio.ok_or_else(|| missing("(23)"))?,
+        ratio23_error: c23.ratio_error.ok_or_else(|| missing("(23)"))?,
+        corr24_exact: c24.exact.value,
+        corr24_exact_error: c24.exact.error,
+        corr24_asymptotic: c24.asymptotic.value.ok_or_else(|| missing("(24)"))?,
+        corr24_asymptotic_error: c24.asymptotic.error.ok_or_else(|| missing("(24)"))?,
+        ratio24: c24.ratio.ok_or_else(|| missing("(24)"))?,
+        ratio24_error: c24.ratio_error.ok_or_else(|| missing("(24)"))?,
     })
 }
 

@@ -11,6 +11,9 @@ use crate::quad::{Options, Outcome};
 use std::fmt::Write;
 use std::time::{Duration, Instant};
 
+/// A small-sphere pair integral a prediction-scoped run skipped.
+const NOT_COMPUTED: &str = "not needed (weight 0)";
+
 /// How the `kernel` command prints numbers of its working precision: the
 /// value and cross-check to all digits, the bar to 4 (at the working
 /// precision: a bar of 3.6e-502 at 1024 bits was printed as f64, `0.000e0`).
@@ -199,11 +202,10 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
             row(&mut s, "Var L (one iteration)", &f.variance, &r.variance.exact, Some(&f.variance_ratio));
             row(&mut s, "relative noise Var/L²", &f.relative_noise, &small_rel, None);
             for (name, exact, small) in [("(23) exact", &f.corr23, &r.corr23), ("(24) exact", &f.corr24, &r.corr24)] {
+                let small = small.as_ref().map_or(format!("{:<30}", NOT_COMPUTED), |c| col(&int(&c.exact)));
                 match exact {
-                    Some(e) => row(&mut s, name, &int(e), &int(&small.exact), None),
-                    None => {
-                        writeln!(s, "{name:<24} {:<30}{}", "not needed (weight 0)", col(&int(&small.exact))).unwrap()
-                    }
+                    Some(e) => writeln!(s, "{name:<24} {}{small}", col(&int(e))).unwrap(),
+                    None => writeln!(s, "{name:<24} {:<30}{small}", "not needed (weight 0)").unwrap(),
                 }
             }
             writeln!(s, "{:<24} {}", "bias μ(R) − μ(0)", pm(f.bias.value, f.bias.error)).unwrap();
@@ -216,7 +218,10 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
             writeln!(s, "Var L (one iteration)    {}", pm(r.variance.exact.value, r.variance.exact.error)).unwrap();
             writeln!(s, "relative noise Var/L²    {}", pm(small_rel.value, small_rel.error)).unwrap();
             for (name, c) in [("(23) exact", &r.corr23), ("(24) exact", &r.corr24)] {
-                writeln!(s, "{name:<24} {}", pm(c.exact.value, c.exact.error)).unwrap();
+                match c {
+                    Some(c) => writeln!(s, "{name:<24} {}", pm(c.exact.value, c.exact.error)).unwrap(),
+                    None => writeln!(s, "{name:<24} {NOT_COMPUTED}").unwrap(),
+                }
             }
         }
     }
@@ -241,18 +246,19 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
         .unwrap();
     }
     writeln!(s, "small-sphere model, R → 0:").unwrap();
+    if let Some(why) = &r.pairs_not_computed {
+        writeln!(s, "  (23), (24), D1..D5       not computed: {why}").unwrap();
+    }
     for (name, c) in [("(23)", &r.corr23), ("(24)", &r.corr24)] {
-        match (&c.asymptotic.value, &c.asymptotic.missing) {
-            (Some(v), _) => {
-                writeln!(s, "  {name} R→0 form        {}", pm(*v, c.asymptotic.error.unwrap_or(f64::NAN))).unwrap();
-                writeln!(
-                    s,
-                    "  {name} exact/R→0       {}",
-                    pm(c.ratio.unwrap_or(f64::NAN), c.ratio_error.unwrap_or(f64::NAN))
-                )
-                .unwrap();
+        let Some(c) = c else { continue };
+        match (c.asymptotic.value, c.asymptotic.error, &c.asymptotic.missing) {
+            (Some(v), Some(e), _) => {
+                writeln!(s, "  {name} R→0 form        {}", pm(v, e)).unwrap();
+                if let (Some(ratio), Some(bar)) = (c.ratio, c.ratio_error) {
+                    writeln!(s, "  {name} exact/R→0       {}", pm(ratio, bar)).unwrap();
+                }
             }
-            (None, Some(why)) => writeln!(s, "  {name} R→0 form        does not exist: {why}").unwrap(),
+            (_, _, Some(why)) => writeln!(s, "  {name} R→0 form        does not exist: {why}").unwrap(),
             _ => {}
         }
     }
@@ -263,6 +269,7 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
             pm(v, e)
         )
         .unwrap(),
+        _ if r.pairs_not_computed.is_some() => {}
         _ => writeln!(s, "  Var/L², §4.4 formula   does not exist for this scene").unwrap(),
     }
     if let (Some(d), Some(e)) = (r.d, r.d_error) {

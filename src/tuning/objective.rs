@@ -53,11 +53,20 @@ pub struct ModelAtRadius {
 impl ModelAtRadius {
     /// The prediction's integrals from an oracle report: the finite-sphere
     /// model's where it has every integral (the Var L of any q, N_B), else
-    /// the small-sphere model's.
-    pub fn from_report(r: &Report) -> ModelAtRadius {
+    /// the small-sphere model's. A report without the small-sphere pair
+    /// integrals (run with `Scope::Prediction` at q = 1, N_B = 1) cannot
+    /// predict other settings: that is an error naming the scope.
+    pub fn from_report(r: &Report) -> Result<ModelAtRadius, crate::model::OracleError> {
         let vb = |i: crate::oracle::Integral| ValueWithBar::from(i);
         let complete = r.finite.as_ref().and_then(|f| Some((f, f.corr23?, f.integral_q?, f.corr24?)));
-        match complete {
+        let (Some(corr23), Some(integral_q), Some(corr24)) = (&r.corr23, r.integral_q, &r.corr24) else {
+            return Err(crate::model::OracleError::Unsupported(
+                "the oracle report lacks the small-sphere pair integrals (Q, (23), (24)): it was run with \
+                 Scope::Prediction; other q and N_B need Scope::Everything"
+                    .into(),
+            ));
+        };
+        Ok(match complete {
             Some((f, corr23, integral_q, corr24)) => ModelAtRadius {
                 radius: r.radius,
                 model: "finite-sphere",
@@ -78,13 +87,13 @@ impl ModelAtRadius {
                 mean_at_zero: r.mean_luminance,
                 bias: None,
                 m2: vb(r.integral_m2),
-                c23: vb(r.corr23.exact),
+                c23: vb(corr23.exact),
                 p: vb(r.integral_p),
-                q_pair: vb(r.integral_q),
-                c24: vb(r.corr24.exact),
+                q_pair: vb(integral_q),
+                c24: vb(corr24.exact),
                 small_sphere_m2: vb(r.integral_m2),
             },
-        }
+        })
     }
 
     /// Var L of one iteration with (q, N_F, N_B) (continuous counts

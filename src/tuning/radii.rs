@@ -35,7 +35,7 @@ impl<'s> RadiusCache<'s> {
         scene.estimator.radius = r;
         let scene = scene.validated().map_err(|e| super::TuningError::Radius(r, e.to_string()))?;
         let report = run_within(&scene, Precision::F64, None, &self.budget).map_err(super::TuningError::Oracle)?;
-        let model = ModelAtRadius::from_report(&report);
+        let model = ModelAtRadius::from_report(&report).map_err(super::TuningError::Oracle)?;
         let rates = Rates::estimate(&scene, self.pilot_rays).map_err(|e| super::TuningError::Radius(r, e))?;
         let x = Radius { model, rates };
         self.map.insert(r.to_bits(), x);
