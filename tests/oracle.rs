@@ -48,11 +48,19 @@ fn oracle(s: &Scene) -> Report {
 #[test]
 fn a_prediction_skips_only_what_var_l_weighs_0() {
     use mcrt_noise::oracle::{run_scoped, Scope};
-    for name in ["point-isotropic", "point-hg-forward", "beam-isotropic"] {
-        let mut s = scene(name);
+    // Single scattering at 10⁻³ (the full run ~1.3·10⁸ evaluations, where
+    // the skip saves most), uncollided light at the default goal.
+    for (name, tol) in [
+        ("point-isotropic", None),
+        ("point-hg-forward", None),
+        ("beam-isotropic", None),
+        ("point-isotropic-order1", Some(1e-3)),
+    ] {
+        let mut s = with_radius(scene(name), 0.2);
         s.estimator.q = 1.0;
         s.estimator.camera_rays = 1;
-        let (full, lean) = (oracle(&s), run_scoped(&s, Precision::F64, None, Scope::Prediction).unwrap());
+        let full = run(&s, Precision::F64, tol).unwrap();
+        let lean = run_scoped(&s, Precision::F64, tol, Scope::Prediction).unwrap();
         assert!(full.corr23.is_some() && full.integral_q.is_some() && full.pairs_not_computed.is_none());
         assert!(lean.corr23.is_none() && lean.corr24.is_none() && lean.integral_q.is_none() && lean.d.is_none());
         assert!(lean.pairs_not_computed.as_deref().is_some_and(|w| w.contains("weight 0")), "{name}");
@@ -66,9 +74,11 @@ fn a_prediction_skips_only_what_var_l_weighs_0() {
         let text = mcrt_noise::reports::tables::oracle_table(&lean);
         assert!(text.contains("not computed: ") && !text.contains("NaN"), "{name}:\n{text}");
         // Two spheres per camera ray: the pairs enter Var L, and are computed.
-        s.estimator.camera_rays = 2;
-        let lean = run_scoped(&s, Precision::F64, None, Scope::Prediction).unwrap();
-        assert!(lean.corr23.is_some() && lean.integral_q.is_some() && lean.pairs_not_computed.is_none());
+        if tol.is_none() {
+            s.estimator.camera_rays = 2;
+            let lean = run_scoped(&s, Precision::F64, None, Scope::Prediction).unwrap();
+            assert!(lean.corr23.is_some() && lean.integral_q.is_some() && lean.pairs_not_computed.is_none());
+        }
     }
 }
 

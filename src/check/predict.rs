@@ -149,7 +149,7 @@ impl From<OracleError> for PredictError {
 /// and orders ≥ 2, are refused.
 ///
 /// Cost: milliseconds for uncollided light in a release build; for single
-/// scattering ~0.5 s with q = 1 and N_B = 1 (isotropic medium, point
+/// scattering ~1.5 s with q = 1 and N_B = 1 (isotropic medium, point
 /// lights; the small-sphere integrals of two spheres, weighed 0, are
 /// skipped) and ~10 s otherwise (`docs/library.md` gives the profile
 /// settings a dependent crate needs for its debug tests).

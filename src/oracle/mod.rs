@@ -136,9 +136,20 @@ impl Precision {
 }
 
 /// Runs the oracle on `scene` at the precision of `like` with `rel_tol`,
-/// every integral of both models charged to the one `budget`, the
-/// small-sphere model to the extent `scope`.
+/// every integral of both models charged to the one `budget`
+/// ([`Scope::Everything`]).
 pub fn run_with<T: CheckRule>(
+    scene: &Scene,
+    like: &T,
+    rel_tol: f64,
+    label: String,
+    budget: &Budget,
+) -> Result<Report, OracleError> {
+    run_with_scoped(scene, like, rel_tol, label, budget, Scope::Everything)
+}
+
+/// [`run_with`], the small-sphere model to the extent `scope`.
+pub fn run_with_scoped<T: CheckRule>(
     scene: &Scene,
     like: &T,
     rel_tol: f64,
@@ -481,8 +492,10 @@ pub fn run_within_scoped(
 ) -> Result<Report, OracleError> {
     let tol = rel_tol.unwrap_or(precision.default_tol_for(scene));
     match precision {
-        Precision::F64 => run_with(scene, &0.0f64, tol, "f64".into(), budget, scope),
-        Precision::Bits(b) => run_with(scene, &rug::Float::with_val(b, 0), tol, format!("{b} bits"), budget, scope),
+        Precision::F64 => run_with_scoped(scene, &0.0f64, tol, "f64".into(), budget, scope),
+        Precision::Bits(b) => {
+            run_with_scoped(scene, &rug::Float::with_val(b, 0), tol, format!("{b} bits"), budget, scope)
+        }
     }
 }
 

@@ -11,7 +11,7 @@ use crate::quad::{Options, Outcome};
 use std::fmt::Write;
 use std::time::{Duration, Instant};
 
-/// A small-sphere pair integral a prediction-scoped run skipped.
+/// A pair integral that Var L weighs 0 and the run did not compute.
 const NOT_COMPUTED: &str = "not needed (weight 0)";
 
 /// How the `kernel` command prints numbers of its working precision: the
@@ -205,7 +205,7 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
                 let small = small.as_ref().map_or(format!("{:<30}", NOT_COMPUTED), |c| col(&int(&c.exact)));
                 match exact {
                     Some(e) => writeln!(s, "{name:<24} {}{small}", col(&int(e))).unwrap(),
-                    None => writeln!(s, "{name:<24} {:<30}{small}", "not needed (weight 0)").unwrap(),
+                    None => writeln!(s, "{name:<24} {NOT_COMPUTED:<30}{small}").unwrap(),
                 }
             }
             writeln!(s, "{:<24} {}", "bias μ(R) − μ(0)", pm(f.bias.value, f.bias.error)).unwrap();

@@ -59,15 +59,8 @@ impl ModelAtRadius {
     pub fn from_report(r: &Report) -> Result<ModelAtRadius, crate::model::OracleError> {
         let vb = |i: crate::oracle::Integral| ValueWithBar::from(i);
         let complete = r.finite.as_ref().and_then(|f| Some((f, f.corr23?, f.integral_q?, f.corr24?)));
-        let (Some(corr23), Some(integral_q), Some(corr24)) = (&r.corr23, r.integral_q, &r.corr24) else {
-            return Err(crate::model::OracleError::Unsupported(
-                "the oracle report lacks the small-sphere pair integrals (Q, (23), (24)): it was run with \
-                 Scope::Prediction; other q and N_B need Scope::Everything"
-                    .into(),
-            ));
-        };
-        Ok(match complete {
-            Some((f, corr23, integral_q, corr24)) => ModelAtRadius {
+        if let Some((f, corr23, integral_q, corr24)) = complete {
+            return Ok(ModelAtRadius {
                 radius: r.radius,
                 model: "finite-sphere",
                 mean: f.mean,
@@ -79,20 +72,27 @@ impl ModelAtRadius {
                 q_pair: vb(integral_q),
                 c24: vb(corr24),
                 small_sphere_m2: vb(r.integral_m2),
-            },
-            None => ModelAtRadius {
-                radius: r.radius,
-                model: "small-sphere",
-                mean: r.mean_luminance,
-                mean_at_zero: r.mean_luminance,
-                bias: None,
-                m2: vb(r.integral_m2),
-                c23: vb(corr23.exact),
-                p: vb(r.integral_p),
-                q_pair: vb(integral_q),
-                c24: vb(corr24.exact),
-                small_sphere_m2: vb(r.integral_m2),
-            },
+            });
+        }
+        let (Some(corr23), Some(integral_q), Some(corr24)) = (&r.corr23, r.integral_q, &r.corr24) else {
+            return Err(crate::model::OracleError::Unsupported(
+                "the oracle report lacks the small-sphere pair integrals (Q, (23), (24)): it was run with \
+                 Scope::Prediction; other q and N_B need Scope::Everything"
+                    .into(),
+            ));
+        };
+        Ok(ModelAtRadius {
+            radius: r.radius,
+            model: "small-sphere",
+            mean: r.mean_luminance,
+            mean_at_zero: r.mean_luminance,
+            bias: None,
+            m2: vb(r.integral_m2),
+            c23: vb(corr23.exact),
+            p: vb(r.integral_p),
+            q_pair: vb(integral_q),
+            c24: vb(corr24.exact),
+            small_sphere_m2: vb(r.integral_m2),
         })
     }
 

@@ -125,11 +125,11 @@ impl<T: CheckRule> PointLight<T> {
                 / (like.pi() * like.lit(4.0));
             let (value, error) = match pair {
                 CrossPair::C24 => {
-                    let len = if len.is_finite() { Some(len.clone()) } else { None };
+                    let finite_len = if len.is_finite() { Some(len.clone()) } else { None };
                     // e^{−σt₀} of B's scaling in the same exponent.
                     let u = sigma.clone()
                         * (ff.shift.clone() - sigma.clone() * (chord.r1.clone() + s0.clone() + c.t0.clone())).exp()
-                        * exp_segment(sigma, len.as_ref());
+                        * exp_segment(sigma, finite_len.as_ref());
                     let v = sigma.clone() * c.b_total();
                     let k = like.lit(2.0) * u * density.clone();
                     (k.clone() * v, k * sigma.clone() * c.error[1].clone())
@@ -144,6 +144,10 @@ impl<T: CheckRule> PointLight<T> {
                     let (mut k, mut e) = (k1 - k0, e1 + e0);
                     if len.is_finite() {
                         let (short, short_error) = short_k(sigma, c, &s0, &len, &lambda);
+                        // The difference spans s₁ − s₀ as rounded, not ℓ:
+                        // K(s₀) ≈ short/ℓ times the gap joins its bar.
+                        let gap = ((s1.clone() - s0.clone()) - len.clone()).abs();
+                        e = e + gap * (short.abs() + short_error.clone()) / len.clone();
                         if short_error < e {
                             (k, e) = (short, short_error);
                         }
@@ -165,9 +169,9 @@ impl<T: CheckRule> PointLight<T> {
         // ρ's 1/r₁², r₁² = m² + 4bb_y sin²(φ/2), peaks at φ = 0 with the
         // width m/√(bb_y): graded by decades from it (a node 10⁻³⁰ from the
         // light, ungraded, exhausted 2·10⁶ evaluations).
-        let k = b.clone() * self.b.clone();
-        if k > zero && *m > zero {
-            let width = m.clone() / k.sqrt();
+        let bby = b.clone() * self.b.clone();
+        if bby > zero && *m > zero {
+            let width = m.clone() / bby.sqrt();
             cuts.extend(graded_by(&zero, &width, &like.pi(), 10.0, 40).into_iter().filter(|c| *c > zero));
         }
         let e = integrate_within_pass(f, &Domain::finite(like.lit(0.0), like.pi()).with_breakpoints(cuts), opts)?;
@@ -264,7 +268,7 @@ fn reached<T: CheckRule>(hit: &super::ray::Hit<T>, [tau_lo, tau_hi]: &[T; 2], mu
         }
         let l = ((r1.clone() - tau_hi.clone()) / (-mu.clone())).min_of(len.clone());
         // J is bounded above for μ < 0 (by the window or the light).
-        ((a.clone() + (len.clone() - l.clone())).max_of(a.clone()), l)
+        (a.clone() + (len.clone() - l.clone()), l)
     } else if *tau_lo <= *r1 {
         (a.clone(), len.clone())
     } else {
@@ -299,7 +303,7 @@ fn big_k<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s: &T, lambda: &T) -> (T,
 /// s₁ = s₀ + ℓ (finite ℓ = `len` > 0, formed as [`reached`] does): K =
 /// σ²e^{−σs}A + σE has K′ = −σ³e^{−σs}A (E′ = −σ²e^{−σs}H cancels the H of
 /// the first term's derivative), so the rest is at most
-/// ℓ²/2·σ³e^{−σs₀}A(s₁) in size. Its bar grows with s₁ − s₀ where
+/// ℓ²/2·σ³e^{−σs₀}A(s₁) in size. Its bar grows with ℓ where
 /// [`big_k`]'s difference carries both cumulants' whole bars: for a chord
 /// from near the light (length ~m, the distance of x₁ from it, down to
 /// 10⁻²⁴ at the nodes next to the light) the difference's bar was 10¹⁰
@@ -427,6 +431,7 @@ mod near_the_light {
         let ff = FiniteField::of_first_segments(&s, &field);
         let FiniteLight::Point(p) = &ff.lights[0] else { panic!("a point light") };
         let gamma = 2.305856318423849f64;
+        let mut scaled: Vec<(f64, f64, CrossPair, f64)> = Vec::new();
         for m in [1.0201501971762524e-30f64, 2.6892457956968588e-24, 1e-16, 1e-8] {
             let (dz, db) = (m * gamma.cos(), m * gamma.sin());
             let at = Offset { z: p.z + dz, b: p.b + db, m, dz, db };
@@ -435,6 +440,26 @@ mod near_the_light {
                     .around_line(&ff, pair, &at, &Options::rel(1e-4))
                     .unwrap_or_else(|f| panic!("m {m:e}, {pair:?}: {}", f.reason));
                 assert!(e.value > 0.0 && e.error <= 1e-4 * e.value, "m {m:e}, {pair:?}: {} ± {}", e.value, e.error);
+                scaled.push((m, e.value / m.sqrt(), pair, e.error / m.sqrt()));
+            }
+        }
+        // The light lies inside the spheres' cylinder: a chord of length
+        // r₁ ≈ √(m² + bb_yφ²) reaches the spheres over ℓ ≈ r₁²/(m|cos γ|)
+        // until ℓ fills the window, at φ* ∝ √m, so the weight is ∝ √m
+        // (∫₀^{φ*} const dφ + ∫_{φ*} m/φ² dφ). A length formed from rounded
+        // positions (10⁻¹³ for ℓ = 10⁻²⁷) broke this by orders of magnitude.
+        for pair in [CrossPair::C23, CrossPair::C24] {
+            let v: Vec<_> = scaled.iter().filter(|x| x.2 == pair && x.0 < 1e-10).collect();
+            for w in v.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                assert!(
+                    (a.1 - b.1).abs() <= a.3 + b.3,
+                    "{pair:?}: weight/√m {:e} at m {:e} vs {:e} at m {:e}",
+                    a.1,
+                    a.0,
+                    b.1,
+                    b.0
+                );
             }
         }
     }
