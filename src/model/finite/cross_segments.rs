@@ -443,6 +443,18 @@ mod near_the_light {
                 scaled.push((m, e.value / m.sqrt(), pair, e.error / m.sqrt()));
             }
         }
+        // The node of the fourth run, where the chord nearly ⊥ u meets the
+        // window with τ ≈ r₁/2 ~ 10⁻¹⁷ (τ formed as (B − ρ) + ρ(1 − μ) had an
+        // error ~ερ, and whether it reached was decided by rounding).
+        let (gamma, m) = (std::f64::consts::FRAC_PI_4, 1.3947335811447094e-34f64);
+        let (dz, db) = (m * gamma.cos(), m * gamma.sin());
+        let at = Offset { z: p.z + dz, b: p.b + db, m, dz, db };
+        for pair in [CrossPair::C23, CrossPair::C24] {
+            let e = p
+                .around_line(&ff, pair, &at, &Options::rel(1e-4))
+                .unwrap_or_else(|f| panic!("γ π/4, m {m:e}, {pair:?}: {}", f.reason));
+            assert!(e.value > 0.0 && e.error <= 1e-4 * e.value, "γ π/4, {pair:?}: {} ± {}", e.value, e.error);
+        }
         // The light lies inside the spheres' cylinder: a chord of length
         // r₁ ≈ √(m² + bb_yφ²) reaches the spheres over ℓ ≈ r₁²/(m|cos γ|)
         // until ℓ fills the window, at φ* ∝ √m, so the weight is ∝ √m

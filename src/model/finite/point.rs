@@ -105,23 +105,20 @@ impl<T: CheckRule> PointLight<T> {
 
     /// [`PointLight::hit`] with τ at both ends of J, [τ(a), τ(a + L)], each
     /// formed from its active bound — 0 at the light's, B sin ϑ − zμ at the
-    /// camera, (B ∓ μρ)/sin ϑ at the window's lower and upper end, as
-    /// (B − ρ) + ρ(1 ∓ μ), without cancellation when b ≥ R (B − ρ ≥ 0) —
-    /// not as a difference of positions: a chord from next to the light
-    /// reaches the spheres with τ ≤ r₁, and r₁ may lie far below ulp(s)
-    /// (`cross_segments`). Where a window bound is active with τ ≈ 0 (the
-    /// light near the window's edge, b < R) τ keeps an absolute error of
-    /// ~ε·ρ/sin ϑ.
+    /// camera, (B ∓ μρ)/sin ϑ at the window's lower and upper end
+    /// ([`window_tau`]) — not as a difference of positions: a chord from
+    /// next to the light reaches the spheres with τ ≤ r₁, and r₁ may lie far
+    /// below ulp(s) (`cross_segments`).
     pub(super) fn hit_with_ends(&self, dir: &Direction<T>, az: &Azimuth<T>) -> Option<(Hit<T>, [T; 2])> {
         let (hit, (lower, upper)) = self.bounded_hit(dir, az)?;
-        let (s, rho, zero) = (&dir.sin, &az.rho, dir.sin.lit(0.0));
+        let (s, zero) = (&dir.sin, dir.sin.lit(0.0));
         let tau_lo = match lower {
-            Bound::Window => (az.minus.clone() + rho.clone() * dir.one_minus_mu.clone()) / s.clone(),
+            Bound::Window => window_tau(az, &-dir.mu.clone(), &dir.one_minus_mu) / s.clone(),
             Bound::Camera => hit.path.clone(),
             Bound::Light => zero.clone(),
         };
         let tau_hi = match upper {
-            Bound::Window => (az.minus.clone() + rho.clone() * dir.one_plus_mu.clone()) / s.clone(),
+            Bound::Window => window_tau(az, &dir.mu, &dir.one_plus_mu) / s.clone(),
             _ => zero,
         };
         Some((hit, [tau_lo, tau_hi]))
@@ -467,6 +464,25 @@ fn phase_features<T: CheckRule>(ff: &FiniteField<T>) -> Features<T> {
 /// w, sin γ, ψ, options) → value with bar.
 type Azimuthal<'a, T> = dyn Fn(&Frame<T>, &T, &T, &Options) -> Outcome<T> + 'a;
 
+/// B ± μρ (τ·sin ϑ at the window's upper end for +μ, lower end for −μ, with
+/// `one_pm` = 1 ± μ), in the better conditioned of two forms: directly,
+/// with an absolute error ~ε(|B| + |μ|ρ), or as (B − ρ) + ρ(1 ± μ) with
+/// B − ρ from `Azimuth::minus`, ~ε(|B − ρ| + ρ(1 ± μ)). The second is exact
+/// to rounding when b ≥ R (both terms ≥ 0) and as the line nears ±u with
+/// B ≈ ρ; the first when B and μρ are both small (a chord from next to a
+/// light inside the spheres' cylinder, nearly ⊥ u: τ ~ 10⁻¹⁷, where the
+/// second form's error ε·ρ decided whether r₁ ~ 10⁻¹⁷ reached at all).
+fn window_tau<T: CheckRule>(az: &Azimuth<T>, mu: &T, one_pm: &T) -> T {
+    let rho = &az.rho;
+    let direct_scale = az.bcos.abs() + mu.abs() * rho.clone();
+    let split_scale = az.minus.abs() + rho.clone() * one_pm.clone();
+    if direct_scale < split_scale {
+        az.bcos.clone() + mu.clone() * rho.clone()
+    } else {
+        az.minus.clone() + rho.clone() * one_pm.clone()
+    }
+}
+
 /// The cap's half-angle ψ_R: arcsin(R/d), formed as arctan(R/√(d² − R²))
 /// (arcsin near 1 would lose half the digits as the sphere comes to hold
 /// the light), or π/2 when d ≤ R (the sphere holds the light; every ray
@@ -524,18 +540,29 @@ mod tests {
     /// τ at both ends of J ([`PointLight::hit_with_ends`], from the active
     /// bounds) against τ(s) = μ(s − z) + B sin ϑ at J's ends in 256 bits,
     /// for lights inside, at and outside the spheres' cylinder, directions
-    /// near ±u included (where B ∓ μρ cancels when formed as (B ± ρ) − ρ(1 ± μ)):
-    /// every τ within 10⁻¹³ of the larger of itself and ε·ρ/sin ϑ·10³ when
-    /// b < R (a window bound with τ ≈ 0 has an absolute error ~ε·ρ/sin ϑ),
-    /// of itself when b ≥ R.
+    /// near ±u (where B ∓ μρ cancels when formed as (B ± ρ) − ρ(1 ± μ)) and
+    /// near ⊥u with B ≈ 0 (where (B − ρ) + ρ(1 ∓ μ) cancels) included:
+    /// every τ within 10⁻¹³ of itself when b ≥ R, of the larger of itself
+    /// and 10³ε(|B| + |μ|ρ)/sin ϑ when b < R.
     #[test]
     fn tau_at_the_ends_of_j_is_formed_without_cancellation() {
         let r = 0.2f64;
         let hi = Float::with_val(256, 0);
         let mut checked = 0;
         for (z, b) in [(1.0f64, 0.1f64), (0.5, 0.2), (1.0, 0.2000001), (0.3, 0.25), (2.0, 1.0)] {
-            for theta in [1e-6, 1e-3, 0.3, 1.2, 1.9, 2.8, std::f64::consts::PI - 1e-3, std::f64::consts::PI - 1e-6] {
-                for chi_frac in [0.0, 0.3, 0.7, 0.999] {
+            let half_pi = std::f64::consts::FRAC_PI_2;
+            for theta in [
+                1e-6,
+                1e-3,
+                0.3,
+                1.2,
+                half_pi - 1e-12,
+                1.9,
+                2.8,
+                std::f64::consts::PI - 1e-3,
+                std::f64::consts::PI - 1e-6,
+            ] {
+                for chi_frac in [0.0, 0.3, 0.5 - 1e-12, 0.7, 0.999] {
                     let chi_max = if b > r { (r / b).asin() } else { std::f64::consts::PI };
                     let chi: f64 = chi_frac * chi_max;
                     // B and ρ in 256 bits, the f64 code given their roundings
@@ -558,7 +585,9 @@ mod tests {
                         if !hit.len.is_finite() && end == "a + L" {
                             continue;
                         }
-                        let floor = if b < r { f64::EPSILON * rho / theta.sin() * 1e3 } else { 0.0 };
+                        // b < R: B ∓ μρ may cancel; its error is ~ε(|B| + |μ|ρ) at most.
+                        let scale = bcos.abs() + theta.cos().abs() * rho;
+                        let floor = if b < r { 1e3 * f64::EPSILON * scale / theta.sin() } else { 0.0 };
                         let want = want.to_f64();
                         let off = (got - want).abs();
                         assert!(
