@@ -257,19 +257,23 @@ impl<T: CheckRule> PointLight<T> {
 fn reached<T: CheckRule>(hit: &super::ray::Hit<T>, [tau_lo, tau_hi]: &[T; 2], mu: &T, r1: &T) -> Option<(T, T, T)> {
     let zero = mu.lit(0.0);
     let (a, len) = (&hit.start, &hit.len);
+    // τ ≥ 0 on J; a window bound chosen by rounding over the light's (their
+    // positions within an ulp) gives a τ below 0 by as much, which would
+    // lengthen ℓ by |τ|/|μ| ≫ r₁/|μ| for the shortest chords.
+    let (tau_lo, tau_hi) = (tau_lo.clone().max_of(zero.clone()), tau_hi.clone().max_of(zero.clone()));
     let (s0, l) = if *mu > zero {
-        if !(*tau_lo < *r1) {
+        if !(tau_lo < *r1) {
             return None;
         }
-        (a.clone(), ((r1.clone() - tau_lo.clone()) / mu.clone()).min_of(len.clone()))
+        (a.clone(), ((r1.clone() - tau_lo) / mu.clone()).min_of(len.clone()))
     } else if *mu < zero {
-        if !(*tau_hi < *r1) {
+        if !(tau_hi < *r1) {
             return None;
         }
-        let l = ((r1.clone() - tau_hi.clone()) / (-mu.clone())).min_of(len.clone());
+        let l = ((r1.clone() - tau_hi) / (-mu.clone())).min_of(len.clone());
         // J is bounded above for μ < 0 (by the window or the light).
         (a.clone() + (len.clone() - l.clone()), l)
-    } else if *tau_lo <= *r1 {
+    } else if tau_lo <= *r1 {
         (a.clone(), len.clone())
     } else {
         return None;
