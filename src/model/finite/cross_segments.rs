@@ -167,8 +167,8 @@ impl<T: CheckRule> PointLight<T> {
         };
         let mut cuts = self.window_edges(r, b);
         // ρ's 1/r₁², r₁² = m² + 4bb_y sin²(φ/2), peaks at φ = 0 with the
-        // width m/√(bb_y): graded by decades from it (a node 10⁻³⁰ from the
-        // light, ungraded, exhausted 2·10⁶ evaluations).
+        // width m/√(bb_y): graded by decades from it (at m = 10⁻³⁰ C₂₃ took
+        // 9·10³ evaluations so, 2.7·10⁴ without).
         let bby = b.clone() * self.b.clone();
         if bby > zero && *m > zero {
             let width = m.clone() / bby.sqrt();
