@@ -230,16 +230,14 @@ pub fn run_with_scoped<T: CheckRule>(
     let inv_k = field.shift.exp();
     let mean = Valued::from(&ints.mean);
     // Without the pair integrals (q = 1, N_B = 1) (7)–(9) weigh them 0.
-    let pair =
-        |e: Option<&Estimate<T>>| e.map_or_else(|| Valued { value: r.lit(0.0), error: r.lit(0.0) }, Valued::from);
     let pairs = ints.pairs.as_ref();
     let var = variance(
         &mean,
         &Valued::from(&ints.m2),
-        &pair(pairs.map(|p| &p.c23)),
+        &or_zero(pairs.map(|p| &p.c23), &r),
         &Valued::from(&ints.p),
-        &pair(pairs.map(|p| &p.q)),
-        &pair(pairs.map(|p| &p.c24)),
+        &or_zero(pairs.map(|p| &p.q), &r),
+        &or_zero(pairs.map(|p| &p.c24), &r),
         &counts,
         &k,
     );
@@ -340,6 +338,12 @@ pub fn run_with_scoped<T: CheckRule>(
     Ok(report)
 }
 
+/// A pair integral for (7)–(9), or 0 ± 0 where it was not computed (q = 1
+/// and N_B = 1 weigh it 0); `like` gives the precision.
+fn or_zero<T: Real>(e: Option<&Estimate<T>>, like: &T) -> Valued<T> {
+    e.map_or_else(|| Valued { value: like.lit(0.0), error: like.lit(0.0) }, Valued::from)
+}
+
 /// Why the oracle refuses a scene whose camera ray (its line) meets no
 /// light: the small-sphere model's mean is then exactly 0, and every ratio
 /// of the report is undefined. Spheres of radius R grazing a beam still
@@ -402,17 +406,13 @@ fn finite_report<T: CheckRule>(
     let mean_t = Valued::from(&f.mean);
     // Q, C₂₃, C₂₄ are missing only where (7)–(9) weigh them 0 (q = 1,
     // N_B = 1: `pairs_weigh_nothing`): they enter as exact zeros.
-    let or_zero = |e: &Option<Estimate<T>>| match e {
-        Some(e) => Valued::from(e),
-        None => Valued { value: k.lit(0.0), error: k.lit(0.0) },
-    };
     let var = variance(
         &mean_t,
         &Valued::from(&f.m2),
-        &or_zero(&f.c23),
+        &or_zero(f.c23.as_ref(), &k),
         &Valued::from(&f.p),
-        &or_zero(&f.q),
-        &or_zero(&f.c24),
+        &or_zero(f.q.as_ref(), &k),
+        &or_zero(f.c24.as_ref(), &k),
         counts,
         &k,
     );

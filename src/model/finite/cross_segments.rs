@@ -434,31 +434,28 @@ mod near_the_light {
         let field = Field::from_scene(&s, &1.0f64).unwrap();
         let ff = FiniteField::of_first_segments(&s, &field);
         let FiniteLight::Point(p) = &ff.lights[0] else { panic!("a point light") };
-        let gamma = 2.305856318423849f64;
-        let mut scaled: Vec<(f64, f64, CrossPair, f64)> = Vec::new();
-        for m in [1.0201501971762524e-30f64, 2.6892457956968588e-24, 1e-16, 1e-8] {
+        // The weight of both pairs at the node (γ, m) from the light.
+        let weights = |gamma: f64, m: f64| {
             let (dz, db) = (m * gamma.cos(), m * gamma.sin());
             let at = Offset { z: p.z + dz, b: p.b + db, m, dz, db };
-            for pair in [CrossPair::C23, CrossPair::C24] {
+            [CrossPair::C23, CrossPair::C24].map(|pair| {
                 let e = p
                     .around_line(&ff, pair, &at, &Options::rel(1e-4))
-                    .unwrap_or_else(|f| panic!("m {m:e}, {pair:?}: {}", f.reason));
+                    .unwrap_or_else(|f| panic!("γ {gamma}, m {m:e}, {pair:?}: {}", f.reason));
                 assert!(e.value > 0.0 && e.error <= 1e-4 * e.value, "m {m:e}, {pair:?}: {} ± {}", e.value, e.error);
+                (pair, e)
+            })
+        };
+        let mut scaled: Vec<(f64, f64, CrossPair, f64)> = Vec::new();
+        for m in [1.0201501971762524e-30f64, 2.6892457956968588e-24, 1e-16, 1e-8] {
+            for (pair, e) in weights(2.305856318423849, m) {
                 scaled.push((m, e.value / m.sqrt(), pair, e.error / m.sqrt()));
             }
         }
         // The node of the fourth run, where the chord nearly ⊥ u meets the
         // window with τ ≈ r₁/2 ~ 10⁻¹⁷ (τ formed as (B − ρ) + ρ(1 − μ) had an
         // error ~ερ, and whether it reached was decided by rounding).
-        let (gamma, m) = (std::f64::consts::FRAC_PI_4, 1.3947335811447094e-34f64);
-        let (dz, db) = (m * gamma.cos(), m * gamma.sin());
-        let at = Offset { z: p.z + dz, b: p.b + db, m, dz, db };
-        for pair in [CrossPair::C23, CrossPair::C24] {
-            let e = p
-                .around_line(&ff, pair, &at, &Options::rel(1e-4))
-                .unwrap_or_else(|f| panic!("γ π/4, m {m:e}, {pair:?}: {}", f.reason));
-            assert!(e.value > 0.0 && e.error <= 1e-4 * e.value, "γ π/4, {pair:?}: {} ± {}", e.value, e.error);
-        }
+        weights(std::f64::consts::FRAC_PI_4, 1.3947335811447094e-34);
         // The light lies inside the spheres' cylinder: a chord of length
         // r₁ ≈ √(m² + bb_yφ²) reaches the spheres over ℓ ≈ r₁²/(m|cos γ|)
         // until ℓ fills the window, at φ* ∝ √m, so the weight is ∝ √m
