@@ -240,7 +240,7 @@ fn light_on_the_line_behind_the_camera_has_no_asymptotic_form() {
 }
 
 #[test]
-fn orders_beyond_one_and_scattered_beams_are_refused_clearly() {
+fn orders_beyond_one_and_what_a_scattered_beam_lacks_are_refused_clearly() {
     let mut s = scene("point-isotropic-order1");
     s.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(2);
     let err = run(&s, Precision::F64, None).unwrap_err().to_string();
@@ -248,10 +248,19 @@ fn orders_beyond_one_and_scattered_beams_are_refused_clearly() {
     s.effects.scattering_orders = mcrt_scene::ScatteringOrders::All;
     let err = run(&s, Precision::F64, None).unwrap_err().to_string();
     assert!(err.contains("scattering_orders = \"all\""), "{err}");
+    // A beam at order 1: its small-sphere pair integrals are not derived,
+    // so q < 1 or N_B > 1 (the scene's 0.5 and 8) is refused, naming both
+    // fields and what is allowed; so is a Henyey–Greenstein medium.
     let mut b = scene("beam-isotropic");
     b.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
     let err = run(&b, Precision::F64, None).unwrap_err().to_string();
-    assert!(err.contains("beam") && err.contains("point lights only"), "{err}");
+    assert!(
+        err.contains("beam") && err.contains("estimator.q = 0.5") && err.contains("estimator.camera_rays = 8"),
+        "{err}"
+    );
+    b.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g: 0.5 };
+    let err = run(&b, Precision::F64, None).unwrap_err().to_string();
+    assert!(err.contains("beam") && err.contains("medium.phase") && err.contains("isotropic"), "{err}");
 }
 
 /// The `oracle --json` numbers of every order-0 bundled scene, pinned at

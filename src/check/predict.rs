@@ -134,9 +134,9 @@ impl From<OracleError> for PredictError {
 /// The scene is validated first (a hand-assembled [`Scene`] gets the scene
 /// file's checks). Uncollided light (scattering order 0) is predicted by the
 /// finite-sphere model, exact at the scene's R: the model bar is 0.
-/// Single-scattered light (order 1) in an isotropic medium from point
-/// lights with q = 1 and N_B = 1 is predicted by the finite-sphere model
-/// too, exact at any R (model bar 0; [`oracle::finite_sphere_covers`]);
+/// Single-scattered light (order 1) in an isotropic medium (point lights
+/// and beams) with q = 1 and N_B = 1 is predicted by the finite-sphere
+/// model too, exact at any R (model bar 0; [`oracle::finite_sphere_covers`]);
 /// the oracle computes the small-sphere model beside it all the same, so
 /// a failure of that model fails the prediction too (none is known since
 /// its (23) was mended for lights near the camera line, `docs/model.md`
@@ -151,7 +151,9 @@ impl From<OracleError> for PredictError {
 /// Cost: milliseconds for uncollided light in a release build; for single
 /// scattering ~1.5 s with q = 1 and N_B = 1 (isotropic medium, point
 /// lights; the small-sphere integrals of two spheres, weighed 0, are
-/// skipped) and ~10 s otherwise (`docs/library.md` gives the profile
+/// skipped), ~15 s with a beam (its single-scattered light is a 2-D
+/// quadrature at every table node, `docs/model.md` §9.8) and ~10 s
+/// otherwise (`docs/library.md` gives the profile
 /// settings a dependent crate needs for its debug tests).
 pub fn predict(scene: &Scene) -> Result<Prediction, PredictError> {
     predict_with(scene, Precision::F64, None)
@@ -182,8 +184,8 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
         PredictError::Unsupported(format!(
             "estimator.radius = {radius}: with scattered light (effects.scattering_orders ≥ 1) the prediction here \
              is the small-sphere model ({why}), whose own error is measured only for R ≤ {MODEL_ERROR_RADIUS}; use \
-             R ≤ {MODEL_ERROR_RADIUS}, or q = 1 and N_B = 1 with scattering_orders = 1 (isotropic medium, point \
-             lights: the finite-sphere model, exact at any R), or scattering_orders = 0"
+             R ≤ {MODEL_ERROR_RADIUS}, or q = 1 and N_B = 1 with scattering_orders = 1 (isotropic medium: the \
+             finite-sphere model, exact at any R), or scattering_orders = 0"
         ))
     };
     if scattered && radius > MODEL_ERROR_RADIUS && !oracle::finite_sphere_covers(&scene) {
@@ -230,7 +232,7 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
 const FINITE_BASIS: &str = "none needed: the finite-sphere model is exact at this R for uncollided light";
 
 const FINITE_ORDER1_BASIS: &str = "none needed: the finite-sphere model is exact at this R for uncollided and \
-     single-scattered light (isotropic medium, point lights, q = 1, N_B = 1; docs/model.md §9.6)";
+     single-scattered light (isotropic medium, q = 1, N_B = 1; docs/model.md §9.6, §9.8)";
 
 fn small_sphere_basis(radius: f64, (mean, variance): (f64, f64)) -> String {
     format!(

@@ -17,9 +17,12 @@
 //! camera ray enters and leaves the beam, which become breakpoints.
 //!
 //! Scattering order 1 of a point light is a smooth field
-//! ([`super::scattered`]); orders ≥ 2, and order 1 of a beam, are refused
-//! with a clear message that names the limit (the tracer can still run them).
+//! ([`super::scattered`]), of a beam in an isotropic medium a smooth fluence
+//! ([`super::beam_source`]); orders ≥ 2, and order 1 of a beam in a
+//! Henyey–Greenstein medium, are refused with a clear message that names the
+//! limit (the tracer can still run them).
 
+use super::beam_source::ScatteredBeam;
 use super::chebyshev::Piecewise;
 use super::scattered::Scattered;
 use super::OracleError;
@@ -81,6 +84,10 @@ pub struct Field<T> {
     pub components: Vec<Component<T>>,
     /// Single-scattered light of each point light (scattering order 1).
     pub scattered: Vec<Scattered<T>>,
+    /// Single-scattered light of each beam (scattering order 1, isotropic
+    /// media): its fluence only, which is all the single-sphere moments
+    /// need; the pair integrals (23)–(26) refuse it.
+    pub scattered_beams: Vec<ScatteredBeam<T>>,
     /// σ_ext, extinction coefficient (1/length).
     pub sigma_ext: T,
     /// σ_sc = albedo·σ_ext.
@@ -107,6 +114,9 @@ pub struct Field<T> {
     /// Interpolation tables of the scattered part of ⟨𝒞⟩ along the ray, one
     /// per (rule, tolerance), built on first use (`moments::scattered_mean_table`).
     pub tables: MeanTables<T>,
+    /// Tables of the beams' single-scattered fluence along the ray, likewise
+    /// (for M₂; `moments::beams_fluence_table`).
+    pub beam_tables: MeanTables<T>,
 }
 
 /// Shared, lazily built tables of the scattered mean contribution.
@@ -139,12 +149,16 @@ impl<T: Real> Field<T> {
                 )));
             }
         };
-        if orders >= 1 && scene.lights.iter().any(|l| matches!(l, Light::Beam { .. })) {
-            return Err(OracleError::Unsupported(
-                "effects.scattering_orders = 1 with a light of kind = \"beam\": the oracle's single-scattered field is \
-                 built for point lights only; use scattering_orders = 0 for beams (the tracer can run both)"
-                    .into(),
-            ));
+        if orders >= 1
+            && scene.medium.phase != Phase::Isotropic
+            && scene.lights.iter().any(|l| matches!(l, Light::Beam { .. }))
+        {
+            return Err(OracleError::Unsupported(format!(
+                "effects.scattering_orders = 1 with a light of kind = \"beam\" in medium.phase = {:?}: the oracle's \
+                 single-scattered light of a beam is built for isotropic media only; use medium.phase = \"isotropic\" \
+                 or scattering_orders = 0 (the tracer can run both)",
+                scene.medium.phase
+            )));
         }
         let u = scene.camera.direction;
         let o = scene.camera.origin;
@@ -206,9 +220,35 @@ impl<T: Real> Field<T> {
         } else {
             Vec::new()
         };
+        let scattered_beams = if orders >= 1 {
+            scene
+                .lights
+                .iter()
+                .filter_map(|light| match *light {
+                    Light::Beam { center, direction, radius, flux } => {
+                        let frame = BeamFrame::new(o, u, center, direction);
+                        Some(ScatteredBeam {
+                            radius: like.lit(radius),
+                            flux: like.lit(flux),
+                            mu: like.lit(frame.mu),
+                            sin: like.lit(frame.sin),
+                            xi0: like.lit(frame.xi0),
+                            eta0: like.lit(frame.eta0),
+                            depth0: like.lit(frame.depth0),
+                            shift: shift.clone(),
+                            center: x_origin.clone(),
+                        })
+                    }
+                    Light::Point { .. } => None,
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         Ok(Field {
             components,
             scattered,
+            scattered_beams,
             sigma_ext: like.lit(scene.medium.sigma_ext),
             sigma_sc: like.lit(scene.medium.sigma_sc()),
             albedo: like.lit(scene.medium.albedo),
@@ -217,13 +257,14 @@ impl<T: Real> Field<T> {
             shift,
             center: x_origin,
             tables: Arc::new(Mutex::new(HashMap::new())),
+            beam_tables: Arc::new(Mutex::new(HashMap::new())),
         })
     }
 
     /// Whether the field has smooth components (order 1), whose angular
     /// integrals make every sample along the ray an inner integral.
     pub fn is_smooth(&self) -> bool {
-        !self.scattered.is_empty()
+        !self.scattered.is_empty() || !self.scattered_beams.is_empty()
     }
 
     /// Whether any light reaches the camera ray itself (its line, s ≥ 0):
@@ -233,7 +274,7 @@ impl<T: Real> Field<T> {
     /// no light, though spheres of radius R grazing a beam may (finite-sphere
     /// model, the tracer).
     pub fn lights_the_camera_ray(&self) -> bool {
-        !self.scattered.is_empty()
+        self.is_smooth()
             || self.components.iter().any(|c| match &c.geometry {
                 Geometry::Point { .. } => true,
                 Geometry::Beam { s_in, s_out, .. } => s_out.as_ref() != Some(s_in),
@@ -417,8 +458,14 @@ fn ray_center(scene: &Scene) -> f64 {
 /// the ray.
 fn shortest_path(scene: &Scene) -> f64 {
     let (u, o) = (scene.camera.direction, scene.camera.origin);
+    let scattered = scene.effects.scattering_orders != ScatteringOrders::Limited(0);
     let paths = scene.lights.iter().filter_map(|light| match *light {
         Light::Point { position, .. } => Some((position - o).length()),
+        // Single-scattered light reaches every camera-ray point, along
+        // paths that can be shorter than the uncollided ones.
+        Light::Beam { center, direction, radius, .. } if scattered => {
+            Some(beam_scattered_path(o, center, direction, radius))
+        }
         Light::Beam { center, direction, radius, .. } => {
             let mu = u.dot(direction);
             let depth0 = (o - center).dot(direction);
@@ -435,6 +482,50 @@ fn shortest_path(scene: &Scene) -> f64 {
     } else {
         0.0
     }
+}
+
+/// The camera ray in a beam's frame (`docs/model.md` §9.3): e_n ∥ u × v_b,
+/// e_m = v_b × e_n; the camera origin at (ξ₀, η₀) across the beam and
+/// depth₀ past its disk, the ray at cos ϑ = μ = u·v_b, sin ϑ = |u × v_b|
+/// (for a ray along the beam, ξ₀ is the origin's distance from the axis).
+pub(crate) struct BeamFrame {
+    pub mu: f64,
+    pub sin: f64,
+    pub xi0: f64,
+    pub eta0: f64,
+    pub depth0: f64,
+}
+
+impl BeamFrame {
+    /// The frame of the beam (disk `center`, `direction`) for the camera
+    /// ray o + s u.
+    pub(crate) fn new(o: DVec3, u: DVec3, center: DVec3, direction: DVec3) -> BeamFrame {
+        let rel = o - center;
+        let n = u.cross(direction);
+        let sin = n.length();
+        let (xi0, eta0) = if sin > 0.0 {
+            let e_n = n / sin;
+            let e_m = direction.cross(e_n);
+            (rel.dot(e_m), rel.dot(e_n))
+        } else {
+            ((rel - direction * rel.dot(direction)).length(), 0.0)
+        };
+        BeamFrame { mu: u.dot(direction), sin, xi0, eta0, depth0: rel.dot(direction) }
+    }
+}
+
+/// A lower bound of t₁ + |x₁ − o| over the points x₁ of a beam's volume
+/// (depth t₁ ≥ 0 past its disk, within `radius` of its axis): the path
+/// light → first interaction → any camera-ray point → camera of its
+/// single-scattered light, by the triangle inequality. It is the larger of
+/// the camera's distance from that volume and its depth t_o when t_o ≥ 0
+/// (t₁ + |t₁ − t_o| ≥ t_o).
+pub(crate) fn beam_scattered_path(o: DVec3, center: DVec3, direction: DVec3, radius: f64) -> f64 {
+    let rel = o - center;
+    let depth = rel.dot(direction);
+    let across = ((rel - direction * depth).length() - radius).max(0.0);
+    let distance = if depth >= 0.0 { across } else { across.hypot(depth) };
+    distance.max(depth)
 }
 
 /// The interval of s ≥ 0 where the camera ray o + s u is inside the beam:

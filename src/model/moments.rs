@@ -86,6 +86,37 @@ pub fn smooth_part<T: CheckRule>(
     Ok(total)
 }
 
+/// Σ ∫L₁dω·e^{c₀} over the beams' single-scattered light at s = center + x
+/// (isotropic media, where every single-sphere g is a constant times it;
+/// zero without such light); `opts.abs_tol` is for the sum.
+fn beams_fluence<T: CheckRule>(field: &Field<T>, x: &T, opts: &Options) -> Outcome<T> {
+    let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, opts.rule);
+    let share = Options { abs_tol: opts.abs_tol / field.scattered_beams.len().max(1) as f64, ..opts.clone() };
+    for beam in &field.scattered_beams {
+        total = total.plus(beam.fluence(x, &field.sigma_ext, &field.albedo, &share)?);
+    }
+    Ok(total)
+}
+
+/// ∫ L₁ g dω at x for a g that is a function of f(−μ) only (`g_const`,
+/// its value in the isotropic medium that beams at order 1 need): the
+/// point lights' angular integrals plus the beams' fluence times g.
+fn single_sphere_part<T: CheckRule>(
+    field: &Field<T>,
+    x: &T,
+    g: &(dyn Fn(&Direction<T>, &Options) -> Outcome<T> + Sync),
+    g_const: T,
+    opts: &Options,
+) -> Outcome<T> {
+    let half = Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() };
+    let points = smooth_part(field, x, &phase_only(field), g, &half)?;
+    if field.scattered_beams.is_empty() {
+        return Ok(points);
+    }
+    let o = Options { abs_tol: (half.abs_tol / g_const.to_f64()).min(f64::MAX), ..opts.clone() };
+    Ok(points.plus(beams_fluence(field, x, &o)?.scaled(&g_const)))
+}
+
 /// Features of a g that is a power of f(−μ) only.
 fn phase_only<T: Real>(field: &Field<T>) -> Features<T> {
     let (plus, minus) = phase_poles(field);
@@ -106,7 +137,7 @@ pub fn mean_contribution_estimate<T: CheckRule>(field: &Field<T>, x: &T, opts: &
     let g = |d: &Direction<T>, o: &Options| Ok(Estimate::known(field.phase_at(&d.mu), d.mu.lit(0.0), 1, o.rule));
     let albedo = field.albedo.clone();
     let o = Options { abs_tol: opts.abs_tol / albedo.to_f64(), ..opts.clone() };
-    let e = smooth_part(field, x, &phase_only(field), &g, &o)?;
+    let e = single_sphere_part(field, x, &g, field.phase_at(&x.lit(0.0)), &o)?;
     Ok(Estimate::known(direct + albedo.clone() * e.value, albedo * e.error, e.evaluations + 1, opts.rule))
 }
 
@@ -123,7 +154,15 @@ pub fn second_moment_estimate<T: CheckRule>(field: &Field<T>, x: &T, r: &T, opts
         field.albedo.clone() * field.albedo.clone() * field.total_flux.clone() / (x.pi() * r.clone() * r.clone());
     let o = Options { abs_tol: opts.abs_tol / front.to_f64(), ..opts.clone() };
     let e = smooth_part(field, x, &phase_only(field), &g, &o)?;
-    Ok(Estimate::known(direct + front.clone() * e.value, front * e.error, e.evaluations + 1, opts.rule))
+    let mut total =
+        Estimate::known(direct + front.clone() * e.value, front.clone() * e.error, e.evaluations + 1, opts.rule);
+    if !field.scattered_beams.is_empty() {
+        // Isotropic (Field refuses beams at order 1 otherwise): f² times the fluence.
+        let f = field.phase_at(&x.lit(0.0));
+        // The inner level's tolerance: the mean's and P's table key in the same pass.
+        total = total.plus(beams_fluence_tabled(field, x, opts.rel_tol, opts)?.scaled(&(front * f.clone() * f)));
+    }
+    Ok(total)
 }
 
 /// The scattered part of ⟨𝒞⟩ along the camera ray as a piecewise Chebyshev
@@ -140,8 +179,43 @@ pub fn scattered_mean_table<T: CheckRule>(
     rel_tol: f64,
     budget: &crate::quad::Budget,
 ) -> Result<Arc<Piecewise<T>>, Failure<T>> {
+    along_ray_table(field, &field.tables, |x, o| scattered_mean(field, x, o), &[], rule, rel_tol, budget)
+}
+
+/// The beams' single-scattered fluence Σ ∫L₁dω·e^{c₀} along the camera ray
+/// as the same kind of table as [`scattered_mean_table`], for the M₂ of a
+/// beam's order-1 scene (each value a 2-D quadrature, `beam_source`).
+fn beams_fluence_table<T: CheckRule>(
+    field: &Field<T>,
+    rule: Rule,
+    rel_tol: f64,
+    budget: &crate::quad::Budget,
+) -> Result<Arc<Piecewise<T>>, Failure<T>> {
+    // The fluence bends like δ ln δ where the ray crosses a beam's surface:
+    // pieces graded by decades towards it, so that each sees the
+    // singularity a decade off.
+    let lo = field.x_camera();
+    let kinks: Vec<T> = field.scattered_beams.iter().flat_map(|b| b.surface_crossings()).collect();
+    let grading: Vec<T> = kinks
+        .iter()
+        .flat_map(|k| super::field::graded_by(k, &(lo.lit(1e-10) / field.sigma_ext.clone()), &lo.lit(1.0), 10.0, 24))
+        .collect();
+    along_ray_table(field, &field.beam_tables, |x, o| beams_fluence(field, x, o), &grading, rule, rel_tol, budget)
+}
+
+/// A table of f along the camera ray in `store`, built once per (rule,
+/// tolerance) ([`scattered_mean_table`]).
+fn along_ray_table<T: CheckRule>(
+    field: &Field<T>,
+    store: &super::field::MeanTables<T>,
+    f: impl Fn(&T, &Options) -> Outcome<T>,
+    grading: &[T],
+    rule: Rule,
+    rel_tol: f64,
+    budget: &crate::quad::Budget,
+) -> Result<Arc<Piecewise<T>>, Failure<T>> {
     let key = (rule, rel_tol.to_bits());
-    if let Some(t) = field.tables.lock().expect("no panic while holding the tables").get(&key) {
+    if let Some(t) = store.lock().expect("no panic while holding the tables").get(&key) {
         return Ok(t.clone());
     }
     let (lo, end) = table_range(field);
@@ -152,12 +226,13 @@ pub fn scattered_mean_table<T: CheckRule>(
     for k in decay_lengths(&lo) {
         cuts.push(last.clone() + lo.lit(k) / field.sigma_ext.clone());
     }
+    cuts.extend(grading.iter().filter(|c| **c > lo && **c < end).cloned());
     cuts.push(lo.clone());
     cuts.push(end);
     let opts = sample_options(&lo, rel_tol, rule, budget);
-    let table = Piecewise::build(|x: &T| scattered_mean(field, x, &opts), &cuts, rel_tol / 4.0)?;
+    let table = Piecewise::build(|x: &T| f(x, &opts), &cuts, rel_tol / 4.0)?;
     let table = Arc::new(table);
-    field.tables.lock().expect("no panic while holding the tables").insert(key, table.clone());
+    store.lock().expect("no panic while holding the tables").insert(key, table.clone());
     Ok(table)
 }
 
@@ -173,7 +248,8 @@ fn table_range<T: Real>(field: &Field<T>) -> (T, T) {
     (lo, end)
 }
 
-/// albedo ∫ f(−μ) L₁ dω at x: the scattered part of ⟨𝒞⟩ (no table).
+/// albedo ∫ f(−μ) L₁ dω at x: the point lights' scattered part of ⟨𝒞⟩
+/// (no table; the beams' is [`beams_fluence_tabled`]).
 fn scattered_mean<T: CheckRule>(field: &Field<T>, x: &T, opts: &Options) -> Outcome<T> {
     let g = |d: &Direction<T>, o: &Options| Ok(Estimate::known(field.phase_at(&d.mu), d.mu.lit(0.0), 1, o.rule));
     let e = smooth_part(field, x, &phase_only(field), &g, opts)?;
@@ -186,27 +262,67 @@ fn scattered_mean<T: CheckRule>(field: &Field<T>, x: &T, opts: &Options) -> Outc
 /// relative error times the scattered part).
 pub fn mean_contribution_tabled<T: CheckRule>(field: &Field<T>, x: &T, table_tol: f64, opts: &Options) -> Outcome<T> {
     let direct = mean_contribution(field, x);
+    let mut total = Estimate::known(direct, x.lit(0.0), 1, opts.rule);
+    if !field.scattered.is_empty() {
+        total = total.plus(points_mean_tabled(field, x, table_tol, opts)?);
+    }
+    if !field.scattered_beams.is_empty() {
+        // Isotropic (Field refuses beams at order 1 otherwise): albedo f times the fluence.
+        let front = field.albedo.clone() * field.phase_at(&x.lit(0.0));
+        total = total.plus(beams_fluence_tabled(field, x, table_tol, opts)?.scaled(&front));
+    }
+    Ok(total)
+}
+
+/// The point lights' part of the scattered ⟨𝒞⟩ at x from the table of the
+/// pass ([`mean_contribution_tabled`]).
+fn points_mean_tabled<T: CheckRule>(field: &Field<T>, x: &T, table_tol: f64, opts: &Options) -> Outcome<T> {
     let (lo, end) = table_range(field);
     if *x > end {
         // Far out, only the bound: the value is B/2 ± B/2.
         let half = scattered_mean_bound(field, x) / x.lit(2.0);
-        return Ok(Estimate::known(direct + half.clone(), half, 1, opts.rule));
+        return Ok(Estimate::known(half.clone(), half, 1, opts.rule));
     }
     if *x < lo {
-        let e = scattered_mean(field, x, &Options { abs_tol: 0.0, ..opts.clone() })?;
-        return Ok(Estimate::known(direct + e.value, e.error, e.evaluations + 1, opts.rule));
+        return scattered_mean(field, x, &Options { abs_tol: 0.0, ..opts.clone() });
     }
     let table = scattered_mean_table(field, opts.rule, table_tol, &opts.budget)?;
     let c1 = table.eval(x);
     let error = c1.abs() * table.rel_error.clone();
-    Ok(Estimate::known(direct + c1, error, 1, opts.rule))
+    Ok(Estimate::known(c1, error, 1, opts.rule))
+}
+
+/// Σ of the beams' fluence ∫L₁dω·e^{c₀} at x from the table of the pass
+/// (`opts` gives its rule, `table_tol` its tolerance: the mean, M₂ and P
+/// of one computation share it), the table's relative error in the bar;
+/// beyond the table's range B/2 ± B/2 of the bound B
+/// ([`super::beam_source::ScatteredBeam::fluence_bound`]).
+fn beams_fluence_tabled<T: CheckRule>(field: &Field<T>, x: &T, table_tol: f64, opts: &Options) -> Outcome<T> {
+    let (lo, end) = table_range(field);
+    if *x > end {
+        // Far out, only the bound: the value is B/2 ± B/2.
+        let mut bound = x.lit(0.0);
+        for beam in &field.scattered_beams {
+            bound = bound + beam.fluence_bound(x, &field.sigma_ext, &field.albedo);
+        }
+        let half = bound / x.lit(2.0);
+        return Ok(Estimate::known(half.clone(), half, 1, opts.rule));
+    }
+    if *x < lo {
+        return beams_fluence(field, x, &Options { abs_tol: 0.0, ..opts.clone() });
+    }
+    let table = beams_fluence_table(field, opts.rule, table_tol, &opts.budget)?;
+    let v = table.eval(x);
+    let error = v.abs() * table.rel_error.clone();
+    Ok(Estimate::known(v, error, 1, opts.rule))
 }
 
 /// An upper bound of the scattered part of ⟨𝒞⟩ at x: every single-scattered
 /// path from the light to x is at least r long (triangle inequality), so
 /// the single-scattered fluence is at most e^{−σr} times its value without
 /// attenuation, σ_sc Φ π/(16 r) (∫ d³y/(|y|²|y − x|²) = π³/r), and
-/// ⟨𝒞⟩₁ = albedo ∫ f L₁ dω ≤ albedo·max f·σ_sc Φ π e^{c₀ − σr}/(16 r).
+/// ⟨𝒞⟩₁ = albedo ∫ f L₁ dω ≤ albedo·max f·σ_sc Φ π e^{c₀ − σr}/(16 r)
+/// (point lights; a beam's, [`super::beam_source::ScatteredBeam::fluence_bound`]).
 pub fn scattered_mean_bound<T: Real>(field: &Field<T>, x: &T) -> T {
     let f_max = field.phase_at(&x.lit(1.0)).max_of(field.phase_at(&x.lit(-1.0)));
     let mut sum = x.lit(0.0);
@@ -230,6 +346,9 @@ pub fn ray_domain<T: Real>(field: &Field<T>, lo: &T, hi: Option<&T>) -> Domain<T
     }
     for sc in &field.scattered {
         d = d.with_breakpoints(sc.ray_breakpoints());
+    }
+    for beam in &field.scattered_beams {
+        d = d.with_breakpoints(beam.ray_breakpoints());
     }
     d
 }

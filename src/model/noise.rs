@@ -132,9 +132,18 @@ impl<T: CheckRule> Integrals<T> {
     }
 }
 
+/// Why the small-sphere pair integrals refuse a beam's single-scattered
+/// light ([`super::field::Field::scattered_beams`]).
+pub const BEAM_PAIRS_NOT_DERIVED: &str = "the small-sphere pair integrals Q, (23), (24) and their R → 0 forms are not \
+     derived for a beam's single-scattered light (its fluence serves the single-sphere moments only); with a beam at \
+     scattering_orders = 1 the oracle covers q = 1 and N_B = 1, where (7)–(9) weigh them 0";
+
 impl<T: CheckRule> PairIntegrals<T> {
     /// Q, (23), (24), (25) and (26) side by side.
     fn compute(field: &Field<T>, r: &T, o: &Options) -> Result<PairIntegrals<T>, OracleError> {
+        if !field.scattered_beams.is_empty() {
+            return Err(OracleError::Unsupported(BEAM_PAIRS_NOT_DERIVED.into()));
+        }
         let (((c23, c24), (c23_asym, c24_asym)), q) = rayon::join(
             || {
                 rayon::join(

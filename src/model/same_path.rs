@@ -95,7 +95,7 @@ fn scattering_phase<T: Real>(g: f64, one_plus: &T, one_minus: &T) -> T {
 /// Small-sphere limit, as (20): first order in R against it.
 pub fn second_moment_term<T: CheckRule>(field: &Field<T>, x: &T, r: &T, opts: &Options) -> Outcome<T> {
     let zero = x.lit(0.0);
-    if field.scattered.is_empty() {
+    if !field.is_smooth() {
         return Ok(Estimate::known(zero.clone(), zero, 0, opts.rule));
     }
     let a = field.albedo.clone();

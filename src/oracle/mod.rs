@@ -14,6 +14,7 @@ use crate::model::field::{beam_interval, Field};
 use crate::model::finite::{FiniteField, FiniteIntegrals, Functional};
 use crate::model::noise::{
     d_constants, d_errors, relative_from_d, relative_from_d_error, variance, Counts, Integrals, Valued,
+    BEAM_PAIRS_NOT_DERIVED,
 };
 use crate::model::OracleError;
 use crate::quad::{Budget, CheckRule, Estimate, Options};
@@ -180,7 +181,17 @@ pub fn run_with_scoped<T: CheckRule>(
     }
     let scattered_field = scattered_mean_field(scene, &field);
     let unpaired = scattered_field.is_some() && pairs_weigh_nothing(scene);
-    let small_unpaired = scope == Scope::Prediction && pairs_weigh_nothing(scene);
+    // A beam's single-scattered light has no small-sphere pair integrals:
+    // covered only where (7)–(9) weigh them 0.
+    let beam_scattered = !field.scattered_beams.is_empty();
+    if beam_scattered && !pairs_weigh_nothing(scene) {
+        return Err(OracleError::Unsupported(format!(
+            "{BEAM_PAIRS_NOT_DERIVED} (here estimator.q = {}, estimator.camera_rays = {}; allowed with a beam at \
+             order 1: q = 1 and camera_rays = 1)",
+            scene.estimator.q, scene.estimator.camera_rays
+        )));
+    }
+    let small_unpaired = (scope == Scope::Prediction || beam_scattered) && pairs_weigh_nothing(scene);
     let ((ints, finite), scattered) = rayon::join(
         || {
             rayon::join(
@@ -325,7 +336,9 @@ pub fn run_with_scoped<T: CheckRule>(
         finite_error,
         integral_p: scaled(&ints.p, &k),
         integral_q: pairs.map(|p| scaled(&p.q, &k)),
-        pairs_not_computed: pairs.is_none().then(|| SMALL_SPHERE_PAIRS_NOT_NEEDED.to_string()),
+        pairs_not_computed: pairs.is_none().then(|| {
+            if scope == Scope::Prediction { SMALL_SPHERE_PAIRS_NOT_NEEDED } else { BEAM_PAIRS_NOT_DERIVED }.to_string()
+        }),
         attenuation_shift: field.shift.to_f64(),
         d: d.map(|d| d.map(|v| v.to_f64())),
         d_error: d_error_reported,
@@ -500,16 +513,16 @@ pub fn run_within_scoped(
 }
 
 /// The finite-sphere field of an order-1 scene whose exact mean the model
-/// covers (isotropic medium, point lights; `model::finite::scattered`), or
-/// `None`.
+/// covers (isotropic medium; `model::finite::scattered`,
+/// `model::finite::scattered_beam`), or `None`.
 fn scattered_mean_field<T: CheckRule>(scene: &Scene, field: &Field<T>) -> Option<FiniteField<T>> {
     scattered_covered(scene).then(|| FiniteField::of_first_segments(scene, field))
 }
 
 /// Whether the oracle's prediction for `scene` is the finite-sphere model
 /// (exact at the scene's R; when its computation succeeds): uncollided
-/// light, and single-scattered light in an isotropic medium from point
-/// lights with q = 1 and N_B = 1.
+/// light, and single-scattered light in an isotropic medium (point lights
+/// and beams) with q = 1 and N_B = 1.
 ///
 /// ```
 /// use mcrt_noise::{oracle::finite_sphere_covers, Scene};
@@ -536,12 +549,11 @@ pub fn finite_sphere_covers(scene: &Scene) -> bool {
     }
 }
 
-/// An order-1 scene whose medium and lights the finite-sphere model of
-/// single scattering covers: isotropic, point lights.
+/// An order-1 scene whose medium the finite-sphere model of single
+/// scattering covers: isotropic (point lights and beams).
 fn scattered_covered(scene: &Scene) -> bool {
     scene.effects.scattering_orders == mcrt_scene::ScatteringOrders::Limited(1)
         && scene.medium.phase == mcrt_scene::Phase::Isotropic
-        && scene.lights.iter().all(|l| matches!(l, mcrt_scene::Light::Point { .. }))
 }
 
 /// Whether (7)–(9) weigh Q, C₂₃ and C₂₄ 0: q = 1 (one sphere per camera
@@ -603,9 +615,7 @@ fn finite_not_used<T>(scene: &Scene, run: &Result<Option<OrderOne<T>>, OracleErr
              (docs/model.md §9.7) and are not in the oracle yet; its exact mean is `finite_mean`",
             e.q, e.camera_rays
         )),
-        Ok(None) => Some(
-            "the finite-sphere model of single-scattered light covers isotropic media with point lights only".into(),
-        ),
+        Ok(None) => Some("the finite-sphere model of single-scattered light covers isotropic media only".into()),
     }
 }
 

@@ -154,8 +154,8 @@ pub struct FiniteMean {
 #[derive(Debug, Clone, Serialize)]
 pub struct ReportPrediction {
     /// `"finite-sphere"` (exact at the scene's R: uncollided light, and
-    /// single-scattered light with q = 1, N_B = 1 in isotropic media from
-    /// point lights) or `"small-sphere"` (§4.3, exact as R → 0; the other
+    /// single-scattered light with q = 1, N_B = 1 in isotropic media) or
+    /// `"small-sphere"` (§4.3, exact as R → 0; the other
     /// scenes with scattered light).
     pub model: &'static str,
     /// ⟨⟨L⟩⟩ with its quadrature bar.
@@ -170,7 +170,7 @@ pub struct ReportPrediction {
 
 /// The note of a small-sphere prediction: its own error is not in the bars.
 pub const SMALL_SPHERE_NOTE: &str = "exact only as R → 0; the bars are the quadrature's and do not include the \
-     model's own error at this R (the finite-sphere model covers uncollided light; in isotropic media with point lights \
+     model's own error at this R (the finite-sphere model covers uncollided light; in isotropic media \
      it covers single-scattered light at q = 1 and N_B = 1, and of other order-1 scenes it gives the mean, \
      `finite_mean`); measured with the tracer on \
      point-isotropic-order1 at R = 0.1: Var L 4.7 % off, falling like R ln(1/R) (tests/tracer_vs_oracle.rs); its \
@@ -182,7 +182,7 @@ pub const FINITE_NOTE: &str = "exact at this R for uncollided light; the bars ar
 
 /// The note of a finite-sphere prediction with single-scattered light.
 pub const FINITE_ORDER1_NOTE: &str = "exact at this R for uncollided and single-scattered light (isotropic medium, \
-     point lights, q = 1, N_B = 1); the bars are the quadrature's (the model approximates nothing)";
+     q = 1, N_B = 1); the bars are the quadrature's (the model approximates nothing)";
 
 /// Everything the oracle says about one scene.
 #[derive(Debug, Clone, Serialize)]
@@ -222,8 +222,8 @@ pub struct Report {
     /// scattered light only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub integral_m2_same_path: Option<Integral>,
-    /// The exact mean at R of an order-1 scene (isotropic medium, point
-    /// lights; `docs/model.md` §9.5) whose Var L is still the small-sphere
+    /// The exact mean at R of an order-1 scene (isotropic medium;
+    /// `docs/model.md` §9.5) whose Var L is still the small-sphere
     /// model's (q < 1 or N_B > 1; with q = 1 and N_B = 1 [`Report::finite`]
     /// has the whole order-1 model).
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -38,6 +38,52 @@ pub fn disc_overlap<T: Real>(r1: &T, r2: &T, dist: &T) -> T {
     segment(r1, &h1) + segment(r2, &h2)
 }
 
+/// The angle Θ ∈ [0, 2π] of the circle of radius ρ about a point `dist`
+/// from the centre of a disc of radius a that lies inside that disc:
+/// ρΘ(ρ) dρ is the disc's area between the circles of radii ρ and ρ + dρ
+/// (so ∫₀^R ρΘ dρ = [`disc_overlap`](R, a, dist)). Domain: ρ ≥ 0, a > 0,
+/// dist ≥ 0 (NaN otherwise).
+///
+/// Θ = 2π where the circle lies inside (ρ + dist ≤ a), 0 where it lies
+/// outside or encloses the disc, else 2α with cos α = (ρ² + dist² − a²)/(2ρ·dist),
+/// formed as α = 2 atan(√((1 − cos α)/(1 + cos α))) from the products
+/// (a − ρ + dist)(a + ρ − dist) and (ρ + dist − a)(ρ + dist + a), so that the
+/// √-kinks at ρ = |a − dist| and a + dist keep their relative accuracy.
+pub fn arc_in_disc<T: Real>(rho: &T, a: &T, dist: &T) -> T {
+    // ρ − (a − dist) or ρ − (dist − a).
+    let to_near = if a >= dist { sum_less(rho, dist, a) } else { sum_less(rho, a, dist) };
+    arc_in_disc_gaps(rho, a, dist, &to_near, &sum_less(a, dist, rho))
+}
+
+/// [`arc_in_disc`] with the circle's distances to its kinks given:
+/// `to_near` = ρ − |a − dist| and `to_far` = a + dist − ρ, formed by a
+/// caller that knows them better than ρ's rounding (the shells of
+/// `model::beam_source`, where ρ = d√(1 − c²) is itself rounded). Domain as
+/// [`arc_in_disc`].
+pub fn arc_in_disc_gaps<T: Real>(rho: &T, a: &T, dist: &T, to_near: &T, to_far: &T) -> T {
+    let zero = rho.lit(0.0);
+    if !(rho.clone() >= zero && a.clone() > zero && dist.clone() >= zero) {
+        return rho.lit(f64::NAN);
+    }
+    // The factors of 1 ∓ cos α: a + dist − ρ, a + ρ − dist, ρ + dist − a;
+    // the second or the third is ρ − |a − dist|, the other ρ + |a − dist|.
+    let near = (a.clone() - dist.clone()).abs();
+    let (f2, f3) =
+        if dist >= a { (to_near.clone(), rho.clone() + near) } else { (rho.clone() + near, to_near.clone()) };
+    if f3 <= zero {
+        return rho.lit(2.0) * rho.pi();
+    }
+    let inner = to_far.clone() * f2;
+    if !(inner > zero) {
+        return zero;
+    }
+    let outer = f3 * (rho.clone() + dist.clone() + a.clone());
+    let (y, x) = (inner.sqrt(), outer.sqrt());
+    // atan2(y, x) for x, y > 0, through the smaller ratio.
+    let half = if y <= x { (y / x).atan() } else { rho.pi() / rho.lit(2.0) - (x / y).atan() };
+    rho.lit(4.0) * half
+}
+
 /// a + b − c for a, b, c > 0, subtracting c from whichever of a, b is
 /// nearer to it first (exact by Sterbenz when they are close): the heights
 /// of the segments cancel there (equal radii at small D; a small disc at the

@@ -12,6 +12,7 @@
 //! | [`complete_elliptic_e`] | E(m) = ∫₀^{π/2} √(1 − m sin²θ) dθ, from k′ = √(1 − m) | finite spheres (HG azimuth) |
 //! | [`hg_ring`] | ∫₀^{2π} f(cos)^k dχ of Henyey–Greenstein f on a circle of directions | finite spheres (HG caps), same-path kernel |
 //! | [`disc_overlap`] | area common to two discs | finite spheres (beams) |
+//! | [`arc_in_disc`] | angle of a circle inside a disc | finite spheres (beams, single scattering) |
 //! | [`exp_segment`] | ∫₀^L e^{−rx} dx | finite spheres (per-ray functionals) |
 //! | [`exp_triangle`] | ∫∫_{0<x<x′<L} e^{−(r₂−r₁)x − r₁x′} dx dx′ | finite spheres (per-ray functionals) |
 //!
@@ -29,6 +30,6 @@ pub use elliptic::complete_elliptic_e;
 pub use expint::{exp_int_e1, exp_int_e1_scaled, exp_int_tail2};
 pub use exponential::{exp_segment, exp_triangle};
 pub use hg_ring::hg_ring;
-pub use lens::disc_overlap;
+pub use lens::{arc_in_disc, arc_in_disc_gaps, disc_overlap};
 pub(crate) use overlap::laplace_sum;
 pub use overlap::{overlap_a, overlap_a_gap, overlap_a_integral, overlap_a_laplace, overlap_a_moment};

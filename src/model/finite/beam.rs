@@ -244,7 +244,7 @@ impl<T: CheckRule> BeamLight<T> {
 
     /// The projection distance D(s) = |P(s)| of the sphere at s from the
     /// beam's axis.
-    fn axis_distance(&self, s: &T) -> T {
+    pub(super) fn axis_distance(&self, s: &T) -> T {
         let x = self.xi0.clone() + s.clone() * self.dir.sin.clone();
         (x.clone() * x + self.eta0.clone() * self.eta0.clone()).sqrt()
     }

@@ -32,6 +32,7 @@ pub mod order1;
 pub mod point;
 pub mod ray;
 pub mod scattered;
+mod scattered_beam;
 mod scattered_table;
 mod second_hit;
 mod tables;
@@ -39,7 +40,7 @@ pub mod virtual_lights;
 
 use super::along::{lowest_quadratic_path, pair_scale_exponent, MeanSource, RayLine};
 use super::angular::Direction;
-use super::field::{beam_interval, Field};
+use super::field::{beam_interval, beam_scattered_path, BeamFrame, Field};
 use super::OracleError;
 use crate::quad::{decay_lengths, CheckRule, Domain, Estimate, Options, Outcome, Rule};
 use crate::real::Real;
@@ -85,6 +86,9 @@ pub struct FiniteField<T> {
     pub shift: T,
     /// Origin of the along-ray variable, s = center + x (as [`Field::center`]).
     pub center: T,
+    /// Whether the scene's forward paths scatter (orders ≥ 1): the
+    /// along-ray domain then declares where single-scattered light bends.
+    scattered: bool,
     tables: tables::Tables<T>,
     /// The along-ray range of the tables ([`FiniteField::table_range`]).
     range: (T, T),
@@ -140,22 +144,13 @@ impl<T: CheckRule> FiniteField<T> {
                     FiniteLight::Point(PointLight::new(z, b, like.lit(flux), &radius))
                 }
                 Light::Beam { center, direction, radius: a, flux } => {
-                    let rel = o - center;
-                    let n = u.cross(direction);
-                    let sin = n.length();
-                    let (xi0, eta0) = if sin > 0.0 {
-                        let e_n = n / sin;
-                        let e_m = direction.cross(e_n);
-                        (rel.dot(e_m), rel.dot(e_n))
-                    } else {
-                        ((rel - direction * rel.dot(direction)).length(), 0.0)
-                    };
+                    let frame = BeamFrame::new(o, u, center, direction);
                     FiniteLight::Beam(BeamLight::new(
-                        like.lit(u.dot(direction)),
-                        like.lit(sin),
-                        like.lit(xi0),
-                        like.lit(eta0),
-                        like.lit(rel.dot(direction)),
+                        like.lit(frame.mu),
+                        like.lit(frame.sin),
+                        like.lit(frame.xi0),
+                        like.lit(frame.eta0),
+                        like.lit(frame.depth0),
                         like.lit(a),
                         like.lit(flux),
                     ))
@@ -172,6 +167,7 @@ impl<T: CheckRule> FiniteField<T> {
             radius,
             shift: like.lit(sigma * shortest_path(scene, o, u, r)),
             center: field.center.clone(),
+            scattered: scene.effects.scattering_orders != ScatteringOrders::Limited(0),
             tables: tables::Tables::default(),
             range: (like.lit(0.0), like.lit(0.0)),
         };
@@ -298,13 +294,16 @@ impl<T: CheckRule> FiniteField<T> {
                 FiniteLight::Point(p) => p.ray_breakpoints(self),
                 FiniteLight::Beam(b) => b.ray_breakpoints(self),
             });
+            if let (true, FiniteLight::Beam(b)) = (self.scattered, light) {
+                d = d.with_breakpoints(b.scattered_breakpoints(self));
+            }
         }
         d
     }
 
     /// [x_camera, last breakpoint + 4^K/σ]: where along-ray tables are used
     /// (the last of the engine's cuts of a decaying tail).
-    fn table_range(&self) -> (T, T) {
+    pub(super) fn table_range(&self) -> (T, T) {
         self.range.clone()
     }
 
@@ -413,8 +412,14 @@ impl<T: Real> FiniteIntegrals<T> {
 /// c₀/σ: a lower bound of every light → sphere → camera path (see
 /// [`FiniteField::shift`]), 0 when no light can reach.
 fn shortest_path(scene: &Scene, o: DVec3, u: DVec3, r: f64) -> f64 {
+    let scattered = scene.effects.scattering_orders != ScatteringOrders::Limited(0);
     let paths = scene.lights.iter().filter_map(|light| match *light {
         Light::Point { position, .. } => Some(((position - o).length() - r).max(0.0)),
+        // Single-scattered light: the path to the second segment's closest
+        // point is at least R shorter than to the sphere's centre.
+        Light::Beam { center, direction, radius, .. } if scattered => {
+            Some((beam_scattered_path(o, center, direction, radius) - r).max(0.0))
+        }
         Light::Beam { center, direction, radius, .. } => {
             let mu = u.dot(direction);
             let depth0 = (o - center).dot(direction);

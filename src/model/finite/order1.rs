@@ -108,11 +108,26 @@ impl<T: CheckRule> PointLight<T> {
 }
 
 impl<T: CheckRule> FiniteField<T> {
-    /// Refuses what the order-1 variance does not cover yet.
+    /// Refuses what the order-1 moments do not cover yet.
     pub(super) fn order1_covered(&self) -> Result<(), OracleError> {
-        if self.phase != Phase::Isotropic || self.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
+        if self.phase != Phase::Isotropic {
             return Err(OracleError::Unsupported(
-                "the finite-sphere model of single-scattered light covers isotropic media with point lights".into(),
+                "the finite-sphere model of single-scattered light covers isotropic media (medium.phase = \"isotropic\")"
+                    .into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Refuses what the order-1 correlations of two spheres do not cover
+    /// yet: beams (§9.7 is derived for point lights).
+    fn order1_pairs_covered(&self) -> Result<(), OracleError> {
+        self.order1_covered()?;
+        if self.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
+            return Err(OracleError::Unsupported(
+                "the finite-sphere correlations of two spheres (C₂₃, C₂₄) with single-scattered light cover point \
+                 lights only; a scene with a beam is covered at q = 1 and N_B = 1, where they weigh nothing"
+                    .into(),
             ));
         }
         Ok(())
@@ -128,11 +143,11 @@ impl<T: CheckRule> FiniteField<T> {
         opts: &Options,
         each: impl Fn(&PointLight<T>, &Options) -> Outcome<T>,
     ) -> Result<Estimate<T>, OracleError> {
-        self.order1_covered()?;
+        self.order1_pairs_covered()?;
         let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, ..opts.clone() };
         let mut total: Option<Estimate<T>> = None;
         for light in &self.lights {
-            let FiniteLight::Point(p) = light else { unreachable!("order1_covered refuses beams") };
+            let FiniteLight::Point(p) = light else { unreachable!("order1_pairs_covered refuses beams") };
             let e = each(p, &share).map_err(OracleError::quad(what))?;
             total = Some(match total {
                 None => e,
@@ -147,12 +162,15 @@ impl<T: CheckRule> FiniteField<T> {
     /// at s = center + x, for P and Q.
     pub(super) fn order1_mean_with_bar(&self, x: &T, tables: &ScatteredTables<T>, opts: &Options) -> Outcome<T> {
         let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, ..opts.clone() };
-        self.sum_over_lights(x, opts, |_, light| match light {
+        self.sum_over_lights(x, opts, |i, light| match light {
             FiniteLight::Point(p) => {
                 let e = p.scattered_moment(self, tables, x, 1, &share)?;
                 Ok(Estimate::known(e.value + p.moment_isotropic(self, x, 1), e.error, e.evaluations, opts.rule))
             }
-            FiniteLight::Beam(_) => unreachable!("order1_covered refuses beams"),
+            FiniteLight::Beam(b) => {
+                let e = b.scattered_moment(self, tables, i, x, 1, &share)?;
+                Ok(Estimate::known(e.value + b.moment(self, x, 1), e.error, e.evaluations, opts.rule))
+            }
         })
     }
 
@@ -167,14 +185,19 @@ impl<T: CheckRule> FiniteField<T> {
     ) -> Outcome<T> {
         let share = Options { abs_tol: opts.abs_tol / (2.0 * self.lights.len() as f64), ..opts.clone() };
         let table = second_hit.for_pass(&self.sigma, &self.radius, opts);
-        self.sum_over_lights(x, opts, |_, light| match light {
+        self.sum_over_lights(x, opts, |i, light| match light {
             FiniteLight::Point(p) => {
                 let own = p.scattered_moment(self, scattered, x, 2, &share)?;
                 let half = Options { abs_tol: share.abs_tol / 2.0, ..share.clone() };
                 let both = p.same_path_moment(self, x, table.as_deref(), &half)?;
                 Ok(own.plus(both.scaled(&x.lit(2.0))))
             }
-            FiniteLight::Beam(_) => unreachable!("order1_covered refuses beams"),
+            FiniteLight::Beam(b) => {
+                let own = b.scattered_moment(self, scattered, i, x, 2, &share)?;
+                let half = Options { abs_tol: share.abs_tol / 2.0, ..share.clone() };
+                let both = b.same_path_moment(self, x, table.as_deref(), &half)?;
+                Ok(own.plus(both.scaled(&x.lit(2.0))))
+            }
         })
     }
 
@@ -296,7 +319,7 @@ impl<T: CheckRule> FiniteField<T> {
     /// Every integral of the order-1 model (uncollided plus single-scattered
     /// light; isotropic media, point lights), each times e^{c₀}.
     pub fn order1_integrals(&self, opts: &Options) -> Result<FiniteIntegrals<T>, OracleError> {
-        self.order1_covered()?;
+        self.order1_pairs_covered()?;
         // Each integral is a sum of two parts: half the absolute goal each.
         let o = &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() }.declared();
         // One set of I(D) tables for μ, M₂, P and Q, charged to μ.

@@ -176,9 +176,9 @@ impl<T: CheckRule> FiniteField<T> {
         self.with_line(|line| {
             line.integral_nested("finite-sphere ∫⟨𝒞⟩₁, single-scattered", opts, |x, o| {
                 let share = Options { abs_tol: o.abs_tol / self.lights.len() as f64, ..o.clone() };
-                self.sum_over_lights(x, o, |_, light| match light {
+                self.sum_over_lights(x, o, |i, light| match light {
                     FiniteLight::Point(p) => p.scattered_moment(self, tables, x, 1, &share),
-                    FiniteLight::Beam(_) => unreachable!("order1_covered refuses beams"),
+                    FiniteLight::Beam(b) => b.scattered_moment(self, tables, i, x, 1, &share),
                 })
             })
         })

@@ -23,10 +23,11 @@
 //! the table's lower end and beyond its upper one, the quadrature serves.
 
 use super::scattered::hits_over_distance;
+use super::scattered_beam::BeamAlongRay;
 use super::{FiniteField, FiniteLight, OncePerPass};
 use crate::model::chebyshev::{sample_options, Piecewise};
 use crate::model::field::{graded_about, graded_by};
-use crate::quad::{CheckRule, Options};
+use crate::quad::{CheckRule, Estimate, Options};
 use std::sync::Arc;
 
 /// Half-width of the window about D = R left to the quadrature, relative to R.
@@ -111,18 +112,39 @@ impl<T: CheckRule> ScatteredTable<T> {
     }
 }
 
-/// The tables of one computation, one per pass (rule, tolerance), each
-/// built once when first asked for ([`OncePerPass`]); `None` where no
-/// table can serve, and the quadrature does.
-pub(super) type ScatteredTables<T> = OncePerPass<ScatteredTable<T>>;
+/// The single-scattered tables of one computation, one per pass (rule,
+/// tolerance), each built once when first asked for ([`OncePerPass`]):
+/// I(D) of the point lights and the beams' volume integrals along the
+/// camera ray ([`BeamAlongRay`]); `None` where no table can serve, and the
+/// quadrature does.
+pub(super) struct ScatteredTables<T> {
+    points: OncePerPass<ScatteredTable<T>>,
+    beams: OncePerPass<BeamAlongRay<T>>,
+}
+
+impl<T> Default for ScatteredTables<T> {
+    fn default() -> Self {
+        ScatteredTables { points: OncePerPass::default(), beams: OncePerPass::default() }
+    }
+}
 
 impl<T: CheckRule> ScatteredTables<T> {
-    /// The table of the pass with `opts` over the distances of `ff`.
+    /// The I(D) table of the pass with `opts` over the distances of `ff`.
     pub(super) fn for_pass(&self, ff: &FiniteField<T>, opts: &Options) -> Option<Arc<ScatteredTable<T>>> {
-        self.get_or_build(opts, || match distance_range(ff) {
+        self.points.get_or_build(opts, || match distance_range(ff) {
             Some((lo, hi)) => ScatteredTable::build(&ff.sigma, &ff.radius, &lo, &hi, opts),
             None => (None, 0),
         })
+    }
+
+    /// The beams' along-ray tables of the pass with `opts`.
+    pub(super) fn beams_for_pass(&self, ff: &FiniteField<T>, opts: &Options) -> Option<Arc<BeamAlongRay<T>>> {
+        self.beams.get_or_build(opts, || BeamAlongRay::build(ff, opts))
+    }
+
+    /// `result` with every table's evaluations added ([`OncePerPass::charge`]).
+    pub(super) fn charge<E>(&self, result: Result<Estimate<T>, E>) -> Result<Estimate<T>, E> {
+        self.beams.charge(self.points.charge(result))
     }
 }
 
