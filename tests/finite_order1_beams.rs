@@ -139,3 +139,47 @@ fn a_beams_order1_moments_tend_to_the_small_sphere_ones() {
         assert!((1.5..=2.2).contains(&om) && (1.5..=2.2).contains(&ov), "orders {om}, {ov}");
     }
 }
+
+/// Hard cases of a beam's order-1 moments: μ, M₂ and P converge with bars
+/// ≤ 10⁻⁶ of their values at R = 10 (the sphere holds the camera and the
+/// beam's crossing), R = 10⁻⁸ (where they also agree with the small-sphere
+/// ones within 10⁻⁶: their gaps are O(R² ln(1/R))), a camera ray tangent
+/// to the beam (every sphere's edge across the beam's surface) and a dense
+/// medium with σ·(distance to the disk) = 598, near the scene bound (600).
+#[test]
+fn a_beams_order1_moments_converge_in_hard_cases() {
+    use mcrt_noise::model::field::Field;
+    use mcrt_noise::model::finite::FiniteField;
+    use mcrt_noise::quad::Options;
+    let mut cases: Vec<(&str, Scene)> = vec![("R 10", scene(10.0, 1, 0.8)), ("R 1e-8", scene(1e-8, 1, 0.8))];
+    let mut tangent = scene(0.2, 1, 0.8);
+    if let Light::Beam { center, .. } = &mut tangent.lights[0] {
+        *center = DVec3::new(-2.0, 0.5, 1.0);
+    }
+    cases.push(("camera ray tangent to the beam", tangent));
+    let mut dense = scene(0.01, 1, 0.8);
+    dense.medium.sigma_ext = 290.0;
+    cases.push(("σ·distance 598", dense));
+    for (name, s) in cases {
+        let field = Field::from_scene(&s, &1.0f64).unwrap();
+        let ff = FiniteField::of_first_segments(&s, &field);
+        let o = Options::rel(1e-6);
+        let t0 = std::time::Instant::now();
+        let ints = ff.order1_unpaired(&o).unwrap_or_else(|e| panic!("{name}: {e}"));
+        for (what, e) in [("μ", &ints.mean), ("M₂", &ints.m2), ("P", &ints.p)] {
+            println!("{name}: {what}·e^(c₀) = {:.6e} ± {:.1e} ({} evaluations)", e.value, e.error, e.evaluations);
+            assert!(e.value.is_finite() && e.value > 0.0, "{name}: {what} = {}", e.value);
+            assert!(e.error <= 1e-6 * e.value, "{name}: {what}: bar {} of {}", e.error, e.value);
+        }
+        println!("{name}: {:.1} s", t0.elapsed().as_secs_f64());
+        if name == "R 1e-8" {
+            let report = run_scoped(&s, Precision::F64, Some(1e-6), Scope::Prediction).unwrap();
+            let gaps = (
+                report.prediction.mean.value / report.mean_luminance.value - 1.0,
+                report.prediction.variance.value / report.variance.exact.value - 1.0,
+            );
+            println!("{name}: relative gaps to the small-sphere mean, Var L: {gaps:?}");
+            assert!(gaps.0.abs() <= 1e-6 && gaps.1.abs() <= 1e-6, "{name}: gaps {gaps:?}");
+        }
+    }
+}

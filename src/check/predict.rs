@@ -13,8 +13,8 @@ use std::fmt;
 pub enum Model {
     /// The finite-sphere model (`docs/model.md` §9): the estimator's exact
     /// moments at the scene's R, for uncollided light, and for
-    /// single-scattered light with q = 1, N_B = 1 (isotropic media, point
-    /// lights). Its model bar is 0.
+    /// single-scattered light with q = 1, N_B = 1 (isotropic media). Its
+    /// model bar is 0.
     FiniteSphere,
     /// The paper's small-sphere model (§4.3), exact only as R → 0; used for
     /// the other scenes with single-scattered light, with a measured model
@@ -142,7 +142,8 @@ impl From<OracleError> for PredictError {
 /// its (23) was mended for lights near the camera line, `docs/model.md`
 /// §9.6). If the finite-sphere
 /// computation itself fails, the small-sphere model with its allowance
-/// serves for R ≤ 0.1 and the failure is returned beyond.
+/// serves for R ≤ 0.1 and the failure is returned beyond (and with a beam,
+/// whose small-sphere error was never measured).
 /// Other order-1 scenes are predicted by the small-sphere model with its
 /// measured allowance as the model bar, for R ≤ 0.1
 /// ([`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE`]); larger R there,
@@ -191,14 +192,17 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
     if scattered && radius > MODEL_ERROR_RADIUS && !oracle::finite_sphere_covers(&scene) {
         return Err(small_sphere_too_large("the finite-sphere model does not cover this scene"));
     }
+    let scattered_beam = scattered && scene.lights.iter().any(|l| matches!(l, mcrt_scene::Light::Beam { .. }));
     let report = oracle::run_scoped(&scene, precision, rel_tol, oracle::Scope::Prediction)?;
     let p = &report.prediction;
     let (model, (mean_rel, var_rel), basis) = match &report.finite {
         Some(f) if f.covers == "uncollided" => (Model::FiniteSphere, (0.0, 0.0), FINITE_BASIS.to_string()),
         Some(_) => (Model::FiniteSphere, (0.0, 0.0), FINITE_ORDER1_BASIS.to_string()),
         // A covered scene whose finite-sphere computation failed: beyond the
-        // small-sphere model's measured range that failure is the answer.
-        None if radius > MODEL_ERROR_RADIUS => {
+        // small-sphere model's measured range that failure is the answer, and
+        // so it is with a beam's scattered light, where that model's own
+        // error was never measured (the allowance is a point light's).
+        None if radius > MODEL_ERROR_RADIUS || scattered_beam => {
             return Err(match &report.finite_error {
                 Some(e) => PredictError::Oracle(e.clone()),
                 None => small_sphere_too_large(report.finite_not_used.as_deref().unwrap_or("no finite-sphere model")),

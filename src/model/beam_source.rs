@@ -43,9 +43,11 @@ pub(crate) struct BeamPoint<T> {
 
 impl<T: CheckRule> BeamPoint<T> {
     /// ∫ n(x₁) k(|x₁ − x|) d³x₁ (module docs). `kernel(t, d)` gives
-    /// σe^{−σt}k(d) at depth t (with whatever shift the caller carries, in
-    /// one exponent); `knee` is R where the kernel has a √-kink at d = R
-    /// (the finite-sphere H), `None` for the small-sphere e^{−σd}/d².
+    /// σe^{−σt}·d²k(d) at depth t (with whatever shift the caller carries,
+    /// in one exponent): the kernel times the shell's d², which the caller
+    /// forms without a 1/d² (the small-sphere d²k = e^{−σd}); `knee` is R
+    /// where the kernel has a √-kink at d = R (the finite-sphere H), `None`
+    /// for the small-sphere e^{−σd}/d².
     /// Computed as one level inside a pass of a nested integral (`within`:
     /// the pass's rule, checked by the other pass) or on its own
     /// (cross-checked). Domain: a > 0, σ > 0, any τ, p ≥ 0.
@@ -76,12 +78,7 @@ impl<T: CheckRule> BeamPoint<T> {
         let cuts: Vec<T> = cuts.into_iter().filter(|c| *c > lo).collect();
         let domain = Domain::semi_infinite(lo).with_breakpoints(cuts).with_decay(self.sigma.clone());
         let area = zero.pi() * self.a.clone() * self.a.clone();
-        let f = |d: &T, o: &Options| {
-            if d.is_zero() {
-                return Ok(Estimate::known(d.lit(0.0), d.lit(0.0), 0, o.rule));
-            }
-            Ok(self.shell(d, kernel, o)?.scaled(&(d.clone() * d.clone() / area.clone())))
-        };
+        let f = |d: &T, o: &Options| Ok(self.shell(d, kernel, o)?.scaled(&(d.lit(1.0) / area.clone())));
         if within {
             integrate_within_pass(f, &domain, opts)
         } else {
@@ -93,9 +90,19 @@ impl<T: CheckRule> BeamPoint<T> {
     /// about x, where its points lie past the disk (τ + dc ≥ 0).
     fn shell(&self, d: &T, kernel: &(dyn Fn(&T, &T) -> T + Sync), o: &Options) -> Outcome<T> {
         let one = d.lit(1.0);
+        let zero = d.lit(0.0);
+        if d.is_zero() {
+            // The shell shrinks to x itself: all of it past the disk or none.
+            let v = if self.tau >= zero {
+                d.lit(2.0) * crate::special::arc_in_disc(d, &self.a, &self.p) * kernel(&self.tau, d)
+            } else {
+                zero.clone()
+            };
+            return Ok(Estimate::known(v, zero, 1, o.rule));
+        }
         let lo = (-self.tau.clone() / d.clone()).max_of(-one.clone());
         if !(lo < one) {
-            return Ok(Estimate::known(d.lit(0.0), d.lit(0.0), 0, o.rule));
+            return Ok(Estimate::known(zero.clone(), zero, 0, o.rule));
         }
         // The kinks m = |a − p| and a + p: where m < d the circle's radius
         // d√(1 − c²) passes m at c = ±c_m, c_m = √((d − m)(d + m))/d, and
@@ -156,7 +163,7 @@ pub struct ScatteredBeam<T> {
     pub eta0: T,
     /// The camera origin's depth past the disk.
     pub depth0: T,
-    /// The field's c₀ ([`super::field::Field::shift`]).
+    /// The scale c_b of its fluence ([`super::field::Field::beams_shift`]).
     pub shift: T,
     /// The field's [`super::field::Field::center`].
     pub center: T,
@@ -225,7 +232,7 @@ impl<T: Real> ScatteredBeam<T> {
 }
 
 impl<T: CheckRule> ScatteredBeam<T> {
-    /// ∫L₁dω·e^{c₀} at s = center + x, one level inside a pass: the
+    /// ∫L₁dω·e^{c_b} at s = center + x, one level inside a pass: the
     /// single-scattered fluence σ_sc f ∫E(x′)e^{−σ|x − x′|}/|x − x′|² d³x′
     /// of the beam's irradiance E (f = 1/4π), = albedo Φ f ∫ n(x₁)
     /// e^{−σd}/d² d³x₁ (module docs). Domain: any x; σ > 0. Deviation: the
@@ -236,10 +243,9 @@ impl<T: CheckRule> ScatteredBeam<T> {
             return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, opts.rule));
         }
         let o = Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
-        let kernel = |t: &T, d: &T| {
-            sigma.clone() * (self.shift.clone() - sigma.clone() * (t.clone() + d.clone())).exp()
-                / (d.clone() * d.clone())
-        };
+        // d²·σe^{c₀ − σt}e^{−σd}/d².
+        let kernel =
+            |t: &T, d: &T| sigma.clone() * (self.shift.clone() - sigma.clone() * (t.clone() + d.clone())).exp();
         Ok(self.point(x, sigma).integral(&kernel, None, &o, true)?.scaled(&front))
     }
 }
@@ -278,9 +284,10 @@ mod tests {
     fn the_cylindrical_form_is_the_volume_integral() {
         let (sigma, r, a) = (1.0f64, 0.2f64, 0.5f64);
         let kernel = |t: &f64, d: &f64| sigma * (-sigma * t).exp() * hit_chance(&sigma, &r, d);
+        let weighted = |t: &f64, d: &f64| d * d * kernel(t, d);
         for &(p, tau) in &[(0.1, 0.7), (0.9, 0.4), (0.3, -0.5)] {
             let at = BeamPoint { a, p, tau, sigma };
-            let ours = at.integral(&kernel, Some(&r), &Options::rel(1e-6), false).unwrap();
+            let ours = at.integral(&weighted, Some(&r), &Options::rel(1e-6), false).unwrap();
             // x at (p, 0, τ); a disk point at (q cos φ, q sin φ), depth t.
             let direct = integrate_nested(
                 |q: &f64, o: &Options| {

@@ -110,11 +110,21 @@ fn first_sphere_range<T: Real>(c: &Component<T>, forward: bool, like: &T) -> Opt
     }
 }
 
+/// A beam's single-scattered light has no small-sphere correlation
+/// integrals (`docs/model.md` §9.8): refused, not left out.
+fn refuse_scattered_beams<T: Real>(field: &Field<T>) -> Result<(), OracleError> {
+    if field.scattered_beams.is_empty() {
+        return Ok(());
+    }
+    Err(OracleError::Unsupported(super::noise::BEAM_PAIRS_NOT_DERIVED.into()))
+}
+
 /// Exact integral (23) or (24) (appendix), summed over the field's
 /// components, with the corrected correlation of [`pointwise`]. Domain:
 /// R > 0; uncollided fields. Fails (`OracleError::Unsupported`) when no
 /// light reaches the camera ray.
 pub fn exact<T: CheckRule>(field: &Field<T>, r: &T, which: Which, opts: &Options) -> Result<Estimate<T>, OracleError> {
+    refuse_scattered_beams(field)?;
     let like = r.clone();
     let mut total: Option<Estimate<T>> = None;
     let terms: Vec<_> = field
@@ -412,6 +422,7 @@ pub fn asymptotic<T: CheckRule>(
     which: Which,
     opts: &Options,
 ) -> Result<Result<Estimate<T>, String>, OracleError> {
+    refuse_scattered_beams(field)?;
     for c in &field.components {
         let on_axis = match &c.geometry {
             Geometry::Point { d, .. } => d.is_zero(),

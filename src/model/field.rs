@@ -88,6 +88,10 @@ pub struct Field<T> {
     /// media): its fluence only, which is all the single-sphere moments
     /// need; the pair integrals (23)–(26) refuse it.
     pub scattered_beams: Vec<ScatteredBeam<T>>,
+    /// c_b ≥ [`Field::shift`]: σ × the shortest path of the beams'
+    /// single-scattered light (`beam_scattered_path`), the scale of their
+    /// fluence and its tables (times e^{c₀ − c_b} where it meets the rest).
+    pub beams_shift: T,
     /// σ_ext, extinction coefficient (1/length).
     pub sigma_ext: T,
     /// σ_sc = albedo·σ_ext.
@@ -220,6 +224,23 @@ impl<T: Real> Field<T> {
         } else {
             Vec::new()
         };
+        // The beams' fluence is carried times e^{c_b}, c_b ≥ c₀ the beams'
+        // own shortest path (a beam far behind a point light near the
+        // camera would underflow at c₀).
+        let beams_shift = like.lit(
+            sigma
+                * scene
+                    .lights
+                    .iter()
+                    .filter_map(|l| match *l {
+                        Light::Beam { center, direction, radius, .. } => {
+                            Some(beam_scattered_path(o, center, direction, radius))
+                        }
+                        Light::Point { .. } => None,
+                    })
+                    .fold(f64::INFINITY, f64::min)
+                    .max(shortest_path(scene)),
+        );
         let scattered_beams = if orders >= 1 {
             scene
                 .lights
@@ -235,7 +256,7 @@ impl<T: Real> Field<T> {
                             xi0: like.lit(frame.xi0),
                             eta0: like.lit(frame.eta0),
                             depth0: like.lit(frame.depth0),
-                            shift: shift.clone(),
+                            shift: beams_shift.clone(),
                             center: x_origin.clone(),
                         })
                     }
@@ -249,6 +270,7 @@ impl<T: Real> Field<T> {
             components,
             scattered,
             scattered_beams,
+            beams_shift,
             sigma_ext: like.lit(scene.medium.sigma_ext),
             sigma_sc: like.lit(scene.medium.sigma_sc()),
             albedo: like.lit(scene.medium.albedo),
@@ -454,8 +476,9 @@ fn ray_center(scene: &Scene) -> f64 {
 /// The shortest path from any light via the camera ray to the camera,
 /// min over s ≥ 0 of (s + path from the light to x(s)): for a point light the
 /// distance light–camera (s + r(s) grows with s), for a beam s + depth(s) at
-/// the entry point (it grows with s as 1 + μ ≥ 0); 0 when no light reaches
-/// the ray.
+/// the entry point (it grows with s as 1 + μ ≥ 0), or with scattered light
+/// [`beam_scattered_path`] (its light reaches the ray outside the beam
+/// too); 0 when no light reaches the ray.
 fn shortest_path(scene: &Scene) -> f64 {
     let (u, o) = (scene.camera.direction, scene.camera.origin);
     let scattered = scene.effects.scattering_orders != ScatteringOrders::Limited(0);

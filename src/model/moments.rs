@@ -86,7 +86,7 @@ pub fn smooth_part<T: CheckRule>(
     Ok(total)
 }
 
-/// Σ ∫L₁dω·e^{c₀} over the beams' single-scattered light at s = center + x
+/// Σ ∫L₁dω·e^{c_b} over the beams' single-scattered light at s = center + x
 /// (isotropic media, where every single-sphere g is a constant times it;
 /// zero without such light); `opts.abs_tol` is for the sum.
 fn beams_fluence<T: CheckRule>(field: &Field<T>, x: &T, opts: &Options) -> Outcome<T> {
@@ -113,8 +113,10 @@ fn single_sphere_part<T: CheckRule>(
     if field.scattered_beams.is_empty() {
         return Ok(points);
     }
-    let o = Options { abs_tol: (half.abs_tol / g_const.to_f64()).min(f64::MAX), ..opts.clone() };
-    Ok(points.plus(beams_fluence(field, x, &o)?.scaled(&g_const)))
+    let scale = (field.shift.clone() - field.beams_shift.clone()).exp();
+    let front = g_const * scale;
+    let o = Options { abs_tol: (half.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
+    Ok(points.plus(beams_fluence(field, x, &o)?.scaled(&front)))
 }
 
 /// Features of a g that is a power of f(−μ) only.
@@ -194,11 +196,15 @@ fn beams_fluence_table<T: CheckRule>(
     // The fluence bends like δ ln δ where the ray crosses a beam's surface:
     // pieces graded by decades towards it, so that each sees the
     // singularity a decade off.
-    let lo = field.x_camera();
-    let kinks: Vec<T> = field.scattered_beams.iter().flat_map(|b| b.surface_crossings()).collect();
-    let grading: Vec<T> = kinks
+    // (The disk's face, crossed inside the beam, likewise.)
+    let width = field.sigma_ext.lit(1e-10) / field.sigma_ext.clone();
+    let grading: Vec<T> = field
+        .scattered_beams
         .iter()
-        .flat_map(|k| super::field::graded_by(k, &(lo.lit(1e-10) / field.sigma_ext.clone()), &lo.lit(1.0), 10.0, 24))
+        .flat_map(|b| {
+            let (scale, width) = (b.radius.clone() * b.radius.lit(4.0), width.clone());
+            b.ray_breakpoints().into_iter().flat_map(move |k| super::field::graded_by(&k, &width, &scale, 10.0, 24))
+        })
         .collect();
     along_ray_table(field, &field.beam_tables, |x, o| beams_fluence(field, x, o), &grading, rule, rel_tol, budget)
 }
@@ -294,10 +300,12 @@ fn points_mean_tabled<T: CheckRule>(field: &Field<T>, x: &T, table_tol: f64, opt
 
 /// Σ of the beams' fluence ∫L₁dω·e^{c₀} at x from the table of the pass
 /// (`opts` gives its rule, `table_tol` its tolerance: the mean, M₂ and P
-/// of one computation share it), the table's relative error in the bar;
-/// beyond the table's range B/2 ± B/2 of the bound B
+/// of one computation share it), the table's relative error in the bar
+/// (with the rounding of the exponent c₀ − c_b of its scale); beyond the
+/// table's range B/2 ± B/2 of the bound B
 /// ([`super::beam_source::ScatteredBeam::fluence_bound`]).
 fn beams_fluence_tabled<T: CheckRule>(field: &Field<T>, x: &T, table_tol: f64, opts: &Options) -> Outcome<T> {
+    let scale = (field.shift.clone() - field.beams_shift.clone()).exp();
     let (lo, end) = table_range(field);
     if *x > end {
         // Far out, only the bound: the value is B/2 ± B/2.
@@ -305,15 +313,16 @@ fn beams_fluence_tabled<T: CheckRule>(field: &Field<T>, x: &T, table_tol: f64, o
         for beam in &field.scattered_beams {
             bound = bound + beam.fluence_bound(x, &field.sigma_ext, &field.albedo);
         }
-        let half = bound / x.lit(2.0);
+        let half = bound * scale / x.lit(2.0);
         return Ok(Estimate::known(half.clone(), half, 1, opts.rule));
     }
     if *x < lo {
-        return beams_fluence(field, x, &Options { abs_tol: 0.0, ..opts.clone() });
+        return Ok(beams_fluence(field, x, &Options { abs_tol: 0.0, ..opts.clone() })?.scaled(&scale));
     }
     let table = beams_fluence_table(field, opts.rule, table_tol, &opts.budget)?;
-    let v = table.eval(x);
-    let error = v.abs() * table.rel_error.clone();
+    let v = table.eval(x) * scale;
+    let rounding = x.eps() * x.lit(4.0) * (x.lit(1.0) + field.shift.abs() + field.beams_shift.abs());
+    let error = v.abs() * (table.rel_error.clone() + rounding);
     Ok(Estimate::known(v, error, 1, opts.rule))
 }
 

@@ -134,9 +134,10 @@ impl<T: CheckRule> Integrals<T> {
 
 /// Why the small-sphere pair integrals refuse a beam's single-scattered
 /// light ([`super::field::Field::scattered_beams`]).
-pub const BEAM_PAIRS_NOT_DERIVED: &str = "the small-sphere pair integrals Q, (23), (24) and their R → 0 forms are not \
-     derived for a beam's single-scattered light (its fluence serves the single-sphere moments only); with a beam at \
-     scattering_orders = 1 the oracle covers q = 1 and N_B = 1, where (7)–(9) weigh them 0";
+pub const BEAM_PAIRS_NOT_DERIVED: &str = "the small-sphere correlation integrals (23), (24) and their R → 0 forms are \
+     not derived for a beam's single-scattered light (they need its angular distribution; its fluence serves the \
+     single-sphere moments only), nor the finite-sphere C₂₃, C₂₄; with a beam at scattering_orders = 1 the oracle \
+     covers q = 1 and N_B = 1, where (7)–(9) weigh them and Q 0";
 
 impl<T: CheckRule> PairIntegrals<T> {
     /// Q, (23), (24), (25) and (26) side by side.

@@ -4,8 +4,8 @@
 //! Two models are computed side by side: the small-sphere model of §4.3
 //! (exact only as R → 0; its exact (23), (24), their R → 0 forms and the
 //! §4.4 formula) and the finite-sphere model (`model::finite`, exact at
-//! the scene's R) for uncollided light and, in isotropic media with point
-//! lights at q = 1 and N_B = 1, for single-scattered light. The report's
+//! the scene's R) for uncollided light and, in isotropic media at q = 1
+//! and N_B = 1, for single-scattered light (point lights and beams). The report's
 //! `prediction` is the finite-sphere model where it exists, the
 //! small-sphere one otherwise, and says which (and, with scattered light,
 //! why in `finite_not_used`).

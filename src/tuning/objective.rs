@@ -75,11 +75,10 @@ impl ModelAtRadius {
             });
         }
         let (Some(corr23), Some(integral_q), Some(corr24)) = (&r.corr23, r.integral_q, &r.corr24) else {
-            return Err(crate::model::OracleError::Unsupported(
-                "the oracle report lacks the small-sphere pair integrals (Q, (23), (24)): it was run with \
-                 Scope::Prediction; other q and N_B need Scope::Everything"
-                    .into(),
-            ));
+            return Err(crate::model::OracleError::Unsupported(format!(
+                "the oracle report lacks the small-sphere pair integrals (Q, (23), (24)) that other q and N_B need: {}",
+                r.pairs_not_computed.as_deref().unwrap_or("not computed")
+            )));
         };
         Ok(ModelAtRadius {
             radius: r.radius,

@@ -77,7 +77,9 @@ pub struct FiniteField<T> {
     pub radius: T,
     /// c₀ = σ × a lower bound of every path light → sphere's closest point
     /// → camera (|y − o| − R for a point, the entry of the camera ray into
-    /// the beam widened by R for a beam). Every ray functional and ⟨𝒞⟩_R is
+    /// the beam widened by R for a beam; with scattered light (orders ≥ 1)
+    /// (max(dist(o, beam), depth of o) − R)⁺ for a beam, `docs/model.md`
+    /// §9.8). Every ray functional and ⟨𝒞⟩_R is
     /// carried times e^{c₀}: a ray functional is then ≤ its value at c₀ = 0,
     /// and so is σe^{−σs}⟨𝒞⟩_R(s)e^{c₀}; ⟨𝒞⟩_R e^{c₀} alone is not bounded
     /// (≈ e^{σ(|y − o| − b)} at the foot of a light near the line), which

@@ -1,6 +1,7 @@
 //! The finite-sphere model's variance for single-scattered light
-//! (`scattering_orders = 1`), isotropic media and point lights
-//! (`docs/model.md` §9.6).
+//! (`scattering_orders = 1`), isotropic media (`docs/model.md` §9.6; a
+//! beam's single-scattered light is `scattered_beam`, §9.8, and its
+//! correlations of two spheres are not derived).
 //!
 //! A forward path now has two segments, the uncollided one (𝒞₀ at the
 //! spheres it hits) and, with probability albedo, the scattered one (𝒞₁),
@@ -230,7 +231,7 @@ impl<T: CheckRule> FiniteField<T> {
     /// weigh the correlations of two spheres 0 (one sphere per camera ray,
     /// one camera ray: Var L = M₂/N_F + (1 − 1/N_F)P − μ²). Seconds at
     /// 10⁻⁶ where [`FiniteField::order1_integrals`] takes minutes at 10⁻³
-    /// (`docs/model.md` §9.6, §9.7). Isotropic media, point lights.
+    /// (`docs/model.md` §9.6–§9.8). Isotropic media, point lights and beams.
     pub fn order1_unpaired(&self, opts: &Options) -> Result<FiniteIntegrals<T>, OracleError> {
         let Order1Parts { mean, m2, p } = self.order1_unpaired_parts(opts)?;
         Ok(FiniteIntegrals { mean: mean?, m2: m2?, p: p?, q: None, c23: None, c24: None })
@@ -317,7 +318,8 @@ impl<T: CheckRule> FiniteField<T> {
     }
 
     /// Every integral of the order-1 model (uncollided plus single-scattered
-    /// light; isotropic media, point lights), each times e^{c₀}.
+    /// light; isotropic media, point lights: beams are refused), each times
+    /// e^{c₀}.
     pub fn order1_integrals(&self, opts: &Options) -> Result<FiniteIntegrals<T>, OracleError> {
         self.order1_pairs_covered()?;
         // Each integral is a sum of two parts: half the absolute goal each.

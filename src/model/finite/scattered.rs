@@ -1,4 +1,5 @@
-//! Single-scattered light at any R (isotropic media, point lights): the
+//! Single-scattered light at any R (isotropic media, point lights; a beam's
+//! is `scattered_beam`): the
 //! sphere-centric mean contribution of a forward path's second segment,
 //! the first brick of the finite-sphere model for order 1 (`docs/model.md`
 //! §9.5); its ⟨𝒞₁²⟩ serves the variance (`order1`, §9.6, which lists what
@@ -157,8 +158,8 @@ impl<T: CheckRule> PointLight<T> {
 
 impl<T: CheckRule> FiniteField<T> {
     /// μ₁(R)·e^{c₀} = ∫σe^{−σs}⟨𝒞⟩₁ ds: the single-scattered part of the
-    /// mean luminance at the field's R, for an isotropic medium with point
-    /// lights (refused otherwise). The uncollided part is
+    /// mean luminance at the field's R, for an isotropic medium (point
+    /// lights and beams; refused otherwise). The uncollided part is
     /// [`FiniteField::ray_total`] of the mean.
     pub fn scattered_mean(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
         let tables = ScatteredTables::default();

@@ -26,6 +26,7 @@ use super::second_hit::{second_hit_after, SecondHitTable};
 use super::{FiniteField, FiniteLight};
 use crate::model::beam_source::BeamPoint;
 use crate::model::chebyshev::{sample_options, Piecewise};
+use crate::model::field::graded_by;
 use crate::quad::{decay_lengths, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
 use crate::special::arc_in_disc_gaps;
 
@@ -42,14 +43,31 @@ impl<T: CheckRule> BeamLight<T> {
         }
     }
 
-    /// ∫ n(x₁) H(|x₁ − x(s)|) d³x₁·e^{c₀} at s = center + x (module docs),
-    /// as one level inside a pass, or as a table's sample with its options.
-    fn volume_integral(&self, ff: &FiniteField<T>, x: &T, opts: &Options) -> Outcome<T> {
+    /// A lower bound of the path light → second segment's closest point
+    /// to a sphere → camera of this beam's single-scattered light, times σ:
+    /// σ·(max(dist(o, beam), depth₀) − R)⁺ (as `field::beam_scattered_path`,
+    /// from the camera's coordinates in the beam's frame). ≥ c₀; its own
+    /// along-ray table is scaled by it, so that a beam far behind a light
+    /// near the camera does not underflow there.
+    fn scattered_shift(&self, ff: &FiniteField<T>) -> T {
+        let zero = ff.radius.lit(0.0);
+        let across = ((self.xi0.clone() * self.xi0.clone() + self.eta0.clone() * self.eta0.clone()).sqrt()
+            - self.radius.clone())
+        .max_of(zero.clone());
+        let before = (-self.depth0.clone()).max_of(zero.clone());
+        let path = (across.clone() * across + before.clone() * before).sqrt().max_of(self.depth0.clone());
+        ff.sigma.clone() * (path - ff.radius.clone()).max_of(zero)
+    }
+
+    /// ∫ n(x₁) H(|x₁ − x(s)|) d³x₁·e^{shift} at s = center + x (module
+    /// docs), as one level inside a pass, or as a table's sample with its
+    /// options.
+    fn volume_integral(&self, ff: &FiniteField<T>, x: &T, shift: &T, opts: &Options) -> Outcome<T> {
         let sigma = &ff.sigma;
-        // σe^{c₀ − σt}H(d), the attenuation of both segments in one exponent.
+        // d²·σe^{shift − σt}H(d), the attenuation of both segments in one exponent.
         let kernel = |t: &T, d: &T| {
             let (reach, rest) = hit_chance_parts(sigma, &ff.radius, d);
-            sigma.clone() * rest * (ff.shift.clone() - sigma.clone() * (t.clone() + reach)).exp()
+            d.clone() * d.clone() * sigma.clone() * rest * (shift.clone() - sigma.clone() * (t.clone() + reach)).exp()
         };
         self.seen_at(ff, x).integral(&kernel, Some(&ff.radius), opts, true)
     }
@@ -73,12 +91,12 @@ impl<T: CheckRule> BeamLight<T> {
         let f = x.lit(1.0) / (x.pi() * x.lit(4.0));
         let front =
             ff.per_hit_power(power, &self.flux) * if power == 1 { f } else { f.clone() * f } * ff.albedo.clone();
-        if let Some((v, rel)) = tables.beams_for_pass(ff, opts).and_then(|t| t.value(index, x)) {
+        if let Some((v, rel)) = tables.beams_for_pass(ff, opts).and_then(|t| t.value(ff, index, x)) {
             let bar = v.abs() * rel;
             return Ok(Estimate::known(v, bar, 1, opts.rule).scaled(&front));
         }
         let o = Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
-        Ok(self.volume_integral(ff, x, &o)?.scaled(&front))
+        Ok(self.volume_integral(ff, x, &ff.shift, &o)?.scaled(&front))
     }
 
     /// ⟨𝒞₀𝒞₁⟩·e^{c₀} at s = center + x: one path hitting the sphere there
@@ -164,6 +182,23 @@ impl<T: CheckRule> BeamLight<T> {
                 s_points.push((depth - self.depth0.clone()) / mu.clone());
             }
         }
+        let mut out: Vec<T> = s_points.into_iter().filter(|s| *s > zero).map(|s| s - ff.center.clone()).collect();
+        out.extend(self.surface_crossings(ff));
+        out
+    }
+
+    /// Where (in x) the camera ray crosses the disk's plane (τ(s) = 0), ahead
+    /// of the camera.
+    fn face_crossing(&self, ff: &FiniteField<T>) -> Option<T> {
+        let s = (!self.dir.mu.is_zero()).then(|| -self.depth0.clone() / self.dir.mu.clone())?;
+        (s > ff.radius.lit(0.0)).then(|| s - ff.center.clone())
+    }
+
+    /// Where (in x) the camera ray crosses the beam's surface (|P(s)| = a),
+    /// ahead of the camera.
+    pub(super) fn surface_crossings(&self, ff: &FiniteField<T>) -> Vec<T> {
+        let zero = ff.radius.lit(0.0);
+        let mut s_points = Vec::new();
         let sin = &self.dir.sin;
         if !sin.is_zero() {
             let a = &self.radius;
@@ -192,9 +227,11 @@ const FINEST_GOAL: f64 = 1e-13;
 /// order 1, R = 0.2, the oracle at 10⁻⁶ spent its 10⁹ evaluations without
 /// it).
 pub(super) struct BeamAlongRay<T> {
-    /// Per light in scene order: the beam's interpolant (`None` for a point
-    /// light, or where interpolation failed and the quadrature serves).
-    tables: Vec<Option<Piecewise<T>>>,
+    /// Per light in scene order: the beam's interpolant of the volume
+    /// integral times e^{shift} with its own shift
+    /// ([`BeamLight::scattered_shift`]) (`None` for a point light, or where
+    /// interpolation failed and the quadrature serves).
+    tables: Vec<Option<(Piecewise<T>, T)>>,
     lo: T,
     hi: T,
 }
@@ -218,6 +255,21 @@ impl<T: CheckRule> BeamAlongRay<T> {
                 cuts.push(c);
             }
         }
+        // Where the camera ray crosses a beam's surface the volume integral
+        // bends like the fluence of a uniform source at its boundary (δ ln δ),
+        // smoothed over R: pieces graded by decades towards the crossings
+        // from R, so that each sees the bend a decade off (without them
+        // R = 10⁻⁸ spent the 10⁹ evaluations of the default budget).
+        // (The disk's face likewise.)
+        for light in &ff.lights {
+            if let FiniteLight::Beam(b) = light {
+                let width = ff.radius.clone().max_of(lo.lit(1e-10) / ff.sigma.clone());
+                let scale = b.radius.clone() * b.radius.lit(4.0);
+                for k in b.surface_crossings(ff).into_iter().chain(b.face_crossing(ff)) {
+                    cuts.extend(graded_by(&k, &width, &scale, 10.0, 24).into_iter().filter(|c| *c > lo && *c < hi));
+                }
+            }
+        }
         cuts.push(lo.clone());
         cuts.push(hi.clone());
         let samples = sample_options(&lo, goal, opts.rule, &opts.budget);
@@ -227,10 +279,11 @@ impl<T: CheckRule> BeamAlongRay<T> {
             .iter()
             .map(|light| {
                 let FiniteLight::Beam(b) = light else { return None };
-                match Piecewise::build(|x: &T| b.volume_integral(ff, x, &samples), &cuts, goal) {
+                let shift = b.scattered_shift(ff);
+                match Piecewise::build(|x: &T| b.volume_integral(ff, x, &shift, &samples), &cuts, goal) {
                     Ok(t) => {
                         evaluations += t.evaluations;
-                        Some(t)
+                        Some((t, shift))
                     }
                     Err(f) => {
                         evaluations += f.evaluations;
@@ -242,13 +295,15 @@ impl<T: CheckRule> BeamAlongRay<T> {
         (Some(BeamAlongRay { tables, lo, hi }), evaluations)
     }
 
-    /// The volume integral of light `index` at x and its relative bar, or
-    /// `None` where no table reaches.
-    fn value(&self, index: usize, x: &T) -> Option<(T, T)> {
+    /// The volume integral of light `index` at x times e^{c₀} and its
+    /// relative bar (the table's plus the rounding of the exponent c₀ −
+    /// shift, 4ε(1 + |c₀| + |shift|)), or `None` where no table reaches.
+    fn value(&self, ff: &FiniteField<T>, index: usize, x: &T) -> Option<(T, T)> {
         if *x < self.lo || *x > self.hi {
             return None;
         }
-        let t = self.tables.get(index)?.as_ref()?;
-        Some((t.eval(x), t.rel_error.clone()))
+        let (t, shift) = self.tables.get(index)?.as_ref()?;
+        let rounding = x.eps() * x.lit(4.0) * (x.lit(1.0) + ff.shift.abs() + shift.abs());
+        Some((t.eval(x) * (ff.shift.clone() - shift.clone()).exp(), t.rel_error.clone() + rounding))
     }
 }
