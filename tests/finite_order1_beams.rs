@@ -8,6 +8,8 @@ use mcrt_reference::{trace, HitMethod, Tracer};
 use mcrt_scene::{DVec3, Light, Scene};
 use std::path::Path;
 
+mod common;
+
 /// `beam-isotropic` (a beam of radius 0.5 crossing the camera ray at right
 /// angles, σ = 1) with scattering order 1, q = 1, N_B = 1 and the given R,
 /// N_F and albedo.
@@ -182,4 +184,37 @@ fn a_beams_order1_moments_converge_in_hard_cases() {
             assert!(gaps.0.abs() <= 1e-6 && gaps.1.abs() <= 1e-6, "{name}: gaps {gaps:?}");
         }
     }
+}
+
+/// What a renderer developer gets for a beam's order-1 scene with q = 1,
+/// N_B = 1 at R = 0.2, which `predict` refused before: the finite-sphere
+/// model at the default tolerance (10⁻⁶), model bar 0, the bias predicted;
+/// a right renderer (the reference tracer, 10⁶ iterations) passes `check`
+/// against it, while the small-sphere Var L (8.5 % above) could not be
+/// used at all. The `finite` object is pinned at 6 significant digits (the
+/// bars are ≤ 10⁻⁶ of each value).
+#[test]
+fn library_predicts_a_beams_order1_scene_exactly() {
+    use mcrt_noise::{check, predict, CheckOptions, Model, Samples};
+    use rayon::prelude::*;
+    let s = scene(0.2, 20, 0.8);
+    let prediction = predict(&s).unwrap();
+    assert_eq!(prediction.model, Model::FiniteSphere);
+    assert_eq!((prediction.mean.model_bar, prediction.variance.model_bar), (0.0, 0.0));
+    assert!(prediction.bias.is_some(), "the bias of an order-1 scene is predicted");
+    assert_eq!(prediction.report.finite.as_ref().unwrap().covers, "uncollided and single-scattered");
+    for (what, v) in [("mean", prediction.mean), ("Var L", prediction.variance)] {
+        assert!(v.quadrature_bar <= 1e-6 * v.value, "{what}: {v:?}");
+    }
+    insta::with_settings!({snapshot_path => "../snapshots", prepend_module_to_snapshot => false}, {
+        insta::assert_snapshot!("finite_beam-isotropic-order1-q1", common::finite_text(&prediction.report, 6));
+    });
+    let tracer = Tracer::new(&s).unwrap();
+    let values: Vec<f64> =
+        (0..1_000_000u64).into_par_iter().map(|i| tracer.trial(34, i, HitMethod::Sorted).0).collect();
+    let mut samples = Samples::new();
+    samples.extend(values).unwrap();
+    let verdict = check(&prediction, &samples, &CheckOptions::default());
+    println!("{verdict}");
+    verdict.assert_pass();
 }
