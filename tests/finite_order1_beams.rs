@@ -144,10 +144,12 @@ fn a_beams_order1_moments_tend_to_the_small_sphere_ones() {
 
 /// Hard cases of a beam's order-1 moments: μ, M₂ and P converge with bars
 /// ≤ 10⁻⁶ of their values at R = 10 (the sphere holds the camera and the
-/// beam's crossing), R = 10⁻⁸ (where they also agree with the small-sphere
-/// ones within 10⁻⁶: their gaps are O(R² ln(1/R))), a camera ray tangent
-/// to the beam (every sphere's edge across the beam's surface) and a dense
-/// medium with σ·(distance to the disk) = 598, near the scene bound (600).
+/// beam's crossing), R = 10⁻⁸ (where the prediction also agrees with the
+/// small-sphere mean and Var L within their bars: the gaps are
+/// O(R² ln(1/R))), a camera ray tangent
+/// to the beam (every sphere's edge across the beam's surface), a dense
+/// medium with σ·(distance to the disk) = 598, near the scene bound (600),
+/// and a tilted beam at σ·distance 539 behind a point light at the camera.
 #[test]
 fn a_beams_order1_moments_converge_in_hard_cases() {
     use mcrt_noise::model::field::Field;
@@ -162,6 +164,22 @@ fn a_beams_order1_moments_converge_in_hard_cases() {
     let mut dense = scene(0.01, 1, 0.8);
     dense.medium.sigma_ext = 290.0;
     cases.push(("σ·distance 598", dense));
+    // A point light next to the camera sets c₀ ≈ 0 while a tilted beam
+    // lies at σ·distance 539: the beam's tables carry its own shift
+    // (without, its values near their range's end fell below f64's range),
+    // and the camera ray crosses its disk's plane ahead (graded there).
+    let mut far = scene(0.01, 1, 0.8);
+    far.medium.sigma_ext = 100.0;
+    far.lights = vec![
+        Light::Point { position: DVec3::new(0.02, 0.0, 0.03), flux: 1.0 },
+        Light::Beam {
+            center: DVec3::new(-1.0, 0.0, 5.8),
+            direction: DVec3::new(1.0, 0.0, 0.3).normalize(),
+            radius: 0.5,
+            flux: 1.0,
+        },
+    ];
+    cases.push(("a beam at σ·distance 539 behind a light at the camera", far));
     for (name, s) in cases {
         let field = Field::from_scene(&s, &1.0f64).unwrap();
         let ff = FiniteField::of_first_segments(&s, &field);
@@ -175,13 +193,18 @@ fn a_beams_order1_moments_converge_in_hard_cases() {
         }
         println!("{name}: {:.1} s", t0.elapsed().as_secs_f64());
         if name == "R 1e-8" {
-            let report = run_scoped(&s, Precision::F64, Some(1e-6), Scope::Prediction).unwrap();
-            let gaps = (
-                report.prediction.mean.value / report.mean_luminance.value - 1.0,
-                report.prediction.variance.value / report.variance.exact.value - 1.0,
-            );
-            println!("{name}: relative gaps to the small-sphere mean, Var L: {gaps:?}");
-            assert!(gaps.0.abs() <= 1e-6 && gaps.1.abs() <= 1e-6, "{name}: gaps {gaps:?}");
+            // The models differ by O(R² ln(1/R)) ~ 10⁻¹⁵ here: within the bars.
+            let report = predict(&s);
+            let within = |finite: mcrt_noise::oracle::ValueWithBar, small: mcrt_noise::oracle::ValueWithBar| {
+                let gap = (finite.value / small.value - 1.0).abs();
+                (gap, finite.error / finite.value + small.error / small.value)
+            };
+            let gaps = [
+                within(report.prediction.mean, report.mean_luminance),
+                within(report.prediction.variance, report.variance.exact),
+            ];
+            println!("{name}: relative gaps to the small-sphere mean, Var L (and their bars): {gaps:?}");
+            assert!(gaps.iter().all(|(gap, bar)| gap <= bar), "{name}: gaps {gaps:?}");
         }
     }
 }

@@ -189,10 +189,12 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
              finite-sphere model, exact at any R), or scattering_orders = 0"
         ))
     };
-    if scattered && radius > MODEL_ERROR_RADIUS && !oracle::finite_sphere_covers(&scene) {
+    // With a beam, what the finite-sphere model does not cover the oracle
+    // refuses at any R, naming the fields (a smaller R would not help).
+    let scattered_beam = scattered && scene.lights.iter().any(|l| matches!(l, mcrt_scene::Light::Beam { .. }));
+    if scattered && !scattered_beam && radius > MODEL_ERROR_RADIUS && !oracle::finite_sphere_covers(&scene) {
         return Err(small_sphere_too_large("the finite-sphere model does not cover this scene"));
     }
-    let scattered_beam = scattered && scene.lights.iter().any(|l| matches!(l, mcrt_scene::Light::Beam { .. }));
     let report = oracle::run_scoped(&scene, precision, rel_tol, oracle::Scope::Prediction)?;
     let p = &report.prediction;
     let (model, (mean_rel, var_rel), basis) = match &report.finite {

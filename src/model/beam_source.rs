@@ -79,11 +79,23 @@ impl<T: CheckRule> BeamPoint<T> {
         let domain = Domain::semi_infinite(lo).with_breakpoints(cuts).with_decay(self.sigma.clone());
         let area = zero.pi() * self.a.clone() * self.a.clone();
         let f = |d: &T, o: &Options| Ok(self.shell(d, kernel, o)?.scaled(&(d.lit(1.0) / area.clone())));
-        if within {
-            integrate_within_pass(f, &domain, opts)
-        } else {
-            integrate_nested(f, &domain, opts)
+        if !within {
+            return integrate_nested(f, &domain, opts);
         }
+        if opts.abs_tol > 0.0 {
+            return integrate_within_pass(f, &domain, opts);
+        }
+        // A purely relative goal (a table's sample): the shells get an
+        // absolute goal from the integral's scale, found at 10⁻³ first (as
+        // `integrate_nested` does): shells that meet the beam in a sliver,
+        // next to a corner of its volume, are at their rounding's level and
+        // cannot meet a relative goal of their own (without it, a beam behind
+        // a light at the camera bisected such a shell into 2000 panels).
+        let coarse = Options { rel_tol: opts.rel_tol.max(1e-3), ..opts.clone() };
+        let scale = integrate_within_pass(f, &domain, &coarse)?;
+        let fine = Options { abs_tol: scale.value.abs().to_f64() * opts.rel_tol / 10.0, ..opts.clone() };
+        let e = integrate_within_pass(f, &domain, &fine)?;
+        Ok(Estimate { evaluations: e.evaluations + scale.evaluations, ..e })
     }
 
     /// ∫ Θ(d√(1 − c²)) kernel(τ + dc, d) dc over the sphere of radius d
@@ -93,10 +105,18 @@ impl<T: CheckRule> BeamPoint<T> {
         let zero = d.lit(0.0);
         if d.is_zero() {
             // The shell shrinks to x itself: all of it past the disk or none.
-            let v = if self.tau >= zero {
-                d.lit(2.0) * crate::special::arc_in_disc(d, &self.a, &self.p) * kernel(&self.tau, d)
+            // c ∈ [−1, 1] when τ > 0, [0, 1] when τ = 0, nothing when τ < 0.
+            let span = if self.tau > zero {
+                d.lit(2.0)
+            } else if self.tau.is_zero() {
+                d.lit(1.0)
             } else {
                 zero.clone()
+            };
+            let v = if span.is_zero() {
+                span
+            } else {
+                span * crate::special::arc_in_disc(d, &self.a, &self.p) * kernel(&self.tau, d)
             };
             return Ok(Estimate::known(v, zero, 1, o.rule));
         }
@@ -104,6 +124,14 @@ impl<T: CheckRule> BeamPoint<T> {
         if !(lo < one) {
             return Ok(Estimate::known(zero.clone(), zero, 0, o.rule));
         }
+        // An absolute goal just above the engine's floor of resolvable
+        // values (f64: 1024 underflow floors, ~10⁻²⁸⁹, `quad::goal`): a shell
+        // far from a beam behind a brighter light can be ~10⁻²⁸¹, where the
+        // panels' floors alone reach its relative goal (they did, at
+        // σ·distance 539 behind a light at the camera); 16 times that floor
+        // is negligible against every value these integrals take (≥ 10⁻¹²⁰:
+        // each is carried times its light's own shift).
+        let o = &Options { abs_tol: o.abs_tol.max((d.underflow_floor() * d.lit(16.0 * 1024.0)).to_f64()), ..o.clone() };
         // The kinks m = |a − p| and a + p: where m < d the circle's radius
         // d√(1 − c²) passes m at c = ±c_m, c_m = √((d − m)(d + m))/d, and
         // its distance to m is formed as d²(c_m − |c|)(c_m + |c|)/(ρ + m),
@@ -187,7 +215,8 @@ impl<T: Real> ScatteredBeam<T> {
     /// ℓ = max(dist(x, beam), τ⁺) long (`field::beam_scattered_path`), and
     /// ∫ n/d² over the beam is at most 8σ/a (the ball of radius a about x
     /// gives ≤ 4πa·σ/(πa²), the rest, at d ≥ max(a, |t − τ|), ≤ 4πa·σ/(πa²)
-    /// too), with e^{−σ(t + d)} ≤ e^{−σℓ}: albedo Φ f e^{c₀ − σℓ}·8σ/a.
+    /// too), with e^{−σ(t + d)} ≤ e^{−σℓ}: albedo Φ f e^{c_b − σℓ}·8σ/a
+    /// (c_b this light's `shift`, the scale of [`ScatteredBeam::fluence`]).
     pub fn fluence_bound(&self, x: &T, sigma: &T, albedo: &T) -> T {
         let at = self.point(x, sigma);
         let zero = x.lit(0.0);
@@ -221,7 +250,8 @@ impl<T: Real> ScatteredBeam<T> {
         if !self.sin.is_zero() {
             let a = &self.radius;
             let h2 = (a.clone() - self.eta0.clone()) * (a.clone() + self.eta0.clone());
-            if h2 > zero {
+            // (h2 = 0: the ray touches the surface; graded there too.)
+            if h2 >= zero {
                 let h = h2.sqrt();
                 s_points.push((-self.xi0.clone() - h.clone()) / self.sin.clone());
                 s_points.push((h - self.xi0.clone()) / self.sin.clone());
@@ -232,7 +262,7 @@ impl<T: Real> ScatteredBeam<T> {
 }
 
 impl<T: CheckRule> ScatteredBeam<T> {
-    /// ∫L₁dω·e^{c_b} at s = center + x, one level inside a pass: the
+    /// ∫L₁dω·e^{c_b} at s = center + x (c_b this light's `shift`), one level inside a pass: the
     /// single-scattered fluence σ_sc f ∫E(x′)e^{−σ|x − x′|}/|x − x′|² d³x′
     /// of the beam's irradiance E (f = 1/4π), = albedo Φ f ∫ n(x₁)
     /// e^{−σd}/d² d³x₁ (module docs). Domain: any x; σ > 0. Deviation: the

@@ -24,13 +24,13 @@
 
 use super::beam_source::ScatteredBeam;
 use super::chebyshev::Piecewise;
+use super::once_per_pass::OncePerPass;
 use super::scattered::Scattered;
 use super::OracleError;
-use crate::quad::Rule;
+use crate::quad::Failure;
 use crate::real::Real;
 use mcrt_scene::{DVec3, Light, Phase, ScatteringOrders, Scene};
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 /// Geometry of one delta component along the camera ray.
 #[derive(Debug, Clone)]
@@ -90,7 +90,8 @@ pub struct Field<T> {
     pub scattered_beams: Vec<ScatteredBeam<T>>,
     /// c_b ≥ [`Field::shift`]: σ × the shortest path of the beams'
     /// single-scattered light (`beam_scattered_path`), the scale of their
-    /// fluence and its tables (times e^{c₀ − c_b} where it meets the rest).
+    /// fluence and its tables (times e^{c₀ − c_b} where it meets the rest);
+    /// c₀ itself without beams.
     pub beams_shift: T,
     /// σ_ext, extinction coefficient (1/length).
     pub sigma_ext: T,
@@ -115,16 +116,18 @@ pub struct Field<T> {
     /// resolved in x, where s − a = x exactly, not in s, whose rounding
     /// (ulp(a)) would swamp a width d of 10⁻⁶.
     pub center: T,
-    /// Interpolation tables of the scattered part of ⟨𝒞⟩ along the ray, one
-    /// per (rule, tolerance), built on first use (`moments::scattered_mean_table`).
-    pub tables: MeanTables<T>,
+    /// Interpolation tables of the point lights' scattered part of ⟨𝒞⟩
+    /// along the ray, one per (rule, tolerance), built once on first use
+    /// (`moments::scattered_mean_table`).
+    pub(crate) tables: MeanTables<T>,
     /// Tables of the beams' single-scattered fluence along the ray, likewise
-    /// (for M₂; `moments::beams_fluence_table`).
-    pub beam_tables: MeanTables<T>,
+    /// (`moments::beams_fluence_table`).
+    pub(crate) beam_tables: MeanTables<T>,
 }
 
-/// Shared, lazily built tables of the scattered mean contribution.
-pub type MeanTables<T> = Arc<Mutex<HashMap<(Rule, u64), Arc<Piecewise<T>>>>>;
+/// Shared tables along the camera ray, each built once (or its failure
+/// kept) per (rule, tolerance).
+pub(crate) type MeanTables<T> = OncePerPass<Result<Arc<Piecewise<T>>, Failure<T>>>;
 
 /// What is known at one point x(s) of the camera ray for one component.
 #[derive(Debug, Clone)]
@@ -227,20 +230,18 @@ impl<T: Real> Field<T> {
         // The beams' fluence is carried times e^{c_b}, c_b ≥ c₀ the beams'
         // own shortest path (a beam far behind a point light near the
         // camera would underflow at c₀).
-        let beams_shift = like.lit(
-            sigma
-                * scene
-                    .lights
-                    .iter()
-                    .filter_map(|l| match *l {
-                        Light::Beam { center, direction, radius, .. } => {
-                            Some(beam_scattered_path(o, center, direction, radius))
-                        }
-                        Light::Point { .. } => None,
-                    })
-                    .fold(f64::INFINITY, f64::min)
-                    .max(shortest_path(scene)),
-        );
+        let beams_path = scene
+            .lights
+            .iter()
+            .filter_map(|l| match *l {
+                Light::Beam { center, direction, radius, .. } => {
+                    Some(beam_scattered_path(o, center, direction, radius))
+                }
+                Light::Point { .. } => None,
+            })
+            .fold(f64::INFINITY, f64::min);
+        let beams_shift =
+            if beams_path.is_finite() { like.lit(sigma * beams_path.max(shortest_path(scene))) } else { shift.clone() };
         let scattered_beams = if orders >= 1 {
             scene
                 .lights
@@ -278,9 +279,15 @@ impl<T: Real> Field<T> {
             total_flux: like.lit(scene.total_flux()),
             shift,
             center: x_origin,
-            tables: Arc::new(Mutex::new(HashMap::new())),
-            beam_tables: Arc::new(Mutex::new(HashMap::new())),
+            tables: OncePerPass::default(),
+            beam_tables: OncePerPass::default(),
         })
+    }
+
+    /// Evaluations spent on the field's along-ray tables so far (each built
+    /// once, `once_per_pass`).
+    pub fn table_evaluations(&self) -> u64 {
+        self.tables.evaluations() + self.beam_tables.evaluations()
     }
 
     /// Whether the field has smooth components (order 1), whose angular

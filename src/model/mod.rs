@@ -15,6 +15,7 @@ pub mod field;
 pub mod finite;
 pub mod moments;
 pub mod noise;
+pub(crate) mod once_per_pass;
 pub mod periodic;
 pub mod same_path;
 pub mod scattered;

@@ -184,7 +184,8 @@ pub fn scattered_mean_table<T: CheckRule>(
     along_ray_table(field, &field.tables, |x, o| scattered_mean(field, x, o), &[], rule, rel_tol, budget)
 }
 
-/// The beams' single-scattered fluence Σ ∫L₁dω·e^{c₀} along the camera ray
+/// The beams' single-scattered fluence Σ ∫L₁dω·e^{c_b} along the camera ray
+/// (c_b = [`Field::beams_shift`])
 /// as the same kind of table as [`scattered_mean_table`], for the M₂ of a
 /// beam's order-1 scene (each value a 2-D quadrature, `beam_source`).
 fn beams_fluence_table<T: CheckRule>(
@@ -210,7 +211,8 @@ fn beams_fluence_table<T: CheckRule>(
 }
 
 /// A table of f along the camera ray in `store`, built once per (rule,
-/// tolerance) ([`scattered_mean_table`]).
+/// tolerance) whichever integral asks first, the others waiting for it
+/// ([`scattered_mean_table`]; `once_per_pass`).
 fn along_ray_table<T: CheckRule>(
     field: &Field<T>,
     store: &super::field::MeanTables<T>,
@@ -220,10 +222,26 @@ fn along_ray_table<T: CheckRule>(
     rel_tol: f64,
     budget: &crate::quad::Budget,
 ) -> Result<Arc<Piecewise<T>>, Failure<T>> {
-    let key = (rule, rel_tol.to_bits());
-    if let Some(t) = store.lock().expect("no panic while holding the tables").get(&key) {
-        return Ok(t.clone());
-    }
+    let built = store.get_or_build_at(rule, rel_tol, || {
+        let table = build_along_ray_table(field, f, grading, rule, rel_tol, budget);
+        let spent = match &table {
+            Ok(t) => t.evaluations,
+            Err(e) => e.evaluations,
+        };
+        (Some(table.map(Arc::new)), spent)
+    });
+    (*built.expect("every build returns its outcome")).clone()
+}
+
+/// The table of [`along_ray_table`], built.
+fn build_along_ray_table<T: CheckRule>(
+    field: &Field<T>,
+    f: impl Fn(&T, &Options) -> Outcome<T>,
+    grading: &[T],
+    rule: Rule,
+    rel_tol: f64,
+    budget: &crate::quad::Budget,
+) -> Result<Piecewise<T>, Failure<T>> {
     let (lo, end) = table_range(field);
     let mut cuts: Vec<T> =
         ray_domain(field, &lo, None).breakpoints.into_iter().filter(|b| *b > lo && *b < end).collect();
@@ -236,10 +254,7 @@ fn along_ray_table<T: CheckRule>(
     cuts.push(lo.clone());
     cuts.push(end);
     let opts = sample_options(&lo, rel_tol, rule, budget);
-    let table = Piecewise::build(|x: &T| f(x, &opts), &cuts, rel_tol / 4.0)?;
-    let table = Arc::new(table);
-    store.lock().expect("no panic while holding the tables").insert(key, table.clone());
-    Ok(table)
+    Piecewise::build(|x: &T| f(x, &opts), &cuts, rel_tol / 4.0)
 }
 
 /// [x_camera, last ray breakpoint + 4^K/σ]: where the table is used, the

@@ -79,7 +79,12 @@ pub struct PairIntegrals<T> {
 }
 
 impl<T: CheckRule> Integrals<T> {
-    /// Computes all integrals for spheres of radius `r`.
+    /// Computes all integrals for spheres of radius `r`. The evaluations of
+    /// the field's along-ray tables (single-scattered light), which every
+    /// integral reads, are charged to the mean once, at the end (as the
+    /// finite-sphere model does): with a field used for one computation the
+    /// counts are then complete and do not depend on which thread built a
+    /// table.
     pub fn compute(field: &Field<T>, r: &T, opts: &Options) -> Result<Integrals<T>, OracleError> {
         let opts = opts.clone().declared();
         let o = &opts;
@@ -93,6 +98,7 @@ impl<T: CheckRule> Integrals<T> {
         // Failures in the order of the fields (the mean's first).
         let mut ints = single?;
         ints.pairs = Some(pairs?);
+        ints.mean.evaluations += field.table_evaluations();
         Ok(ints)
     }
 
@@ -101,7 +107,9 @@ impl<T: CheckRule> Integrals<T> {
     /// single-scattered light they are the costly part (4-D angular
     /// integrals, ~97 % of the evaluations on `point-isotropic-order1`).
     pub fn compute_single_sphere(field: &Field<T>, r: &T, opts: &Options) -> Result<Integrals<T>, OracleError> {
-        Integrals::single_sphere_parts(field, r, &opts.clone().declared())
+        let mut ints = Integrals::single_sphere_parts(field, r, &opts.clone().declared())?;
+        ints.mean.evaluations += field.table_evaluations();
+        Ok(ints)
     }
 
     fn single_sphere_parts(field: &Field<T>, r: &T, o: &Options) -> Result<Integrals<T>, OracleError> {

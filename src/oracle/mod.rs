@@ -336,9 +336,9 @@ pub fn run_with_scoped<T: CheckRule>(
         finite_error,
         integral_p: scaled(&ints.p, &k),
         integral_q: pairs.map(|p| scaled(&p.q, &k)),
-        pairs_not_computed: pairs.is_none().then(|| {
-            if scope == Scope::Prediction { SMALL_SPHERE_PAIRS_NOT_NEEDED } else { BEAM_PAIRS_NOT_DERIVED }.to_string()
-        }),
+        pairs_not_computed: pairs
+            .is_none()
+            .then(|| if beam_scattered { BEAM_PAIRS_NOT_DERIVED } else { SMALL_SPHERE_PAIRS_NOT_NEEDED }.to_string()),
         attenuation_shift: field.shift.to_f64(),
         d: d.map(|d| d.map(|v| v.to_f64())),
         d_error: d_error_reported,

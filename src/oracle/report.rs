@@ -244,7 +244,8 @@ pub struct Report {
     /// Why the small-sphere model's integrals of two spheres (Q, (23),
     /// (24), (25), (26)) are missing, if they are: a prediction
     /// ([`Scope::Prediction`]) with q = 1 and N_B = 1, whose Var L weighs
-    /// them 0.
+    /// them 0, or a beam's single-scattered light, for which they are not
+    /// derived (`docs/model.md` §9.8).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pairs_not_computed: Option<String>,
     /// c₀ = σ_ext × shortest light path to the camera ray: integrals are

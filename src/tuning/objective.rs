@@ -54,8 +54,9 @@ impl ModelAtRadius {
     /// The prediction's integrals from an oracle report: the finite-sphere
     /// model's where it has every integral (the Var L of any q, N_B), else
     /// the small-sphere model's. A report without the small-sphere pair
-    /// integrals (run with `Scope::Prediction` at q = 1, N_B = 1) cannot
-    /// predict other settings: that is an error naming the scope.
+    /// integrals (run with `Scope::Prediction` at q = 1, N_B = 1, or with a
+    /// beam's single-scattered light) cannot predict other settings: that
+    /// is an error giving the report's reason (`pairs_not_computed`).
     pub fn from_report(r: &Report) -> Result<ModelAtRadius, crate::model::OracleError> {
         let vb = |i: crate::oracle::Integral| ValueWithBar::from(i);
         let complete = r.finite.as_ref().and_then(|f| Some((f, f.corr23?, f.integral_q?, f.corr24?)));

@@ -38,18 +38,18 @@ mod second_hit;
 mod tables;
 pub mod virtual_lights;
 
+pub(super) use super::once_per_pass::OncePerPass;
+
 use super::along::{lowest_quadratic_path, pair_scale_exponent, MeanSource, RayLine};
 use super::angular::Direction;
 use super::field::{beam_interval, beam_scattered_path, BeamFrame, Field};
 use super::OracleError;
-use crate::quad::{decay_lengths, CheckRule, Domain, Estimate, Options, Outcome, Rule};
+use crate::quad::{decay_lengths, CheckRule, Domain, Estimate, Options, Outcome};
 use crate::real::Real;
 use beam::BeamLight;
 use mcrt_scene::{DVec3, Light, Phase, ScatteringOrders, Scene};
 use point::PointLight;
 pub use ray::Functional;
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
 
 /// One light of the finite-sphere model.
 #[derive(Debug, Clone)]
@@ -437,64 +437,5 @@ fn shortest_path(scene: &Scene, o: DVec3, u: DVec3, r: f64) -> f64 {
         shortest
     } else {
         0.0
-    }
-}
-
-/// The key of a table: the pass's rule and tolerance.
-type TableKey = (Rule, u64);
-
-/// A shared map from keys to lazily built values.
-type Shared<K, V> = Arc<Mutex<HashMap<K, V>>>;
-
-/// Tables built once per pass of one computation: the first caller of a
-/// key builds its table, callers of the same key meanwhile wait for it
-/// (no build makes a parallel call of its own, so waiting cannot
-/// deadlock), so each is built — and charged to the budget — exactly once
-/// whatever the thread count, and [`OncePerPass::evaluations`] sums the
-/// builds, failed ones included, in a count that does not depend on which
-/// thread built what. `None` where no table serves (the quadrature does).
-#[derive(Debug)]
-pub(super) struct OncePerPass<V> {
-    cells: Shared<TableKey, Arc<OnceBuilt<V>>>,
-}
-
-/// One table of [`OncePerPass`], once built: the table (or `None`) and the
-/// evaluations its build spent.
-type OnceBuilt<V> = std::sync::OnceLock<(Option<Arc<V>>, u64)>;
-
-impl<V> Default for OncePerPass<V> {
-    fn default() -> Self {
-        OncePerPass { cells: Default::default() }
-    }
-}
-
-impl<V> OncePerPass<V> {
-    /// The table of the pass with `opts`, built by `build` (the table or
-    /// `None`, and the evaluations it spent) if no caller built it before.
-    pub(super) fn get_or_build(&self, opts: &Options, build: impl FnOnce() -> (Option<V>, u64)) -> Option<Arc<V>> {
-        let key = (opts.rule, opts.rel_tol.to_bits());
-        let cell = self.cells.lock().expect("no panic under the lock").entry(key).or_default().clone();
-        cell.get_or_init(|| {
-            let (table, spent) = build();
-            (table.map(Arc::new), spent)
-        })
-        .0
-        .clone()
-    }
-
-    /// Evaluations spent on every table built so far.
-    pub(super) fn evaluations(&self) -> u64 {
-        let cells = self.cells.lock().expect("no panic under the lock");
-        cells.values().filter_map(|c| c.get()).map(|(_, spent)| spent).sum()
-    }
-
-    /// `result` with [`OncePerPass::evaluations`] added: the one fixed
-    /// place where an integral is charged the tables it and its siblings
-    /// read (after all of them have finished).
-    pub(super) fn charge<T, E>(&self, result: Result<Estimate<T>, E>) -> Result<Estimate<T>, E> {
-        result.map(|mut e| {
-            e.evaluations += self.evaluations();
-            e
-        })
     }
 }

@@ -203,7 +203,8 @@ impl<T: CheckRule> BeamLight<T> {
         if !sin.is_zero() {
             let a = &self.radius;
             let h2 = (a.clone() - self.eta0.clone()) * (a.clone() + self.eta0.clone());
-            if h2 > zero {
+            // (h2 = 0: the ray touches the surface; graded there too.)
+            if h2 >= zero {
                 let h = h2.sqrt();
                 s_points.push((-self.xi0.clone() - h.clone()) / sin.clone());
                 s_points.push((h - self.xi0.clone()) / sin.clone());
@@ -217,7 +218,8 @@ impl<T: CheckRule> BeamLight<T> {
 /// serves.
 const FINEST_GOAL: f64 = 1e-13;
 
-/// The beams' volume integrals ∫ n H d³x₁·e^{c₀} along the camera ray for
+/// The beams' volume integrals ∫ n H d³x₁ along the camera ray (each times
+/// e^{its own shift}, [`BeamLight::scattered_shift`]) for
 /// one quadrature pass: a piecewise Chebyshev interpolant (of the
 /// logarithm) per beam over the table range ([`FiniteField::table_range`]),
 /// cut at every along-ray breakpoint and the tail's decay lengths, to a

@@ -11,20 +11,26 @@
 //! which the function is analytic ([`KinkMap`]).
 
 use super::point::PointLight;
-use super::{FiniteField, Shared, TableKey};
+use super::{FiniteField, OncePerPass};
 use crate::model::chebyshev::{sample_options, Piecewise};
 use crate::model::field::phase_eval;
-use crate::quad::{decay_lengths, CheckRule, Estimate, Options, Outcome, Rule};
+use crate::quad::{decay_lengths, CheckRule, Estimate, Failure, Options, Outcome, Rule};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 /// One built table: the interpolant in y and its variable map.
 type Table<T> = Arc<(Piecewise<T>, KinkMap<T>)>;
 
-/// Tables per (light, rule, tolerance), built on first use.
+/// One light's tables, one per (rule, tolerance), each built once (or its
+/// failure kept).
+type PerLight<T> = OncePerPass<Result<Table<T>, Failure<T>>>;
+
+/// Tables per (light, rule, tolerance), each built once on first use
+/// (callers of the same key wait for it: `once_per_pass`), its failure
+/// kept.
 #[derive(Debug, Clone)]
 pub(super) struct Tables<T> {
-    map: Shared<(usize, TableKey), Table<T>>,
+    map: Arc<Mutex<HashMap<usize, PerLight<T>>>>,
 }
 
 /// The table's variable: y = x except on [k, k + w] (or [k − w, k]) on the
@@ -115,10 +121,26 @@ impl<T: CheckRule> Tables<T> {
         rule: Rule,
         budget: &crate::quad::Budget,
     ) -> Result<Table<T>, crate::quad::Failure<T>> {
-        let key = (index, (rule, tol.to_bits()));
-        if let Some(t) = self.map.lock().expect("no panic while holding the tables").get(&key) {
-            return Ok(t.clone());
-        }
+        let per_light = self.map.lock().expect("no panic while holding the tables").entry(index).or_default().clone();
+        let built = per_light.get_or_build_at(rule, tol, || {
+            let table = Self::build(ff, p, tol, rule, budget);
+            let spent = match &table {
+                Ok(t) => t.0.evaluations,
+                Err(e) => e.evaluations,
+            };
+            (Some(table), spent)
+        });
+        (*built.expect("every build returns its outcome")).clone()
+    }
+
+    /// The table of [`Tables::get`], built.
+    fn build(
+        ff: &FiniteField<T>,
+        p: &PointLight<T>,
+        tol: f64,
+        rule: Rule,
+        budget: &crate::quad::Budget,
+    ) -> Result<Table<T>, Failure<T>> {
         let (lo, end) = ff.table_range();
         let mut cuts: Vec<T> = p.ray_breakpoints(ff).into_iter().filter(|b| *b > lo && *b < end).collect();
         let last = cuts.iter().cloned().fold(lo.clone(), |m, b| m.max_of(b));
@@ -144,8 +166,6 @@ impl<T: CheckRule> Tables<T> {
         let cuts: Vec<T> = cuts.iter().map(|c| map.y_of(c)).collect();
         let opts: Options = sample_options(&lo, tol, rule, budget);
         let table = Piecewise::build(|y: &T| p.moment_cap(ff, &map.x_of(y), 1, &opts), &cuts, tol / 4.0)?;
-        let table = Arc::new((table, map));
-        self.map.lock().expect("no panic while holding the tables").insert(key, table.clone());
-        Ok(table)
+        Ok(Arc::new((table, map)))
     }
 }
