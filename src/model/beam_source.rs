@@ -94,8 +94,13 @@ impl<T: CheckRule> BeamPoint<T> {
         let coarse = Options { rel_tol: opts.rel_tol.max(1e-3), ..opts.clone() };
         let scale = integrate_within_pass(f, &domain, &coarse)?;
         let fine = Options { abs_tol: scale.value.abs().to_f64() * opts.rel_tol / 10.0, ..opts.clone() };
-        let e = integrate_within_pass(f, &domain, &fine)?;
-        Ok(Estimate { evaluations: e.evaluations + scale.evaluations, ..e })
+        match integrate_within_pass(f, &domain, &fine) {
+            Ok(e) => Ok(Estimate { evaluations: e.evaluations + scale.evaluations, ..e }),
+            Err(mut fail) => {
+                fail.evaluations += scale.evaluations;
+                Err(fail)
+            }
+        }
     }
 
     /// ∫ Θ(d√(1 − c²)) kernel(τ + dc, d) dc over the sphere of radius d
@@ -129,8 +134,10 @@ impl<T: CheckRule> BeamPoint<T> {
         // far from a beam behind a brighter light can be ~10⁻²⁸¹, where the
         // panels' floors alone reach its relative goal (they did, at
         // σ·distance 539 behind a light at the camera); 16 times that floor
-        // is negligible against every value these integrals take (≥ 10⁻¹²⁰:
-        // each is carried times its light's own shift).
+        // is negligible against every value these integrals take where they
+        // matter (a table's, carried times its light's own shift, ≥ 10⁻¹²⁰;
+        // the finite model's fallback quadrature at the common c₀ meets a far
+        // beam's value only beside a brighter light's).
         let o = &Options { abs_tol: o.abs_tol.max((d.underflow_floor() * d.lit(16.0 * 1024.0)).to_f64()), ..o.clone() };
         // The kinks m = |a − p| and a + p: where m < d the circle's radius
         // d√(1 − c²) passes m at c = ±c_m, c_m = √((d − m)(d + m))/d, and
