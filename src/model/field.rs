@@ -22,7 +22,7 @@
 //! Henyey–Greenstein medium, are refused with a clear message that names the
 //! limit (the tracer can still run them).
 
-use super::beam_source::ScatteredBeam;
+use super::beam_source::{beam_scattered_path, BeamFrame, ScatteredBeam};
 use super::chebyshev::Piecewise;
 use super::once_per_pass::OncePerPass;
 use super::scattered::Scattered;
@@ -512,50 +512,6 @@ fn shortest_path(scene: &Scene) -> f64 {
     } else {
         0.0
     }
-}
-
-/// The camera ray in a beam's frame (`docs/model.md` §9.3): e_n ∥ u × v_b,
-/// e_m = v_b × e_n; the camera origin at (ξ₀, η₀) across the beam and
-/// depth₀ past its disk, the ray at cos ϑ = μ = u·v_b, sin ϑ = |u × v_b|
-/// (for a ray along the beam, ξ₀ is the origin's distance from the axis).
-pub(crate) struct BeamFrame {
-    pub mu: f64,
-    pub sin: f64,
-    pub xi0: f64,
-    pub eta0: f64,
-    pub depth0: f64,
-}
-
-impl BeamFrame {
-    /// The frame of the beam (disk `center`, `direction`) for the camera
-    /// ray o + s u.
-    pub(crate) fn new(o: DVec3, u: DVec3, center: DVec3, direction: DVec3) -> BeamFrame {
-        let rel = o - center;
-        let n = u.cross(direction);
-        let sin = n.length();
-        let (xi0, eta0) = if sin > 0.0 {
-            let e_n = n / sin;
-            let e_m = direction.cross(e_n);
-            (rel.dot(e_m), rel.dot(e_n))
-        } else {
-            ((rel - direction * rel.dot(direction)).length(), 0.0)
-        };
-        BeamFrame { mu: u.dot(direction), sin, xi0, eta0, depth0: rel.dot(direction) }
-    }
-}
-
-/// A lower bound of t₁ + |x₁ − o| over the points x₁ of a beam's volume
-/// (depth t₁ ≥ 0 past its disk, within `radius` of its axis): the path
-/// light → first interaction → any camera-ray point → camera of its
-/// single-scattered light, by the triangle inequality. It is the larger of
-/// the camera's distance from that volume and its depth t_o when t_o ≥ 0
-/// (t₁ + |t₁ − t_o| ≥ t_o).
-pub(crate) fn beam_scattered_path(o: DVec3, center: DVec3, direction: DVec3, radius: f64) -> f64 {
-    let rel = o - center;
-    let depth = rel.dot(direction);
-    let across = ((rel - direction * depth).length() - radius).max(0.0);
-    let distance = if depth >= 0.0 { across } else { across.hypot(depth) };
-    distance.max(depth)
 }
 
 /// The interval of s ≥ 0 where the camera ray o + s u is inside the beam:

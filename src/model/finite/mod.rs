@@ -42,7 +42,8 @@ pub(super) use super::once_per_pass::OncePerPass;
 
 use super::along::{lowest_quadratic_path, pair_scale_exponent, MeanSource, RayLine};
 use super::angular::Direction;
-use super::field::{beam_interval, beam_scattered_path, BeamFrame, Field};
+use super::beam_source::{beam_scattered_path, BeamFrame};
+use super::field::{beam_interval, Field};
 use super::OracleError;
 use crate::quad::{decay_lengths, CheckRule, Domain, Estimate, Options, Outcome};
 use crate::real::Real;

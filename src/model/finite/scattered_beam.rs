@@ -45,7 +45,7 @@ impl<T: CheckRule> BeamLight<T> {
 
     /// A lower bound of the path light → second segment's closest point
     /// to a sphere → camera of this beam's single-scattered light, times σ:
-    /// σ·(max(dist(o, beam), depth₀) − R)⁺ (as `field::beam_scattered_path`,
+    /// σ·(max(dist(o, beam), depth₀) − R)⁺ (as `beam_source::beam_scattered_path`,
     /// from the camera's coordinates in the beam's frame). ≥ c₀; its own
     /// along-ray table is scaled by it, so that a beam far behind a light
     /// near the camera does not underflow there.
