@@ -47,21 +47,42 @@ fn optimize_prints_the_best_the_alternatives_and_the_sensitivity() {
     assert_eq!(v.pointer("/bias_predicted").and_then(|x| x.as_bool()), Some(true));
 }
 
-/// With scattered light R is held at the scene's; a `--radius-range`
-/// that holds it is honoured and said not to be searched (the outside
-/// probe, item 2: it was ignored silently), one that does not is refused,
-/// naming the flag and why.
+/// Single-scattered light in an isotropic medium: R is searched within
+/// `--radius-range` at q = 1, N_B = 1, where the finite-sphere model gives
+/// Var L and the bias, and the text says so; `--maps` (over q and N_B,
+/// held here) is refused before any computation, naming the flag.
 #[test]
-fn optimize_with_scattered_light_says_the_bias_is_not_predicted() {
-    let out = run(&["optimize", "scenes/point-isotropic-order1.toml", "--budget", "1", "--radius-range", "1e-3,0.5"]);
+fn optimize_with_single_scattered_light_searches_r_at_the_standard_method() {
+    let out = run(&["optimize", "scenes/point-isotropic-order1.toml", "--budget", "1", "--radius-range", "0.05,0.2"]);
     let (t, e) = text(&out);
     assert!(out.status.success(), "{e}");
-    assert!(t.contains("the bias is NOT predicted") && t.contains("held at the scene's"), "{t}");
-    assert!(t.contains("within --radius-range [1.000e-3, 5.000e-1], which is not searched"), "{t}");
-    let out = run(&["optimize", "scenes/point-isotropic-order1.toml", "--budget", "1", "--radius-range", "0.1,0.5"]);
+    assert!(t.contains("q = 1 and N_B = 1 held, R searched over [5.000e-2, 2.000e-1]"), "{t}");
+    assert!(t.contains("N_B  held at 1") && t.contains("q < 1 or N_B > 1 by the finite-sphere model: not scored"), "{t}");
+    let best = t.lines().find(|l| l.starts_with("best: ")).unwrap();
+    assert!(best.contains("N_B = 1 ") && best.contains("bias ") && !best.contains("not predicted"), "{best}");
+    let dir = std::env::temp_dir().join(format!("mcrt-noise-maps-order1-{}", std::process::id()));
+    let out = run(&["optimize", "scenes/point-isotropic-order1.toml", "--budget", "1", "--maps", dir.to_str().unwrap()]);
+    let (t, e) = text(&out);
+    assert_eq!(out.status.code(), Some(2), "{t}{e}");
+    assert!(t.is_empty() && e.contains("--maps") && e.contains("holds at 1"), "{e}");
+}
+
+/// Scattered light the finite-sphere model does not cover (a
+/// Henyey–Greenstein medium at order 1): R is held at the scene's, so a
+/// `--radius-range` that does not hold it is refused, naming the flag and
+/// why (it was ignored silently once), before any computation.
+#[test]
+fn optimize_refuses_a_radius_range_it_cannot_search() {
+    let text_of = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic-order1.toml"))
+        .unwrap()
+        .replace("kind = \"isotropic\"", "kind = \"henyey-greenstein\"\ng = 0.5");
+    let path = std::env::temp_dir().join(format!("mcrt-noise-hg-order1-{}.toml", std::process::id()));
+    std::fs::write(&path, text_of).unwrap();
+    let out = run(&["optimize", path.to_str().unwrap(), "--budget", "1", "--radius-range", "0.1,0.5"]);
     let (t, e) = text(&out);
     assert_eq!(out.status.code(), Some(2), "{t}{e}");
     assert!(t.is_empty() && e.contains("--radius-range 1e-1,5e-1") && e.contains("estimator.radius = 0.01"), "{e}");
+    let _ = std::fs::remove_file(path);
 }
 
 /// The outside probe, items 1 and 2. `--radius-range 1e-300 1e300` (also

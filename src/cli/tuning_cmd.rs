@@ -6,6 +6,7 @@ use mcrt_noise::reports;
 use mcrt_noise::scene::Scene;
 use mcrt_noise::tuning::cost::CostTable;
 use mcrt_noise::tuning::radii::RadiusCache;
+use mcrt_noise::tuning::Searched;
 use mcrt_noise::tuning::{maps, optimize_with, Options, TuningError};
 use std::path::{Path, PathBuf};
 
@@ -66,6 +67,13 @@ fn parse_costs(text: &str, path: &Path) -> Result<CostTable, String> {
 /// `optimize`.
 pub fn optimize_cmd(a: &OptimizeArgs<'_>, load: impl Fn(&PathBuf) -> Result<Scene, CliError>) -> Result<(), CliError> {
     let scene = load(&a.scene.to_path_buf())?;
+    if let (Some(dir), Searched::StandardMethod) = (a.maps, Searched::of(&scene)) {
+        return Err(CliError::usage(format!(
+            "--maps {}: the maps vary q and N_B, which optimize holds at 1 for this scene's single-scattered light \
+             (the finite-sphere model gives its Var L at q = 1 and N_B = 1 only: docs/model.md §9.7); omit --maps",
+            dir.display()
+        )));
+    }
     if let Some(dir) = a.maps {
         super::paths::writable_dir(&format!("--maps {}", dir.display()), dir)?;
     }

@@ -549,6 +549,35 @@ pub fn finite_sphere_covers(scene: &Scene) -> bool {
     }
 }
 
+/// Whether the finite-sphere model covers `scene` once q = 1 and N_B = 1
+/// (the standard method: one sphere per camera ray, one camera ray) at any
+/// R: uncollided light, and single-scattered light in an isotropic medium
+/// (point lights and beams). `tuning::optimize` searches R there.
+///
+/// ```
+/// use mcrt_noise::{oracle::finite_sphere_covers_the_standard_method, Scene};
+///
+/// let mut scene = Scene::builder()
+///     .medium(1.0, 0.8)
+///     .point_light([1.0, 0.0, 1.0], 1.0)
+///     .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+///     .estimator(0.2, 0.5, 20, 4)
+///     .build()?;
+/// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
+/// assert!(finite_sphere_covers_the_standard_method(&scene));
+/// scene.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g: 0.5 };
+/// assert!(!finite_sphere_covers_the_standard_method(&scene));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn finite_sphere_covers_the_standard_method(scene: &Scene) -> bool {
+    use mcrt_scene::ScatteringOrders::Limited;
+    match scene.effects.scattering_orders {
+        Limited(0) => true,
+        Limited(1) => scattered_covered(scene),
+        _ => false,
+    }
+}
+
 /// An order-1 scene whose medium the finite-sphere model of single
 /// scattering covers: isotropic (point lights and beams).
 fn scattered_covered(scene: &Scene) -> bool {

@@ -4,7 +4,7 @@
 
 use crate::tuning::search::Scored;
 use crate::tuning::sensitivity::Range;
-use crate::tuning::Optimum;
+use crate::tuning::{Optimum, Searched};
 use std::fmt::Write;
 
 /// A parameter set and its predicted error on one line (`q` shown as
@@ -67,7 +67,9 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
     let memory = o.max_spheres.map_or(String::new(), |m| format!(", at most {m} spheres per iteration"));
     writeln!(s, "{scene_label}: budget {} s of one core{memory}", o.budget).unwrap();
     writeln!(s, "costs: {}", o.costs.source).unwrap();
-    if o.bias_predicted {
+    if o.searched == Searched::StandardMethod {
+        writeln!(s, "model: finite-sphere, exact at every R for uncollided and single-scattered light at q = 1 and N_B = 1 (the standard method), the only q and N_B where it gives Var L of single-scattered light (other q and N_B need the correlations of two spheres, not yet in the oracle: docs/model.md §9.7): bias b(R) predicted; q = 1 and N_B = 1 held, R searched over [{:.3e}, {:.3e}]", o.radius_range.0, o.radius_range.1).unwrap();
+    } else if o.bias_predicted {
         writeln!(s, "model: finite-sphere (exact at every R for uncollided light): bias b(R) predicted; R searched over [{:.3e}, {:.3e}]", o.radius_range.0, o.radius_range.1).unwrap();
     } else {
         let within = o.radius_range_requested.map_or(String::new(), |(lo, hi)| {
@@ -101,13 +103,20 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
     }
     writeln!(s, "\nsensitivity: each parameter's contiguous range around the optimum with RMSE within 10 % of the best, the others at the optimum:")
         .unwrap();
-    writeln!(s, "{}", range("q", &o.sensitivity.q, false)).unwrap();
+    let held = "held at 1 (the finite-sphere model of single-scattered light)";
+    match &o.sensitivity.q {
+        Some(q) => writeln!(s, "{}", range("q", q, false)).unwrap(),
+        None => writeln!(s, "  q    {held}").unwrap(),
+    }
     match &o.sensitivity.radius {
         Some(r) => writeln!(s, "{}", range("R", r, false)).unwrap(),
         None => writeln!(s, "  R    held at the scene's (bias not predicted)").unwrap(),
     }
     writeln!(s, "{}", range("N_F", &o.sensitivity.forward_rays, true)).unwrap();
-    writeln!(s, "{}", range("N_B", &o.sensitivity.camera_rays, true)).unwrap();
+    match &o.sensitivity.camera_rays {
+        Some(n_b) => writeln!(s, "{}", range("N_B", n_b, true)).unwrap(),
+        None => writeln!(s, "  N_B  {held}").unwrap(),
+    }
     s
 }
 

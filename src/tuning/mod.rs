@@ -18,9 +18,15 @@
 //!   scene's own parameters, the asymptotic rule's R, N_B = 1) and the
 //!   sensitivity of the optimum.
 //!
-//! Where the finite-sphere model does not cover the scene (scattered
-//! light), the bias is not predicted: R is held at the scene's and only
-//! (q, N_F, N_B) are chosen, for the noise alone.
+//! What is searched follows where the finite-sphere model is exact
+//! ([`Searched`]): every (q, R, N_F, N_B) for uncollided light; R and N_F
+//! with q = 1 and N_B = 1 (the standard method) for single-scattered light
+//! in an isotropic medium, whose Var L at other q and N_B needs pair
+//! integrals not yet in the oracle (`docs/model.md` §9.7), with the
+//! small-sphere model's (q, N_F, N_B) at the scene's R beside it; elsewhere
+//! (Henyey–Greenstein media, higher orders) the bias is not predicted, R is
+//! held at the scene's and only (q, N_F, N_B) are chosen, for the noise
+//! alone.
 
 pub mod alternatives;
 pub mod calibration;
@@ -66,6 +72,43 @@ impl std::fmt::Display for TuningError {
 
 impl std::error::Error for TuningError {}
 
+/// Which parameters `optimize` searches, from where the finite-sphere
+/// model (exact at R, bias predicted) covers the scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Searched {
+    /// Uncollided light: every (q, R, N_F, N_B), by the finite-sphere model.
+    Everything,
+    /// Single-scattered light in an isotropic medium (point lights and
+    /// beams): the finite-sphere model gives Var L at q = 1 and N_B = 1
+    /// only, so R and N_F are searched there (bias predicted), and the
+    /// small-sphere model's (q, N_F, N_B) at the scene's R is an
+    /// alternative.
+    StandardMethod,
+    /// Other scattered light: the small-sphere model; R held at the
+    /// scene's, the bias not predicted, (q, N_F, N_B) chosen for the noise.
+    HeldRadius,
+}
+
+impl Searched {
+    /// What `optimize` searches for `scene`.
+    ///
+    /// ```
+    /// use mcrt_noise::tuning::Searched;
+    /// let text = std::fs::read_to_string("scenes/point-isotropic-order1.toml")?;
+    /// let scene = mcrt_noise::Scene::from_toml_str(&text)?;
+    /// assert_eq!(Searched::of(&scene), Searched::StandardMethod);
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn of(scene: &Scene) -> Searched {
+        use mcrt_scene::ScatteringOrders::Limited;
+        match scene.effects.scattering_orders {
+            Limited(0) => Searched::Everything,
+            _ if crate::oracle::finite_sphere_covers_the_standard_method(scene) => Searched::StandardMethod,
+            _ => Searched::HeldRadius,
+        }
+    }
+}
+
 /// What to optimise for.
 #[derive(Debug, Clone)]
 pub struct Options {
@@ -77,7 +120,11 @@ pub struct Options {
     pub radius_range: Option<(f64, f64)>,
     /// Per-operation costs.
     pub costs: CostTable,
-    /// Oracle evaluations for the whole optimisation (every radius).
+    /// Oracle evaluations for the whole optimisation (every radius); with
+    /// single-scattered light searched at the standard method
+    /// ([`Searched::StandardMethod`]) each radius's oracle run, and the
+    /// small-sphere comparison beside it, has a budget of its own of this
+    /// size (a beam's costs ~3·10⁸ a radius).
     pub evaluations: u64,
 }
 
@@ -110,6 +157,8 @@ pub struct Alternative {
 pub struct Optimum {
     /// `"finite-sphere"` or `"small-sphere"`.
     pub model: &'static str,
+    /// Which parameters were searched.
+    pub searched: Searched,
     /// Whether the bias b(R) is predicted (finite-sphere model).
     pub bias_predicted: bool,
     /// The constraints searched under.
@@ -152,9 +201,8 @@ pub fn optimize(scene: &Scene, opts: &Options) -> Result<Optimum, TuningError> {
 pub fn optimize_with(scene: &Scene, opts: &Options, cache: &mut RadiusCache) -> Result<Optimum, TuningError> {
     check_options(opts)?;
     check_radius_range(scene, opts.radius_range)?;
-    // Scattered light: the finite-sphere model, and so the bias, does not
-    // cover it (`model::finite::FiniteField::from_scene`); R is held.
-    if scene.effects.scattering_orders != mcrt_scene::ScatteringOrders::Limited(0) {
+    let searched = Searched::of(scene);
+    if searched == Searched::HeldRadius {
         check_held_radius(scene, opts.radius_range)?;
     }
     let own = cache.at(scene.estimator.radius)?;
@@ -167,19 +215,23 @@ pub fn optimize_with(scene: &Scene, opts: &Options, cache: &mut RadiusCache) -> 
             opts.budget
         )));
     }
-    let bias_predicted = own.model.bias.is_some();
+    let bias_predicted = searched != Searched::HeldRadius;
     let sigma = scene.medium.sigma_ext;
     let range = opts.radius_range.unwrap_or((1e-3 / sigma, 0.5 / sigma));
-    let free = Constraints::free(opts.budget, opts.max_spheres);
+    let free = searched.constraints(opts);
     let best = if bias_predicted {
         best_over_radii(scene, opts, cache, &free, range)?
     } else {
         own.best(scene, &opts.costs, &free).ok_or_else(|| infeasible(opts, scene))?
     };
-    let alternatives = alternatives::alternatives(scene, opts, cache, &best, range, bias_predicted)?;
-    let sensitivity = sensitivity::of(scene, opts, cache, &best, bias_predicted, range)?;
+    let alternatives = match searched {
+        Searched::StandardMethod => alternatives::beside_the_standard_method(scene, opts, cache, &best, range)?,
+        _ => alternatives::alternatives(scene, opts, cache, &best, range, bias_predicted)?,
+    };
+    let sensitivity = sensitivity::of(scene, opts, cache, &best, searched, range)?;
     Ok(Optimum {
         model: own.model.model,
+        searched,
         bias_predicted,
         budget: opts.budget,
         max_spheres: opts.max_spheres,
@@ -191,6 +243,18 @@ pub fn optimize_with(scene: &Scene, opts: &Options, cache: &mut RadiusCache) -> 
         sensitivity,
         radii: cache.all(),
     })
+}
+
+impl Searched {
+    /// The constraints of the search: none but the budget (and memory),
+    /// and q = 1, N_B = 1 for [`Searched::StandardMethod`].
+    pub fn constraints(self, opts: &Options) -> Constraints {
+        let free = Constraints::free(opts.budget, opts.max_spheres);
+        match self {
+            Searched::StandardMethod => Constraints { q: Some(1.0), camera_rays: Some(1), ..free },
+            _ => free,
+        }
+    }
 }
 
 fn check_options(opts: &Options) -> Result<(), TuningError> {
@@ -228,7 +292,8 @@ fn check_radius_range(scene: &Scene, range: Option<(f64, f64)>) -> Result<(), Tu
     Ok(())
 }
 
-/// With scattered light R is held at the scene's (the bias is not
+/// With scattered light the finite-sphere model does not cover
+/// ([`Searched::HeldRadius`]) R is held at the scene's (the bias is not
 /// predicted, so R cannot be chosen): a `--radius-range` is honoured only
 /// if it holds that R, else refused rather than ignored.
 fn check_held_radius(scene: &Scene, range: Option<(f64, f64)>) -> Result<(), TuningError> {

@@ -38,29 +38,33 @@ pub struct ModelAtRadius {
     pub bias: Option<ValueWithBar>,
     /// M₂ of (16).
     pub m2: ValueWithBar,
-    /// (23) (C₂₃).
-    pub c23: ValueWithBar,
+    /// (23) (C₂₃); `None` where the model does not give it (the
+    /// finite-sphere model of single-scattered light, at q = 1, N_B = 1).
+    pub c23: Option<ValueWithBar>,
     /// P of (17).
     pub p: ValueWithBar,
-    /// Q of (17).
-    pub q_pair: ValueWithBar,
-    /// (24) (C₂₄).
-    pub c24: ValueWithBar,
+    /// Q of (17); `None` as for `c23`.
+    pub q_pair: Option<ValueWithBar>,
+    /// (24) (C₂₄); `None` as for `c23`.
+    pub c24: Option<ValueWithBar>,
     /// The small-sphere model's M₂ at R (∝ 1/R², for the asymptotic rule).
     pub small_sphere_m2: ValueWithBar,
 }
 
 impl ModelAtRadius {
     /// The prediction's integrals from an oracle report: the finite-sphere
-    /// model's where it has every integral (the Var L of any q, N_B), else
-    /// the small-sphere model's. A report without the small-sphere pair
-    /// integrals (run with `Scope::Prediction` at q = 1, N_B = 1, or with a
-    /// beam's single-scattered light) cannot predict other settings: that
-    /// is an error giving the report's reason (`pairs_not_computed`).
+    /// model's where the report has it (exact at R, bias predicted; without
+    /// the pair integrals Q, C₂₃, C₂₄ for single-scattered light, which it
+    /// gives at q = 1, N_B = 1 only, where (7)–(9) weigh them 0), else the
+    /// small-sphere model's, with the bias b(R) where the report has the
+    /// finite-sphere mean (`finite_mean`: isotropic single scattering). A
+    /// small-sphere report without its pair integrals (run with
+    /// `Scope::Prediction` at q = 1, N_B = 1, or with a beam's
+    /// single-scattered light) cannot predict other settings: that is an
+    /// error giving the report's reason (`pairs_not_computed`).
     pub fn from_report(r: &Report) -> Result<ModelAtRadius, crate::model::OracleError> {
         let vb = |i: crate::oracle::Integral| ValueWithBar::from(i);
-        let complete = r.finite.as_ref().and_then(|f| Some((f, f.corr23?, f.integral_q?, f.corr24?)));
-        if let Some((f, corr23, integral_q, corr24)) = complete {
+        if let Some(f) = &r.finite {
             return Ok(ModelAtRadius {
                 radius: r.radius,
                 model: "finite-sphere",
@@ -68,10 +72,10 @@ impl ModelAtRadius {
                 mean_at_zero: r.mean_luminance,
                 bias: Some(f.bias),
                 m2: vb(f.integral_m2),
-                c23: vb(corr23),
+                c23: f.corr23.map(vb),
                 p: vb(f.integral_p),
-                q_pair: vb(integral_q),
-                c24: vb(corr24),
+                q_pair: f.integral_q.map(vb),
+                c24: f.corr24.map(vb),
                 small_sphere_m2: vb(r.integral_m2),
             });
         }
@@ -86,34 +90,48 @@ impl ModelAtRadius {
             model: "small-sphere",
             mean: r.mean_luminance,
             mean_at_zero: r.mean_luminance,
-            bias: None,
+            bias: r.finite_mean.as_ref().and_then(|f| f.bias),
             m2: vb(r.integral_m2),
-            c23: vb(corr23.exact),
+            c23: Some(vb(corr23.exact)),
             p: vb(r.integral_p),
-            q_pair: vb(integral_q),
-            c24: vb(corr24.exact),
+            q_pair: Some(vb(integral_q)),
+            c24: Some(vb(corr24.exact)),
             small_sphere_m2: vb(r.integral_m2),
         })
     }
 
+    /// Whether the model gives Var L at every (q, N_F, N_B), not only at
+    /// q = 1, N_B = 1.
+    pub fn has_pairs(&self) -> bool {
+        self.c23.is_some() && self.q_pair.is_some() && self.c24.is_some()
+    }
+
     /// Var L of one iteration with (q, N_F, N_B) (continuous counts
-    /// allowed) and its bar, linear in the integrals' bars.
-    pub fn variance(&self, q: f64, n_f: f64, n_b: f64) -> ValueWithBar {
+    /// allowed) and its bar, linear in the integrals' bars; `None` where it
+    /// needs a pair integral the model does not give (q < 1 needs C₂₃ and
+    /// Q, N_B > 1 needs C₂₄ and, with N_F > 1, Q).
+    pub fn variance(&self, q: f64, n_f: f64, n_b: f64) -> Option<ValueWithBar> {
         let nfnb = n_f * n_b;
         let w_a = 1.0 / nfnb;
         let w_b = 1.0 / n_b - 1.0 / nfnb;
         let w_c = 1.0 / n_f - 1.0 / nfnb;
         let w_mu2 = 1.0 / nfnb - 1.0 / n_b - 1.0 / n_f;
-        let (m, a, b, c) = (self.mean, self.m2, self.c23, self.c24);
+        // A pair integral with weight exactly 0 (q = 1; N_B = 1) is not needed.
+        let zero = ValueWithBar { value: 0.0, error: 0.0 };
+        let needed = |x: Option<ValueWithBar>, weight: f64| if weight == 0.0 { Some(zero) } else { x };
+        let b = needed(self.c23, w_a * (1.0 - q))?;
+        let q_pair = needed(self.q_pair, w_b * (1.0 - q))?;
+        let c = needed(self.c24, w_c)?;
+        let (m, a) = (self.mean, self.m2);
         let value = w_a * (q * a.value + 2.0 * (1.0 - q) * b.value)
-            + w_b * (q * self.p.value + 2.0 * (1.0 - q) * self.q_pair.value)
+            + w_b * (q * self.p.value + 2.0 * (1.0 - q) * q_pair.value)
             + w_c * c.value
             + w_mu2 * m.value * m.value;
         let error = w_a * (q * a.error + 2.0 * (1.0 - q) * b.error)
-            + w_b.abs() * (q * self.p.error + 2.0 * (1.0 - q) * self.q_pair.error)
+            + w_b.abs() * (q * self.p.error + 2.0 * (1.0 - q) * q_pair.error)
             + w_c.abs() * c.error
             + w_mu2.abs() * 2.0 * m.value.abs() * m.error;
-        ValueWithBar { value, error }
+        Some(ValueWithBar { value, error })
     }
 }
 

@@ -106,7 +106,7 @@ impl Radius {
         if !(tau.0 > 0.0 && tau.0 <= c.budget) {
             return None;
         }
-        let var = self.model.variance(if c.cylinder { 0.0 } else { q }, n_f, n_b);
+        let var = self.model.variance(if c.cylinder { 0.0 } else { q }, n_f, n_b)?;
         Some((Rmse::of(&self.model, var, tau, c.budget)?, counts))
     }
 
@@ -168,9 +168,10 @@ impl Radius {
         // Var = X + Y/N_F and τ = U + V N_F, read off at N_F = 1 and 2
         // (Var at q = 0 in the cylinder limit, as `score` has it).
         let q_var = if c.cylinder { 0.0 } else { q };
-        let var = |n_f: f64| self.model.variance(q_var, n_f, n_b as f64).value;
+        let var = |n_f: f64| self.model.variance(q_var, n_f, n_b as f64).map(|v| v.value);
         let tau = |n_f: f64| costs.seconds(&self.counts(scene, c, q, n_f, n_b as f64)).0;
-        let (y, x) = (2.0 * (var(1.0) - var(2.0)), 2.0 * var(2.0) - var(1.0));
+        let (var1, var2) = (var(1.0)?, var(2.0)?);
+        let (y, x) = (2.0 * (var1 - var2), 2.0 * var2 - var1);
         let (v, u) = (tau(2.0) - tau(1.0), 2.0 * tau(1.0) - tau(2.0));
         let cap = ((c.budget - u) / v).min(MAX_SEGMENTS / self.rates.segments_per_ray).max(1.0);
         let star = if x > 0.0 && y > 0.0 && u > 0.0 && v > 0.0 { (y * u / (x * v)).sqrt() } else { cap };

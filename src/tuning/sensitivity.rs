@@ -8,7 +8,8 @@
 
 use super::cost::Parameters;
 use super::radii::RadiusCache;
-use super::search::{Constraints, Scored, MIN_Q};
+use super::search::{Scored, MIN_Q};
+use super::Searched;
 use super::{Options, TuningError};
 use mcrt_scene::Scene;
 use serde::Serialize;
@@ -55,17 +56,18 @@ pub struct Range {
 }
 
 /// The four ranges (`radius` is `None` where the bias is not predicted and
-/// R is held at the scene's).
+/// R is held at the scene's; `q` and `camera_rays` are `None` where they
+/// are held at 1, [`super::Searched::StandardMethod`]).
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct Sensitivity {
     /// q.
-    pub q: Range,
+    pub q: Option<Range>,
     /// R.
     pub radius: Option<Range>,
     /// N_F.
     pub forward_rays: Range,
     /// N_B.
-    pub camera_rays: Range,
+    pub camera_rays: Option<Range>,
 }
 
 /// The sensitivity of `best`.
@@ -74,16 +76,18 @@ pub fn of(
     opts: &Options,
     cache: &mut RadiusCache,
     best: &Scored,
-    bias_predicted: bool,
+    searched: Searched,
     range: (f64, f64),
 ) -> Result<Sensitivity, TuningError> {
-    let c = Constraints::free(opts.budget, opts.max_spheres);
+    let c = searched.constraints(opts);
+    let (held, bias_predicted) = (searched == Searched::StandardMethod, searched != Searched::HeldRadius);
     let limit = best.rmse.relative * TOLERANCE;
     let p0 = best.parameters;
     let at = cache.at(p0.radius)?;
     let score = |p: &Parameters| at.scored_at(scene, &opts.costs, &c, p).map_or(f64::INFINITY, |s| s.rmse.relative);
     let step = q_step();
-    let q = scan(p0.q, MIN_Q, 1.0, |v| v * step, |v| v / step, |v| score(&Parameters { q: v, ..p0 }), limit);
+    let q = (!held)
+        .then(|| scan(p0.q, MIN_Q, 1.0, |v| v * step, |v| v / step, |v| score(&Parameters { q: v, ..p0 }), limit));
     // A ray count from `start` within [1, max], stepped by count_up/count_down.
     let ray_count = |start: u64, max: f64, with: &dyn Fn(u64) -> Parameters| {
         scan(start as f64, 1.0, max, count_up, count_down, |v| score(&with(v as u64)), limit)
@@ -92,8 +96,9 @@ pub fn of(
         forward_rays: n,
         ..p0
     });
-    let n_b =
-        ray_count(p0.camera_rays, mcrt_scene::limits::MAX_CAMERA_RAYS as f64, &|n| Parameters { camera_rays: n, ..p0 });
+    let n_b = (!held).then(|| {
+        ray_count(p0.camera_rays, mcrt_scene::limits::MAX_CAMERA_RAYS as f64, &|n| Parameters { camera_rays: n, ..p0 })
+    });
     let radius = if bias_predicted {
         let (lo_bound, hi_bound) = range;
         let mut err = None;
