@@ -284,6 +284,33 @@ fn single_scattered_light_is_searched_over_r_at_the_standard_method() {
     assert_eq!(small.parameters.radius, s.estimator.radius);
     assert!(small.rmse.relative_bias.is_some(), "{small:?}");
     assert!(named("q < 1 or N_B > 1").scored.as_ref().is_err_and(|e| e.contains("§9.7")));
+    // The bias of single-scattered light is resolved at some radius: the rule has its b₂.
+    assert!(named("R of the asymptotic rule").scored.is_ok(), "{:?}", named("R of the asymptotic rule"));
+    // What `optimize --json` carries: what was searched, the held
+    // parameters and the absent pair integrals as null, not 0.
+    let v = serde_json::to_value(&o).unwrap();
+    assert_eq!(v["searched"], "StandardMethod");
+    assert!(v["sensitivity"]["q"].is_null() && v["sensitivity"]["camera_rays"].is_null());
+    assert!(v["radii"].as_array().unwrap().iter().all(|r| r["model"]["c23"].is_null() && r["model"]["c24"].is_null()));
+}
+
+/// The small-sphere comparison is the small-sphere model whatever the
+/// report holds: on an order-1 scene at q = 1, N_B = 1 the oracle's
+/// prediction is the finite-sphere model, and `from_report` takes it (no
+/// pair integrals), while `small_sphere_from_report` takes the paper's
+/// model with its pair integrals and the finite-sphere bias.
+#[test]
+fn the_small_sphere_model_is_taken_from_any_report() {
+    let s = with(scene("point-isotropic-order1"), 1.0, 0.1, 20, 1);
+    let report = run(&s, Precision::F64, Some(1e-4)).unwrap();
+    let exact = ModelAtRadius::from_report(&report).unwrap();
+    assert_eq!(exact.model, "finite-sphere");
+    assert!(!exact.has_pairs() && exact.bias.is_some());
+    let small = ModelAtRadius::small_sphere_from_report(&report).unwrap();
+    assert_eq!(small.model, "small-sphere");
+    assert!(small.has_pairs() && small.variance(0.5, 20.0, 8.0).is_some());
+    assert_eq!(small.bias.map(|b| b.value), exact.bias.map(|b| b.value));
+    assert_eq!(small.m2.value, report.integral_m2.value);
 }
 
 /// Scattered light the finite-sphere model does not cover (here single

@@ -57,11 +57,15 @@ fn optimize_with_single_scattered_light_searches_r_at_the_standard_method() {
     let (t, e) = text(&out);
     assert!(out.status.success(), "{e}");
     assert!(t.contains("q = 1 and N_B = 1 held, R searched over [5.000e-2, 2.000e-1]"), "{t}");
-    assert!(t.contains("N_B  held at 1") && t.contains("q < 1 or N_B > 1 by the finite-sphere model: not scored"), "{t}");
-    let best = t.lines().find(|l| l.starts_with("best: ")).unwrap();
+    assert!(
+        t.contains("N_B  held at 1") && t.contains("q < 1 or N_B > 1 by the finite-sphere model: not scored"),
+        "{t}"
+    );
+    let best = t.lines().find(|l| l.starts_with("best at q = 1, N_B = 1 (finite-sphere model, exact): ")).unwrap();
     assert!(best.contains("N_B = 1 ") && best.contains("bias ") && !best.contains("not predicted"), "{best}");
     let dir = std::env::temp_dir().join(format!("mcrt-noise-maps-order1-{}", std::process::id()));
-    let out = run(&["optimize", "scenes/point-isotropic-order1.toml", "--budget", "1", "--maps", dir.to_str().unwrap()]);
+    let out =
+        run(&["optimize", "scenes/point-isotropic-order1.toml", "--budget", "1", "--maps", dir.to_str().unwrap()]);
     let (t, e) = text(&out);
     assert_eq!(out.status.code(), Some(2), "{t}{e}");
     assert!(t.is_empty() && e.contains("--maps") && e.contains("holds at 1"), "{e}");

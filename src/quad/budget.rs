@@ -86,6 +86,27 @@ impl Budget {
         Budget(Arc::new(State { limit, used: AtomicU64::new(0), deadline, spent: AtomicBool::new(false) }))
     }
 
+    /// A budget of its own for one of several computations that share this
+    /// one's limits: the same evaluation limit, counted afresh, and the
+    /// same deadline (the same instant, not a new span).
+    ///
+    /// ```
+    /// use mcrt_noise::quad::Budget;
+    /// let all = Budget::new(1000);
+    /// all.charge(900);
+    /// let each = all.renewed();
+    /// assert_eq!((each.limit(), each.used()), (1000, 0));
+    /// ```
+    pub fn renewed(&self) -> Budget {
+        let s = &self.0;
+        Budget(Arc::new(State {
+            limit: s.limit,
+            used: AtomicU64::new(0),
+            deadline: s.deadline,
+            spent: AtomicBool::new(false),
+        }))
+    }
+
     /// Charges `n` evaluations.
     pub fn charge(&self, n: u64) {
         self.0.used.fetch_add(n, Ordering::Relaxed);

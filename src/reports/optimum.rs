@@ -79,9 +79,15 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
     }
     writeln!(s, "RMSE = √(bias² + Var L/M)/μ(0), M = ⌊T/τ⌋; the bars are the quadrature's and the time's standard errors (the cost fit's and the rates'; the cost model's own accuracy: docs/choosing-parameters.md)").unwrap();
     writeln!(s).unwrap();
-    writeln!(s, "best: {}", line(&o.best, None)).unwrap();
+    let standard = o.searched == Searched::StandardMethod;
+    let label = if standard { "best at q = 1, N_B = 1 (finite-sphere model, exact)" } else { "best" };
+    writeln!(s, "{label}: {}", line(&o.best, None)).unwrap();
     writeln!(s).unwrap();
-    writeln!(s, "beside it (ratio: its RMSE over the best's; the cylinder limit is another integration volume, with its own cost, and may beat the spheres):").unwrap();
+    if standard {
+        writeln!(s, "beside it (ratio: its RMSE over the best's; a ratio below 1 is a prediction of the small-sphere model, whose own error at the scene's R is not in its bar):").unwrap();
+    } else {
+        writeln!(s, "beside it (ratio: its RMSE over the best's; the cylinder limit is another integration volume, with its own cost, and may beat the spheres):").unwrap();
+    }
     for a in &o.alternatives {
         match &a.scored {
             Ok(x) => {
@@ -91,6 +97,15 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
             }
             Err(why) => writeln!(s, "  {}: {why}", a.name).unwrap(),
         }
+    }
+    let below: Vec<&str> = o
+        .alternatives
+        .iter()
+        .filter(|a| a.scored.as_ref().is_ok_and(|x| x.rmse.relative < o.best.rmse.relative))
+        .map(|a| a.name.as_str())
+        .collect();
+    if standard && !below.is_empty() {
+        writeln!(s, "\nbelow the best: {} (the small-sphere model predicts less error with other q and N_B at the scene's R; the finite-sphere model does not yet give Var L there, so the gap is not proven)", below.join("; ")).unwrap();
     }
     if let Some(Ok(q1)) = o.alternatives.iter().find(|a| a.name.starts_with("q = 1")).map(|a| a.scored.as_ref()) {
         writeln!(

@@ -4,7 +4,7 @@
 //! 1/R²) and N_B = 1, each with the other parameters optimised (or, for
 //! the rule, the optimum's). Beside the standard method's optimum of
 //! single-scattered light ([`super::Searched::StandardMethod`]) other
-//! comparisons: [`beside_the_standard_method`].
+//! comparisons: `beside_the_standard_method`.
 
 use super::cost::Parameters;
 use super::radii::RadiusCache;
@@ -100,7 +100,7 @@ pub(crate) fn beside_the_standard_method(
     // as much as the whole search over R); a refusal (a beam's) or a
     // failure is that alternative's answer, not the optimum's.
     let budget = Budget::new(opts.evaluations);
-    let small = RadiusCache::as_given(scene, budget).at(own.radius).map_err(|e| e.to_string());
+    let small = RadiusCache::small_sphere(scene, budget).at(own.radius).map_err(|e| e.to_string());
     let small_note = "Var L from the small-sphere model, exact only as R → 0: its own error at this R is not in \
                       the bar (docs/model-error.md); the bias b(R) from the finite-sphere mean; R held at the \
                       scene's";
@@ -147,7 +147,8 @@ pub(crate) fn beside_the_standard_method(
 }
 
 /// The R an asymptotic rule picks (bias ≈ b₂R², noise ≈ V₂/R²): with b₂ =
-/// b(R_lo)/R_lo² at the smallest radius searched and V₂ = q M₂R²/(N_F N_B)
+/// b(R_lo)/R_lo² at the smallest radius evaluated whose bias is resolved
+/// and V₂ = q M₂R²/(N_F N_B)
 /// (the small-sphere M₂ ∝ 1/R²) at the optimum's q, N_F, N_B, τ and T,
 /// RMSE² ≈ b₂²R⁴ + V₂τ/(R²T) is least at R⁶ = V₂τ/(2b₂²T). Scored by the
 /// exact model with the optimum's other parameters.
@@ -159,30 +160,37 @@ fn asymptotic_rule(
     range: (f64, f64),
 ) -> Result<Alternative, TuningError> {
     let name = "R of the asymptotic rule (bias ∝ R², noise ∝ 1/R²)".to_string();
-    let small = cache.at(range.0)?;
-    let bias = small.model.bias.ok_or_else(|| TuningError::Radius(range.0, "no bias predicted".into()))?;
-    if !(bias.value.abs() > bias.error) {
-        let why = format!("b(R) at R = {:.1e} is {:e} ± {:e}: not resolved, so no b₂", range.0, bias.value, bias.error);
+    // b₂ at the smallest radius evaluated (the range's low end first) whose
+    // bias is resolved (three times its bar): at 10⁻³ the bias of
+    // single-scattered light is ~10⁻⁷ of μ, below the bars of the oracle's
+    // 10⁻⁴ there.
+    cache.at(range.0)?;
+    let resolved = |b: &crate::oracle::ValueWithBar| b.value.abs() > 3.0 * b.error;
+    let Some((r_lo, bias)) =
+        cache.all().into_iter().find_map(|x| x.model.bias.filter(resolved).map(|b| (x.model.radius, b)))
+    else {
+        let why = "no radius evaluated has its bias b(R) resolved (|b| > 3 bars), so no b₂".to_string();
         return Ok(Alternative { name, scored: Err(why), note: String::new() });
-    }
-    let b2 = bias.value / (range.0 * range.0);
+    };
+    let b2 = bias.value / (r_lo * r_lo);
     let p = best.parameters;
     // The small-sphere M₂ ∝ 1/R²: M₂R² is the same at every radius.
-    let m2_r2 = small.model.small_sphere_m2.value * range.0 * range.0;
+    let m2_r2 = cache.at(r_lo)?.model.small_sphere_m2.value * r_lo * r_lo;
     let v2 = p.q * m2_r2 / (p.forward_rays as f64 * p.camera_rays as f64);
     let r6 = v2 * best.rmse.seconds_per_iteration / (2.0 * b2 * b2 * opts.budget);
     let r = r6.powf(1.0 / 6.0);
     if !(r.is_finite() && r > 0.0) {
         return Ok(Alternative { name, scored: Err(format!("b₂ = {b2:e}: no finite R")), note: String::new() });
     }
-    // The rule's R may lie where the scene cannot take it (σR beyond its
-    // bounds): then it has no score, and the optimisation goes on.
+    // A failure at the rule's R (beyond the scene's bounds of σR, or its
+    // oracle run not converging) is this alternative's answer, not the
+    // optimum's: the optimisation goes on.
     let at = match cache.at(r) {
         Ok(at) => at,
         Err(TuningError::Radius(_, why)) => {
             return Ok(Alternative { name, scored: Err(format!("R = {r:.4e}: {why}")), note: String::new() })
         }
-        Err(e) => return Err(e),
+        Err(e) => return Ok(Alternative { name, scored: Err(format!("R = {r:.4e}: {e}")), note: String::new() }),
     };
     let params = Parameters { radius: r, ..p };
     Ok(Alternative {
@@ -193,7 +201,7 @@ fn asymptotic_rule(
         note: format!(
             "R = (V₂τ/(2b₂²T))^(1/6) = {r:.4e} with b₂ = {b2:.4e} (b(R)/R² at R = {:.1e}) and V₂ = {v2:.4e}; \
              q, N_F, N_B the optimum's",
-            range.0
+            r_lo
         ),
     })
 }

@@ -2,7 +2,10 @@
 //! with N_F and N_B at the optimum's values, and over (q, N_B/N_F) at the
 //! optimum's R with the scale of the ray counts chosen best in each cell
 //! (N_F over its grid, N_B = max(1, round(ρ N_F))). Cells where no point
-//! fits the budget or the bounds are `None`.
+//! fits the budget or the bounds, or where the model lacks the pair
+//! integrals that point needs (single-scattered light at q < 1 or N_B > 1,
+//! `ModelAtRadius::variance`), are `None`; `mcrt-noise optimize --maps`
+//! refuses such scenes.
 
 use super::cost::Parameters;
 use super::radii::RadiusCache;

@@ -201,7 +201,14 @@ pub fn optimize(scene: &Scene, opts: &Options) -> Result<Optimum, TuningError> {
 pub fn optimize_with(scene: &Scene, opts: &Options, cache: &mut RadiusCache) -> Result<Optimum, TuningError> {
     check_options(opts)?;
     check_radius_range(scene, opts.radius_range)?;
-    let searched = Searched::of(scene);
+    if !cache.serves(scene) {
+        return Err(TuningError::Option(
+            "the radius cache was built for another scene (or is not `RadiusCache::new`'s): its models would not \
+             be this scene's"
+                .into(),
+        ));
+    }
+    let searched = cache.searched();
     if searched == Searched::HeldRadius {
         check_held_radius(scene, opts.radius_range)?;
     }
@@ -248,6 +255,12 @@ pub fn optimize_with(scene: &Scene, opts: &Options, cache: &mut RadiusCache) -> 
 impl Searched {
     /// The constraints of the search: none but the budget (and memory),
     /// and q = 1, N_B = 1 for [`Searched::StandardMethod`].
+    ///
+    /// ```
+    /// use mcrt_noise::tuning::{cost::CostTable, Options, Searched};
+    /// let c = Searched::StandardMethod.constraints(&Options::new(1.0, CostTable::reference_machine()));
+    /// assert_eq!((c.q, c.camera_rays), (Some(1.0), Some(1)));
+    /// ```
     pub fn constraints(self, opts: &Options) -> Constraints {
         let free = Constraints::free(opts.budget, opts.max_spheres);
         match self {
@@ -300,9 +313,19 @@ fn check_held_radius(scene: &Scene, range: Option<(f64, f64)>) -> Result<(), Tun
     let r = scene.estimator.radius;
     match range {
         Some((lo, hi)) if !(lo..=hi).contains(&r) => Err(TuningError::Option(format!(
-            "--radius-range {lo:e},{hi:e}: the scene has scattered light (effects.scattering_orders), whose bias \
-             is not predicted, so R cannot be searched and is held at the scene's estimator.radius = {r}, \
-             outside the range; set estimator.radius within it, or omit --radius-range"
+            "--radius-range {lo:e},{hi:e}: the scene has scattered light the finite-sphere model does not cover \
+             (effects.scattering_orders = {}, medium.phase = {}; it covers single scattering in an isotropic \
+             medium, whose R is searched), so its bias is not predicted, R cannot be searched and is held at the \
+             scene's estimator.radius = {r}, outside the range; set estimator.radius within it, or omit \
+             --radius-range",
+            match scene.effects.scattering_orders {
+                mcrt_scene::ScatteringOrders::Limited(n) => n.to_string(),
+                mcrt_scene::ScatteringOrders::All => "\"all\"".into(),
+            },
+            match scene.medium.phase {
+                mcrt_scene::Phase::Isotropic => "\"isotropic\"".to_string(),
+                mcrt_scene::Phase::HenyeyGreenstein { g } => format!("henyey-greenstein with g = {g}"),
+            }
         ))),
         _ => Ok(()),
     }

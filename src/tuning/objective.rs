@@ -28,7 +28,8 @@ pub struct ModelAtRadius {
     /// The radius R.
     pub radius: f64,
     /// `"finite-sphere"` (exact at R, bias predicted) or `"small-sphere"`
-    /// (R → 0 model; bias not predicted).
+    /// (R → 0 model; the bias predicted only where the oracle has the
+    /// finite-sphere mean, isotropic single scattering).
     pub model: &'static str,
     /// μ(R) = ⟨⟨L⟩⟩ at R.
     pub mean: ValueWithBar,
@@ -79,6 +80,15 @@ impl ModelAtRadius {
                 small_sphere_m2: vb(r.integral_m2),
             });
         }
+        Self::small_sphere_from_report(r)
+    }
+
+    /// The small-sphere model's integrals from an oracle report, whatever
+    /// else it has, with the bias b(R) where the report has the
+    /// finite-sphere mean (`finite_mean`) or model; an error where the report lacks
+    /// the small-sphere pair integrals (see [`ModelAtRadius::from_report`]).
+    pub fn small_sphere_from_report(r: &Report) -> Result<ModelAtRadius, crate::model::OracleError> {
+        let vb = |i: crate::oracle::Integral| ValueWithBar::from(i);
         let (Some(corr23), Some(integral_q), Some(corr24)) = (&r.corr23, r.integral_q, &r.corr24) else {
             return Err(crate::model::OracleError::Unsupported(format!(
                 "the oracle report lacks the small-sphere pair integrals (Q, (23), (24)) that other q and N_B need: {}",
@@ -90,7 +100,9 @@ impl ModelAtRadius {
             model: "small-sphere",
             mean: r.mean_luminance,
             mean_at_zero: r.mean_luminance,
-            bias: r.finite_mean.as_ref().and_then(|f| f.bias),
+            // b(R) = μ(R) − μ(0) does not depend on q or N_B: the
+            // finite-sphere mean's, or the finite-sphere model's own.
+            bias: r.finite_mean.as_ref().and_then(|f| f.bias).or(r.finite.as_ref().map(|f| f.bias)),
             m2: vb(r.integral_m2),
             c23: Some(vb(corr23.exact)),
             p: vb(r.integral_p),
@@ -101,15 +113,26 @@ impl ModelAtRadius {
     }
 
     /// Whether the model gives Var L at every (q, N_F, N_B), not only at
-    /// q = 1, N_B = 1.
+    /// q = 1, N_B = 1 ([`ModelAtRadius::variance`] is then never `None`).
+    ///
+    /// ```no_run
+    /// use mcrt_noise::oracle::{run_scoped, Precision, Scope};
+    /// use mcrt_noise::tuning::objective::ModelAtRadius;
+    /// let mut scene = mcrt_noise::Scene::from_toml_str(&std::fs::read_to_string("scenes/point-isotropic-order1.toml")?)?;
+    /// (scene.estimator.q, scene.estimator.camera_rays) = (1.0, 1);
+    /// let model = ModelAtRadius::from_report(&run_scoped(&scene, Precision::F64, Some(1e-4), Scope::Prediction)?)?;
+    /// assert!(!model.has_pairs()); // single-scattered light: finite-sphere, q = 1 and N_B = 1 only
+    /// assert!(model.variance(1.0, 20.0, 1.0).is_some() && model.variance(0.5, 20.0, 1.0).is_none());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn has_pairs(&self) -> bool {
         self.c23.is_some() && self.q_pair.is_some() && self.c24.is_some()
     }
 
     /// Var L of one iteration with (q, N_F, N_B) (continuous counts
     /// allowed) and its bar, linear in the integrals' bars; `None` where it
-    /// needs a pair integral the model does not give (q < 1 needs C₂₃ and
-    /// Q, N_B > 1 needs C₂₄ and, with N_F > 1, Q).
+    /// needs a pair integral the model does not give (q < 1 needs C₂₃ and,
+    /// with N_F > 1, Q; N_B > 1 needs C₂₄), never reading one as 0.
     pub fn variance(&self, q: f64, n_f: f64, n_b: f64) -> Option<ValueWithBar> {
         let nfnb = n_f * n_b;
         let w_a = 1.0 / nfnb;

@@ -1,18 +1,23 @@
 //! The noise model and the geometric rates at each sphere radius the
 //! search visits, computed once per radius and kept (every other parameter
-//! is explicit), each oracle run charged to the optimisation's one budget.
+//! is explicit).
 //!
-//! For a scene the finite-sphere model covers only at q = 1 and N_B = 1
-//! (single-scattered light, [`super::Searched::StandardMethod`]) the cache
-//! runs the oracle on the scene with q = 1 and N_B = 1 and only what that
-//! Var L needs (`Scope::Prediction`): the finite-sphere μ, M₂, P and the
-//! bias at every R, without the pair integrals other q and N_B would need,
-//! to [`SCATTERED_REL_TOL`], each run with an evaluation budget of its own
-//! of the cache's size (one such run can cost a third of the default).
+//! What a cache computes follows [`super::Searched`] for its scene
+//! ([`RadiusCache::searched`]): for uncollided light, and for scattered
+//! light the finite-sphere model does not cover, the oracle's prediction
+//! for the scene with its q and N_B, every run charged to the cache's one
+//! budget. For single-scattered light in an isotropic medium
+//! ([`super::Searched::StandardMethod`]) the oracle on the scene with q = 1
+//! and N_B = 1 and only what that Var L needs (`Scope::Prediction`): the
+//! finite-sphere μ, M₂, P and the bias at every R, without the pair
+//! integrals other q and N_B would need, to [`SCATTERED_REL_TOL`], each run
+//! with a budget of its own of the cache's size and deadline
+//! ([`Budget::renewed`]: one such run can cost a third of the default).
 
 use super::objective::ModelAtRadius;
 use super::rates::{Rates, PILOT_RAYS};
 use super::search::Radius;
+use super::Searched;
 use crate::model::OracleError;
 use crate::oracle::{run_within_scoped, Precision, Scope};
 use crate::quad::Budget;
@@ -34,29 +39,61 @@ pub struct RadiusCache<'s> {
     scene: &'s Scene,
     budget: Budget,
     pilot_rays: u64,
-    /// Whether the oracle runs at q = 1, N_B = 1 (`Searched::StandardMethod`).
-    standard_method: bool,
+    /// What `optimize` searches for the scene (`Searched::of`).
+    searched: Searched,
+    /// Only the small-sphere model, with the scene's q and N_B
+    /// ([`RadiusCache::small_sphere`]).
+    small_sphere_only: bool,
     /// The oracle's relative tolerance (`None`: its default).
     rel_tol: Option<f64>,
     map: BTreeMap<u64, Radius>,
 }
 
 impl<'s> RadiusCache<'s> {
-    /// A cache for `scene` whose oracle runs share `budget`: of the models
-    /// `optimize` searches ([`super::Searched::of`]).
+    /// A cache for `scene` whose oracle runs share `budget` (module docs),
+    /// of the models `optimize` searches for it ([`Searched::of`]).
+    ///
+    /// ```no_run
+    /// use mcrt_noise::{quad::Budget, tuning::{radii::RadiusCache, Searched}};
+    /// let scene = mcrt_noise::Scene::from_toml_str(&std::fs::read_to_string("scenes/point-isotropic-order1.toml")?)?;
+    /// let mut cache = RadiusCache::new(&scene, Budget::new(1_000_000_000), None);
+    /// assert_eq!(cache.searched(), Searched::StandardMethod);
+    /// let at = cache.at(0.1)?; // the finite-sphere model at q = 1, N_B = 1
+    /// assert!(at.model.bias.is_some() && !at.model.has_pairs());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn new(scene: &'s Scene, budget: Budget, pilot_rays: Option<u64>) -> RadiusCache<'s> {
-        let standard_method = super::Searched::of(scene) == super::Searched::StandardMethod;
-        let rel_tol = standard_method.then_some(SCATTERED_REL_TOL);
+        let searched = Searched::of(scene);
+        let rel_tol = (searched == Searched::StandardMethod).then_some(SCATTERED_REL_TOL);
         let pilot_rays = pilot_rays.unwrap_or(PILOT_RAYS);
-        RadiusCache { scene, budget, pilot_rays, standard_method, rel_tol, map: BTreeMap::new() }
+        RadiusCache { scene, budget, pilot_rays, searched, small_sphere_only: false, rel_tol, map: BTreeMap::new() }
     }
 
-    /// A cache of the oracle's prediction for `scene` as it is (its q and
-    /// N_B): the small-sphere model for single-scattered light with q < 1
-    /// or N_B > 1, with the finite-sphere bias where the oracle has it.
-    pub fn as_given(scene: &'s Scene, budget: Budget) -> RadiusCache<'s> {
-        let rel_tol = Some(SCATTERED_REL_TOL);
-        RadiusCache { scene, budget, pilot_rays: PILOT_RAYS, standard_method: false, rel_tol, map: BTreeMap::new() }
+    /// A cache of the small-sphere model for `scene` as it is (its q and
+    /// N_B, so that its pair integrals are computed), with the
+    /// finite-sphere bias where the oracle has it (`finite_mean`): the
+    /// comparison beside the standard method of single-scattered light.
+    pub(crate) fn small_sphere(scene: &'s Scene, budget: Budget) -> RadiusCache<'s> {
+        let (searched, rel_tol) = (Searched::of(scene), Some(SCATTERED_REL_TOL));
+        RadiusCache {
+            scene,
+            budget,
+            pilot_rays: PILOT_RAYS,
+            searched,
+            small_sphere_only: true,
+            rel_tol,
+            map: BTreeMap::new(),
+        }
+    }
+
+    /// What `optimize` searches with this cache: [`Searched::of`] its scene.
+    pub fn searched(&self) -> Searched {
+        self.searched
+    }
+
+    /// Whether this cache was built for `scene` by [`RadiusCache::new`].
+    pub(crate) fn serves(&self, scene: &Scene) -> bool {
+        !self.small_sphere_only && self.scene == scene
     }
 
     /// The model and rates at radius `r` (computed on first use).
@@ -66,33 +103,41 @@ impl<'s> RadiusCache<'s> {
         }
         let mut scene = self.scene.clone();
         scene.estimator.radius = r;
-        let scope = if self.standard_method {
+        let standard = self.searched == Searched::StandardMethod && !self.small_sphere_only;
+        let scope = if standard {
             (scene.estimator.q, scene.estimator.camera_rays) = (1.0, 1);
             Scope::Prediction
         } else {
             Scope::Everything
         };
         let scene = scene.validated().map_err(|e| super::TuningError::Radius(r, e.to_string()))?;
-        // The standard method's runs each get a budget of the cache's size:
-        // a beam's single-scattered light costs ~3·10⁸ evaluations a radius
-        // and a search visits ~40 (at most ~100) radii.
+        // The standard method's runs each get a budget of the cache's size
+        // and deadline: a beam's single-scattered light costs ~3·10⁸
+        // evaluations a radius and a search visits ~40 (at most ~100) radii.
         let own_budget;
-        let budget = if self.standard_method {
-            own_budget = Budget::new(self.budget.limit());
+        let budget = if standard {
+            own_budget = self.budget.renewed();
             &own_budget
         } else {
             &self.budget
         };
         let report = run_within_scoped(&scene, Precision::F64, self.rel_tol, budget, scope)
             .map_err(super::TuningError::Oracle)?;
-        if self.standard_method && report.finite.is_none() {
-            let why = report.finite_not_used.as_deref().unwrap_or("the finite-sphere model was not computed");
-            return Err(super::TuningError::Oracle(OracleError::Unsupported(format!(
-                "R = {r:e}: the finite-sphere model at q = 1, N_B = 1, which optimize needs for single-scattered \
-                 light: {why}"
-            ))));
+        let model = if self.small_sphere_only {
+            ModelAtRadius::small_sphere_from_report(&report)
+        } else if standard && report.finite.is_none() {
+            // Its failure (a computed one, NOT CONVERGED) as it is; else why it was not used.
+            Err(report.finite_error.clone().unwrap_or_else(|| {
+                let why = report.finite_not_used.as_deref().unwrap_or("not computed");
+                OracleError::Unsupported(format!(
+                    "R = {r:e}: the finite-sphere model at q = 1, N_B = 1, which optimize needs for \
+                     single-scattered light: {why}"
+                ))
+            }))
+        } else {
+            ModelAtRadius::from_report(&report)
         }
-        let model = ModelAtRadius::from_report(&report).map_err(super::TuningError::Oracle)?;
+        .map_err(super::TuningError::Oracle)?;
         let rates = Rates::estimate(&scene, self.pilot_rays).map_err(|e| super::TuningError::Radius(r, e))?;
         let x = Radius { model, rates };
         self.map.insert(r.to_bits(), x);
