@@ -235,6 +235,19 @@ fn tracer_table(s: &mut String, traced: &[Traced], o: &Optimum) {
             }
         }
     }
+    // A budget of a few iterations: M = ⌊T/τ⌋ jumps with τ, and the noise
+    // with √M, whatever the noise model says.
+    for t in traced.iter().filter(|t| t.iterations != t.scored.rmse.iterations && t.scored.rmse.iterations <= 10) {
+        let (predicted, measured) = (t.scored.rmse.iterations, t.iterations);
+        writeln!(
+            s,
+            "\n{}: the budget holds M = {predicted} iterations at the predicted τ and {measured} at the measured one (τ {:+.0} % off the cost model): with so few iterations the whole number M, and with it the noise (by √({predicted}/{measured}) = {:.3}), jumps with τ, so this set tests the cost model, not the noise model.",
+            t.name,
+            100.0 * (t.tau / t.scored.rmse.seconds_per_iteration - 1.0),
+            (predicted as f64 / measured as f64).sqrt()
+        )
+        .unwrap();
+    }
     writeln!(s, "\nRanking: of the pairs the measurement separates (by more than two combined standard errors), {agree} of {pairs} are ordered as predicted ({unresolved} pairs too close to call). Every set within ±15 % of its prediction (given its CI): {}.", if all_within { "yes" } else { "**no**" }).unwrap();
     let best = &traced[0];
     let gain = |other: &Traced| -> Option<(f64, f64)> {
