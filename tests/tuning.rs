@@ -330,6 +330,18 @@ fn with_scattered_light_it_does_not_cover_the_radius_is_held_and_the_bias_not_pr
     assert!(o.alternatives.iter().all(|a| !a.name.contains("asymptotic")));
 }
 
+/// A radius cache keeps one scene's models: `optimize_with` refuses a
+/// cache built for another scene, before any oracle run, instead of
+/// optimising with the other scene's integrals.
+#[test]
+fn a_cache_of_another_scene_is_refused() {
+    let (a, b) = (scene("point-isotropic"), scene("point-hg-forward"));
+    let mut cache = mcrt_noise::tuning::radii::RadiusCache::new(&a, mcrt_noise::quad::Budget::new(1), None);
+    let err = mcrt_noise::tuning::optimize_with(&b, &Options::new(0.1, costs()), &mut cache).unwrap_err().to_string();
+    assert!(err.contains("built for another scene"), "{err}");
+    assert!(cache.all().is_empty());
+}
+
 /// A budget below one iteration is refused before any search, naming
 /// `--budget` and the least budget that fits one iteration.
 #[test]

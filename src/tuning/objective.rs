@@ -87,6 +87,18 @@ impl ModelAtRadius {
     /// else it has, with the bias b(R) where the report has the
     /// finite-sphere mean (`finite_mean`) or model; an error where the report lacks
     /// the small-sphere pair integrals (see [`ModelAtRadius::from_report`]).
+    ///
+    /// ```no_run
+    /// use mcrt_noise::oracle::{run, Precision};
+    /// use mcrt_noise::tuning::objective::ModelAtRadius;
+    /// let mut scene = mcrt_noise::Scene::from_toml_str(&std::fs::read_to_string("scenes/point-isotropic-order1.toml")?)?;
+    /// (scene.estimator.q, scene.estimator.camera_rays) = (1.0, 1);
+    /// let report = run(&scene, Precision::F64, Some(1e-4))?; // every integral of both models
+    /// assert_eq!(ModelAtRadius::from_report(&report)?.model, "finite-sphere");
+    /// let small = ModelAtRadius::small_sphere_from_report(&report)?;
+    /// assert!(small.model == "small-sphere" && small.has_pairs() && small.bias.is_some());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn small_sphere_from_report(r: &Report) -> Result<ModelAtRadius, crate::model::OracleError> {
         let vb = |i: crate::oracle::Integral| ValueWithBar::from(i);
         let (Some(corr23), Some(integral_q), Some(corr24)) = (&r.corr23, r.integral_q, &r.corr24) else {
