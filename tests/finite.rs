@@ -200,14 +200,15 @@ fn hard_cases_converge() {
 }
 
 /// Point lights near the camera at R = 0.2 whose ϑ-kinks cross as the
-/// azimuth turns (the window's end at the camera meeting its other end at
-/// the light, or ϑ = π/2: `PointLight::azimuth_kinks`). Before those
-/// azimuths were declared each of these ended NOT CONVERGED (the two
-/// quadrature passes of C₂₃ each claimed ~10⁻¹⁵ relative and disagreed by
-/// ~2·10⁻¹⁰): inside the spheres' cylinder (b = 0.1; z = 0.175 at 10⁻⁸)
-/// and outside it (b = 0.25, 0.4). Found on a 54-point grid of (b, z)
-/// (3 failures at the default 10⁻¹⁰, none after; the other 51 moved by at
-/// most 0.96 of their combined bars).
+/// azimuth turns (the window's lower end at the camera meeting its upper
+/// end at the light, or its end at the camera reaching ϑ = π/2:
+/// `PointLight::azimuth_kinks`). Before those azimuths were declared each
+/// of these ended NOT CONVERGED (the two quadrature passes of C₂₃ each
+/// claimed ~10⁻¹⁵ relative and disagreed by ~2·10⁻¹⁰): inside the
+/// spheres' cylinder (b = 0.1: z = 0.22, and z = 0.175 at 10⁻⁸, found by a
+/// scan in z) and outside it (b = 0.25, 0.4: three of a 54-point grid of
+/// (b, z) at the default 10⁻¹⁰; the other 51 moved by at most 0.96 of
+/// their combined bars).
 #[test]
 fn lights_whose_kinks_cross_in_azimuth_converge() {
     for (b, z, tol) in

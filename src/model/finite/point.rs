@@ -212,50 +212,51 @@ impl<T: CheckRule> PointLight<T> {
     }
 
     /// The outer variable's kinks: azimuths at which two of the ϑ-kinks of
-    /// [`PointLight::kinks`] that move different ends of J cross (or one
-    /// crosses ϑ = π/2, where the rates of G₂₃, G₂₄ change), so that the
-    /// ϑ-integral bends there. For b ≤ R (in χ ∈ (0, π)):
-    /// - the window's lower end at the camera (z sin ϑ + B cos ϑ = ρ) and
-    ///   its upper end at the light (ρ cos ϑ = −B) at once, where
-    ///   2b²cos²χ = s(|z| − s), s = √(R² − b²) (for z < 0 the mirror pair);
-    /// - the window's end at the camera on ϑ = π/2 (|z| = ρ), where
-    ///   b²sin²χ = R² − z².
+    /// [`PointLight::kinks`] that move different ends of J cross, or one
+    /// crosses ϑ = π/2 where the rates of G₂₃, G₂₄ switch, so that the
+    /// ϑ-integral of a pair functional has a jump in its third derivative
+    /// there (G₁, a difference of one function at J's ends, has no cross
+    /// term and no rate switch: Mean and Second get none). Only for a light
+    /// ahead of the camera (z > 0) and only at B = b cos χ > 0 are they
+    /// active (at their mirrors J is empty or the moving end is the edge of
+    /// the support, where L → 0). For b ≤ R, in χ ∈ (0, π/2), with
+    /// s = √(R² − b²):
+    /// - the window's lower end at the camera (z sin ϑ + B cos ϑ = ρ) meets
+    ///   its upper end at the light (ρ cos ϑ = −B) where 2B² = s(z − s):
+    ///   tan χ = √(b² − h)/√h, h = s(z − s)/2 ∈ (0, b²);
+    /// - the window's end at the camera reaches ϑ = π/2 (z = ρ) where
+    ///   b²sin²χ = R² − z²: tan χ = √((R − z)(R + z))/√((z − s)(z + s)),
+    ///   s < z < R.
     ///
     /// For b > R (in η = b sin χ/R ∈ (0, 1)) only the second, at
-    /// η² = 1 − z²/R². Each is formed from products so that it keeps its
-    /// accuracy where it nears an end. Without them the two quadrature
-    /// passes of C₂₃ each claimed 10⁻¹⁵ and disagreed by 2·10⁻¹⁰ (a light
-    /// at (z, b) = (0.22, 0.1) with R = 0.2, NOT CONVERGED at the default
-    /// 10⁻¹⁰).
-    fn azimuth_kinks(&self, r: &T) -> Vec<T> {
-        let like = &self.z;
-        let (zero, one) = (like.lit(0.0), like.lit(1.0));
-        let az = self.z.clone().abs();
-        let mut out = Vec::new();
-        if self.b.is_zero() {
-            return out;
+    /// η = √((R − z)(R + z))/R, z < R. Formed from products and an
+    /// arctangent, so that each keeps its accuracy near the ends of the
+    /// range. Without them the two quadrature passes of C₂₃ each claimed
+    /// ~10⁻¹⁵ and disagreed by ~2·10⁻¹⁰ (lights at (z, b) = (0.22, 0.1),
+    /// (0.05, 0.25), (0.18, 0.25), (0.18, 0.4) with R = 0.2 ended NOT
+    /// CONVERGED at the default 10⁻¹⁰).
+    fn azimuth_kinks(&self, r: &T, which: Functional) -> Vec<T> {
+        let (z, like) = (&self.z, &self.z);
+        let zero = like.lit(0.0);
+        let pair = matches!(which, Functional::Pair23 | Functional::Pair24);
+        if !pair || self.b.is_zero() || *z <= zero {
+            return Vec::new();
         }
-        // (R − |z|)(R + |z|): the end at the camera on ϑ = π/2.
-        let r2_minus_z2 = (r.clone() - az.clone()) * (r.clone() + az.clone());
+        // (R − z)(R + z): the end at the camera on ϑ = π/2.
+        let r2_minus_z2 = (r.clone() - z.clone()) * (r.clone() + z.clone());
         if self.b > *r {
-            if r2_minus_z2 > zero {
-                out.push(r2_minus_z2.sqrt() / r.clone());
-            }
-            return out;
-        }
-        let b2 = self.b.clone() * self.b.clone();
-        let mut cos2 = Vec::new();
-        if r2_minus_z2 >= zero && r2_minus_z2 <= b2 {
-            cos2.push(one.clone() - r2_minus_z2 / b2.clone());
+            return if r2_minus_z2 > zero { vec![r2_minus_z2.sqrt() / r.clone()] } else { Vec::new() };
         }
         let s = (-self.b2_minus_r2.clone()).sqrt();
-        if az > s {
-            cos2.push(s.clone() * (az - s) / (like.lit(2.0) * b2));
+        let mut out = Vec::new();
+        let z2_minus_s2 = (z.clone() - s.clone()) * (z.clone() + s.clone());
+        if r2_minus_z2 > zero && z2_minus_s2 > zero {
+            out.push((r2_minus_z2.sqrt() / z2_minus_s2.sqrt()).atan());
         }
-        for c2 in cos2.into_iter().filter(|c| *c > zero && *c < one) {
-            let c = c2.sqrt();
-            out.push(c.acos());
-            out.push((-c).acos());
+        let h = s.clone() * (z.clone() - s) / like.lit(2.0);
+        let rest = self.b.clone() * self.b.clone() - h.clone();
+        if h > zero && rest > zero {
+            out.push((rest.sqrt() / h.sqrt()).atan());
         }
         out
     }
@@ -333,7 +334,7 @@ impl<T: CheckRule> PointLight<T> {
                     let jac = ratio.clone() / cos_chi.clone();
                     inner(self.azimuth(self.b.clone() * cos_chi, rho), jac, o)
                 },
-                &Domain::finite(zero.clone(), one.clone()).with_breakpoints(self.azimuth_kinks(r)),
+                &Domain::finite(zero.clone(), one.clone()).with_breakpoints(self.azimuth_kinks(r, which)),
                 opts,
             )
         } else {
@@ -345,7 +346,7 @@ impl<T: CheckRule> PointLight<T> {
                     inner(self.azimuth(self.b.clone() * chi.cos(), rho), one.clone(), o)
                 },
                 &Domain::finite(zero.clone(), like.pi())
-                    .with_breakpoints(self.azimuth_kinks(r).into_iter().chain([like.pi() / like.lit(2.0)])),
+                    .with_breakpoints(self.azimuth_kinks(r, which).into_iter().chain([like.pi() / like.lit(2.0)])),
                 opts,
             )
         };
@@ -573,6 +574,37 @@ fn cap_weight<T: CheckRule>(ff: &FiniteField<T>, d: &T, psi: &T) -> T {
 mod tests {
     use super::*;
     use rug::Float;
+
+    /// At each azimuth `azimuth_kinks` declares, the ϑ-kinks it names meet:
+    /// the window's lower end at the camera with its upper end at the light
+    /// (z sin ϑ + B cos ϑ = ρ at cos ϑ = −B/ρ), or the end at the camera on
+    /// ϑ = π/2 (z = ρ); none for a light behind the camera, on the line or
+    /// for Mean and Second.
+    #[test]
+    fn azimuth_kinks_are_where_the_theta_kinks_meet() {
+        let r = 0.2f64;
+        for (z, b) in [(0.22, 0.1), (0.175, 0.1), (0.19, 0.15), (0.3, 0.19), (0.05, 0.25), (0.18, 0.4)] {
+            let light = PointLight::new(z, b, 1.0, &r);
+            let kinks = light.azimuth_kinks(&r, Functional::Pair23);
+            assert!(!kinks.is_empty(), "({z}, {b})");
+            assert_eq!(kinks, light.azimuth_kinks(&r, Functional::Pair24));
+            for k in kinks {
+                let chi = if b > r { (k * r / b).asin() } else { k };
+                assert!(chi > 0.0 && chi < std::f64::consts::FRAC_PI_2, "({z}, {b}): χ = {chi}");
+                let (bb, rho) = (b * chi.cos(), (r * r - (b * chi.sin()).powi(2)).sqrt());
+                let on_half_pi = (z - rho).abs() <= 1e-14;
+                let cos_t = -bb / rho;
+                let sin_t = (1.0 - cos_t * cos_t).sqrt();
+                let camera_meets_light = b <= r && (z * sin_t + bb * cos_t - rho).abs() <= 1e-14;
+                assert!(on_half_pi || camera_meets_light, "({z}, {b}): χ = {chi} is neither crossing");
+            }
+            for which in [Functional::Mean, Functional::Second] {
+                assert!(light.azimuth_kinks(&r, which).is_empty());
+            }
+            assert!(PointLight::new(-z, b, 1.0, &r).azimuth_kinks(&r, Functional::Pair23).is_empty());
+        }
+        assert!(PointLight::new(0.1, 0.0, 1.0, &r).azimuth_kinks(&r, Functional::Pair23).is_empty());
+    }
 
     /// Direction (ϑ about u) with 1 ∓ μ from half angles, in the precision
     /// of `like`.
