@@ -141,6 +141,26 @@ fn scene_section(
     writeln!(s, "\n## `scenes/{name}.toml`, T = {BUDGET} s\n").unwrap();
     writeln!(s, "`mcrt-noise optimize scenes/{name}.toml --budget {BUDGET} --costs COSTS` (this machine's costs above; {secs:.1} s):\n").unwrap();
     writeln!(s, "```text\n{}```\n", super::optimum::text(&format!("scenes/{name}.toml"), &o)).unwrap();
+    trace_the_sets(s, &scene, &o)?;
+    let m = maps::q_and_radius(&scene, &opts, &mut cache, &o.best, o.radius_range, 33).map_err(|e| e.to_string())?;
+    let f1 = write_figure(
+        figures_dir,
+        &format!("choosing-{name}-q-radius.svg"),
+        &heatmap::svg(&format!("{name}: predicted rel. RMSE over (q, R), T = {BUDGET} s"), &m),
+    )?;
+    let m = maps::q_and_ray_ratio(&scene, &opts, &mut cache, &o.best, 33).map_err(|e| e.to_string())?;
+    let f2 = write_figure(
+        figures_dir,
+        &format!("choosing-{name}-q-ray-ratio.svg"),
+        &heatmap::svg(&format!("{name}: predicted rel. RMSE over (q, N_B/N_F), T = {BUDGET} s"), &m),
+    )?;
+    writeln!(s, "\nMaps of the predicted RMSE (N_F, N_B at the optimum's over (q, R); at the optimum's R the best N_F per cell over (q, N_B/N_F); the circle marks the optimum, hatched cells fit no budget or bound):\n\n{f1}\n{f2}").unwrap();
+    Ok(())
+}
+
+/// Traces the optimum and every scored alternative with other parameters
+/// (not the cylinder limit, which has no finite q) and writes their table.
+fn trace_the_sets(s: &mut String, scene: &Scene, o: &Optimum) -> Result<(), String> {
     let mu0 = o.radii.first().map_or(f64::NAN, |r| r.model.mean_at_zero.value);
     let mut sets: Vec<(String, Scored)> = vec![("the optimum".into(), o.best)];
     for a in &o.alternatives {
@@ -155,22 +175,9 @@ fn scene_section(
     }
     let mut traced = Vec::new();
     for (label, x) in &sets {
-        traced.push(measure(&scene, label.clone(), x, BUDGET, mu0)?);
+        traced.push(measure(scene, label.clone(), x, BUDGET, mu0)?);
     }
-    tracer_table(s, &traced, &o);
-    let m = maps::q_and_radius(&scene, &opts, &mut cache, &o.best, o.radius_range, 33).map_err(|e| e.to_string())?;
-    let f1 = write_figure(
-        figures_dir,
-        &format!("choosing-{name}-q-radius.svg"),
-        &heatmap::svg(&format!("{name}: predicted rel. RMSE over (q, R), T = {BUDGET} s"), &m),
-    )?;
-    let m = maps::q_and_ray_ratio(&scene, &opts, &mut cache, &o.best, 33).map_err(|e| e.to_string())?;
-    let f2 = write_figure(
-        figures_dir,
-        &format!("choosing-{name}-q-ray-ratio.svg"),
-        &heatmap::svg(&format!("{name}: predicted rel. RMSE over (q, N_B/N_F), T = {BUDGET} s"), &m),
-    )?;
-    writeln!(s, "\nMaps of the predicted RMSE (N_F, N_B at the optimum's over (q, R); at the optimum's R the best N_F per cell over (q, N_B/N_F); the circle marks the optimum, hatched cells fit no budget or bound):\n\n{f1}\n{f2}").unwrap();
+    tracer_table(s, &traced, o);
     Ok(())
 }
 
@@ -349,20 +356,7 @@ fn order_one_section(s: &mut String, scenes_dir: &Path, cal: &Calibration) -> Re
     writeln!(s, "\n## `scenes/{name}.toml` (single scattering): the standard method over R\n").unwrap();
     writeln!(s, "For single-scattered light in an isotropic medium the finite-sphere model gives the exact Var L and bias at any R, but only at q = 1, N_B = 1 (docs/model.md §9.6: the correlations of two spheres that other q and N_B need are not in the oracle yet, §9.7). So `optimize` searches R and N_F there, with the bias predicted, and shows beside it the small-sphere model's choice of q, N_F, N_B at the scene's R (its Var L exact only as R → 0, the bias from the finite-sphere mean) ({:.1} s):\n", t0.elapsed().as_secs_f64()).unwrap();
     writeln!(s, "```text\n{}```\n", super::optimum::text(&format!("scenes/{name}.toml"), &o)).unwrap();
-    let mu0 = o.radii.first().map_or(f64::NAN, |r| r.model.mean_at_zero.value);
-    let mut sets: Vec<(String, Scored)> = vec![("the optimum".into(), o.best)];
-    for a in &o.alternatives {
-        if let Ok(x) = a.scored {
-            if sets.iter().all(|(_, y)| y.parameters != x.parameters) {
-                sets.push((a.name.clone(), x));
-            }
-        }
-    }
-    let mut traced = Vec::new();
-    for (label, x) in &sets {
-        traced.push(measure(&scene, label.clone(), x, BUDGET, mu0)?);
-    }
-    tracer_table(s, &traced, &o);
+    trace_the_sets(s, &scene, &o)?;
     Ok(())
 }
 
