@@ -37,7 +37,17 @@ pub fn mpfr_default_tol(bits: u32) -> f64 {
 /// measurements of `tests/tracer_vs_oracle.rs` (point-isotropic-order1 with
 /// q = 0.5, N_F = 200, N_B = 8 and with q = 0.2, N_F = N_B = 1; each
 /// |tracer/oracle − 1| plus two standard errors; re-measured by its ignored
-/// test `model_error_at_the_reference_radius`). `check::predict`
+/// test `model_error_at_the_reference_radius`), with the cross-segment terms
+/// of (23), (24) in the model (`model::cross_segment`, E10). `check::predict`
 /// uses it, scaled by [`model_error_scale`], as the model bar of scenes
-/// with scattered light.
-pub const SMALL_SPHERE_SCATTERED_ALLOWANCE: (f64, f64) = (1.1e-2, 4.9e-2);
+/// with scattered light whose (23), (24) carry those terms.
+pub const SMALL_SPHERE_SCATTERED_ALLOWANCE: (f64, f64) = (1.1e-2, 2.1e-2);
+
+/// The same measurement without the cross-segment terms (December 2026,
+/// before they entered the model: Var L 4.7 % below the tracer at the
+/// first point, plus two standard errors): the model bar where they are not
+/// added (Henyey–Greenstein media, where they are not derived, or an R
+/// outside their R → 0 form's range). Not re-measurable now that the
+/// isotropic model carries them; a measurement on an isotropic scene, not
+/// a bound for other media.
+pub const SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS: (f64, f64) = (1.1e-2, 4.9e-2);

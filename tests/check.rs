@@ -132,6 +132,17 @@ fn scattered_light_is_predicted_with_the_measured_model_bar() {
     assert_eq!(p.mean.model_bar, m * scale * p.mean.value);
     assert_eq!(p.variance.model_bar, v * scale * p.variance.value);
     assert!(p.model_bar_basis.contains("measured with the reference tracer"));
+    assert!(p.model_bar_basis.contains("with the cross-segment terms"), "{}", p.model_bar_basis);
+    // In a Henyey–Greenstein medium the cross-segment terms are not derived:
+    // the bar measured without them serves.
+    let mut hg = scene.clone();
+    hg.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g: 0.5 };
+    let p_hg = mcrt_noise::check::predict_with(&hg, mcrt_noise::oracle::Precision::F64, Some(1e-4)).unwrap();
+    let (m0, v0) = mcrt_noise::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS;
+    assert!(v0 > v);
+    assert_eq!(p_hg.mean.model_bar, m0 * scale * p_hg.mean.value);
+    assert_eq!(p_hg.variance.model_bar, v0 * scale * p_hg.variance.value);
+    assert!(p_hg.model_bar_basis.contains("not added"), "{}", p_hg.model_bar_basis);
     // The bars are subtracted before z: two-point samples 0 and 2a (mean a)
     // with a inside the model bar give z = 0; outside it, z counts the
     // excess only, in units of the null-scaled standard error

@@ -2,7 +2,10 @@
 
 use crate::model::OracleError;
 use crate::oracle::{self, Precision, Report, ValueWithBar};
-use crate::prec::{model_error_scale, MODEL_ERROR_RADIUS, SMALL_SPHERE_SCATTERED_ALLOWANCE};
+use crate::prec::{
+    model_error_scale, MODEL_ERROR_RADIUS, SMALL_SPHERE_SCATTERED_ALLOWANCE,
+    SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS,
+};
 use mcrt_scene::{ScatteringOrders, Scene, SceneError};
 use serde::Serialize;
 use std::fmt;
@@ -212,8 +215,15 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
         }
         None => {
             let scale = model_error_scale(radius);
-            let (m, v) = SMALL_SPHERE_SCATTERED_ALLOWANCE;
-            let mut basis = small_sphere_basis(radius, (m * scale, v * scale));
+            let crossed =
+                |c: &Option<crate::oracle::Correlation>| c.as_ref().is_some_and(|c| c.cross_segment.is_some());
+            let with_cross = crossed(&report.corr23) && crossed(&report.corr24);
+            let (m, v) = if with_cross {
+                SMALL_SPHERE_SCATTERED_ALLOWANCE
+            } else {
+                SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS
+            };
+            let mut basis = small_sphere_basis(radius, (m * scale, v * scale), with_cross);
             if let Some(why) = &report.finite_not_used {
                 basis.push_str(&format!(". Not the finite-sphere model: {why}"));
             }
@@ -240,12 +250,18 @@ const FINITE_BASIS: &str = "none needed: the finite-sphere model is exact at thi
 const FINITE_ORDER1_BASIS: &str = "none needed: the finite-sphere model is exact at this R for uncollided and \
      single-scattered light (isotropic medium, q = 1, N_B = 1; docs/model.md §9.6, §9.8)";
 
-fn small_sphere_basis(radius: f64, (mean, variance): (f64, f64)) -> String {
+fn small_sphere_basis(radius: f64, (mean, variance): (f64, f64), with_cross: bool) -> String {
+    let which = if with_cross {
+        "with the cross-segment terms of (23), (24) (E10) in the model"
+    } else {
+        "measured before the cross-segment terms of (23), (24) (E10) entered the model: they are not added for this \
+         scene"
+    };
     format!(
         "the small-sphere model's own error, measured with the reference tracer on point-isotropic-order1 at R = \
-         {MODEL_ERROR_RADIUS} (the larger of two (q, N_F, N_B) settings, plus two standard errors) and carried to R = \
-         {radius} by R ln(1/R): {:.2} % of the mean, {:.2} % of Var L. A measurement, not a bound: other media and \
-         lights may differ (tests/tracer_vs_oracle.rs re-measures it)",
+         {MODEL_ERROR_RADIUS} (the larger of two (q, N_F, N_B) settings, plus two standard errors; {which}) and \
+         carried to R = {radius} by R ln(1/R): {:.2} % of the mean, {:.2} % of Var L. A measurement, not a bound: \
+         other media and lights may differ (tests/tracer_vs_oracle.rs re-measures it)",
         mean * 100.0,
         variance * 100.0
     )

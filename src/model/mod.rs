@@ -11,6 +11,7 @@ pub mod angular;
 pub mod beam_source;
 pub mod chebyshev;
 pub mod correlations;
+pub mod cross_segment;
 pub mod field;
 pub mod finite;
 pub mod moments;

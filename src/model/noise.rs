@@ -20,6 +20,7 @@
 //! (the formula stays exact in it).
 
 use super::correlations::{self, Which};
+use super::cross_segment;
 use super::field::Field;
 use super::moments;
 use super::OracleError;
@@ -68,10 +69,21 @@ pub struct Integrals<T> {
 pub struct PairIntegrals<T> {
     /// Q = ∫∫_{t>0}⟨𝒞⟩(s)⟨𝒞⟩(s+t)σ²e^{−σ(s+t)} ds dt, the pair part of (17).
     pub q: Estimate<T>,
-    /// C₂₃, the integral (23) at radius R, exactly.
+    /// C₂₃, the integral (23) at radius R, exactly, with the cross-segment
+    /// term [`PairIntegrals::c23_cross`] of single-scattered light included.
     pub c23: Estimate<T>,
-    /// C₂₄, the integral (24) at radius R, exactly.
+    /// C₂₄, the integral (24) at radius R, exactly, with
+    /// [`PairIntegrals::c24_cross`] included.
     pub c24: Estimate<T>,
+    /// X₂₃, the part of `c23` from the two segments of one path meeting one
+    /// sphere each (E10; its R → 0 form, `cross_segment`): `None` for
+    /// uncollided light and in Henyey–Greenstein media, where it is not
+    /// derived ([`cross_segment::NOT_ISOTROPIC`]); `Some(Err(why))` where
+    /// the R → 0 form is computed but not positive (R not small against
+    /// 1/σ or the light's distance from the camera line), and not added.
+    pub c23_cross: Option<Result<Estimate<T>, String>>,
+    /// X₂₄, the part of `c24` likewise.
+    pub c24_cross: Option<Result<Estimate<T>, String>>,
     /// (25), the R → 0 form of (23), or why it does not exist.
     pub c23_asym: Result<Estimate<T>, String>,
     /// (26), the R → 0 form of (24), or why it does not exist.
@@ -154,15 +166,15 @@ impl<T: CheckRule> PairIntegrals<T> {
         if !field.scattered_beams.is_empty() {
             return Err(OracleError::Unsupported(BEAM_PAIRS_NOT_DERIVED.into()));
         }
+        let with_cross = |which: Which| {
+            let (exact, cross) =
+                rayon::join(|| correlations::exact(field, r, which, o), || cross_term(field, r, which, o));
+            Ok::<_, OracleError>((exact?, cross?))
+        };
         let (((c23, c24), (c23_asym, c24_asym)), q) = rayon::join(
             || {
                 rayon::join(
-                    || {
-                        rayon::join(
-                            || correlations::exact(field, r, Which::Eq23, o),
-                            || correlations::exact(field, r, Which::Eq24, o),
-                        )
-                    },
+                    || rayon::join(|| with_cross(Which::Eq23), || with_cross(Which::Eq24)),
                     || {
                         rayon::join(
                             || correlations::asymptotic(field, r, Which::Eq23, o),
@@ -173,7 +185,20 @@ impl<T: CheckRule> PairIntegrals<T> {
             },
             || moments::q_pair(field, o),
         );
-        Ok(PairIntegrals { q: q?, c23: c23?, c24: c24?, c23_asym: c23_asym?, c24_asym: c24_asym? })
+        let ((c23, c23_cross), (c24, c24_cross)) = (c23?, c24?);
+        let with = |e: Estimate<T>, x: &Option<Result<Estimate<T>, String>>| match x {
+            Some(Ok(x)) => e.plus(x.clone()),
+            _ => e,
+        };
+        Ok(PairIntegrals {
+            q: q?,
+            c23: with(c23, &c23_cross),
+            c24: with(c24, &c24_cross),
+            c23_cross,
+            c24_cross,
+            c23_asym: c23_asym?,
+            c24_asym: c24_asym?,
+        })
     }
 
     /// Total evaluations of the integrand over these integrals.
@@ -181,6 +206,34 @@ impl<T: CheckRule> PairIntegrals<T> {
         let asym = |a: &Result<Estimate<T>, String>| a.as_ref().map_or(0, |e| e.evaluations);
         self.q.evaluations + self.c23.evaluations + self.c24.evaluations + asym(&self.c23_asym) + asym(&self.c24_asym)
     }
+}
+
+/// The cross-segment term of (23) or (24) where it is derived (single-scattered
+/// point lights in an isotropic medium), else `None`; `Some(Err(why))` where
+/// its R → 0 form is not positive beyond its bar (the term itself is
+/// positive: R is then not in the form's range, and nothing is added).
+fn cross_term<T: CheckRule>(
+    field: &Field<T>,
+    r: &T,
+    which: Which,
+    o: &Options,
+) -> Result<Option<Result<Estimate<T>, String>>, OracleError> {
+    if field.phase != mcrt_scene::Phase::Isotropic {
+        return Ok(None);
+    }
+    Ok(cross_segment::cross_segment(field, r, which, o)?.map(|x| {
+        if x.value.clone() - x.error.clone() > r.lit(0.0) {
+            Ok(x)
+        } else {
+            Err(format!(
+                "its R → 0 form (times e^{{c₀}}) is {:.3e} ± {:.1e}, not positive: estimator.radius = {} is not small against \
+                 1/σ and the lights' distances from the camera line, where the form holds; not added",
+                x.value.to_f64(),
+                x.error.to_f64(),
+                r.to_f64()
+            ))
+        }
+    }))
 }
 
 /// Estimator parameters as numbers of the working precision.

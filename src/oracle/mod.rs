@@ -318,8 +318,8 @@ pub fn run_with_scoped<T: CheckRule>(
         mean_luminance: small_mean,
         mean_luminance_log10: log10(&ints.mean.value) - shift_log10,
         mean_luminance_log10_error: log10_bar(&ints.mean.value, &ints.mean.error),
-        corr23: pairs.map(|p| correlation(&p.c23, &p.c23_asym, &k)),
-        corr24: pairs.map(|p| correlation(&p.c24, &p.c24_asym, &k)),
+        corr23: pairs.map(|p| correlation(&p.c23, p.c23_cross.as_ref(), &p.c23_asym, &k)),
+        corr24: pairs.map(|p| correlation(&p.c24, p.c24_cross.as_ref(), &p.c24_asym, &k)),
         variance: Variance {
             exact: small_variance,
             log10: log10(&var.value) - shift_log10,

@@ -54,6 +54,15 @@ pub struct Asymptotic {
 pub struct Correlation {
     /// The integral at the scene's R.
     pub exact: Integral,
+    /// The part of `exact` from the two segments of one forward path meeting
+    /// one sphere each (single-scattered light in isotropic media; erratum
+    /// E10, its R → 0 form, `docs/model.md` §3c); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cross_segment: Option<Integral>,
+    /// Why the cross-segment term was computed but not added (its R → 0
+    /// form is out of range); absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cross_segment_not_added: Option<String>,
     /// Its R → 0 form, (25) or (26).
     pub asymptotic: Asymptotic,
     /// exact / asymptotic (→ 1 as R → 0).
@@ -173,8 +182,9 @@ pub const SMALL_SPHERE_NOTE: &str = "exact only as R → 0; the bars are the qua
      model's own error at this R (the finite-sphere model covers uncollided light; in isotropic media \
      it covers single-scattered light at q = 1 and N_B = 1, and of other order-1 scenes it gives the mean, \
      `finite_mean`); measured with the tracer on \
-     point-isotropic-order1 at R = 0.1: Var L 4.7 % off, falling like R ln(1/R) (tests/tracer_vs_oracle.rs); its \
-     mean is 0.33 % low there, as `finite_mean` computes)";
+     point-isotropic-order1 at R = 0.1: Var L about 1 % off with the cross-segment terms of (23), (24) (E10; \
+     4.7 % without them, as in Henyey–Greenstein media, where they are not derived), falling like R ln(1/R) \
+     (tests/tracer_vs_oracle.rs); its mean is 0.33 % low there, as `finite_mean` computes)";
 
 /// The note of a finite-sphere prediction for uncollided light.
 pub const FINITE_NOTE: &str = "exact at this R for uncollided light; the bars are the quadrature's (the model \
@@ -286,8 +296,15 @@ pub(super) fn scaled<T: Real>(e: &Estimate<T>, factor: &T) -> Integral {
     Integral { value: r.value, error: r.error, evaluations: e.evaluations }
 }
 
-pub(super) fn correlation<T: Real>(exact: &Estimate<T>, asym: &Result<Estimate<T>, String>, k: &T) -> Correlation {
+pub(super) fn correlation<T: Real>(
+    exact: &Estimate<T>,
+    cross: Option<&Result<Estimate<T>, String>>,
+    asym: &Result<Estimate<T>, String>,
+    k: &T,
+) -> Correlation {
     let scaled = |e: &Estimate<T>| scaled(e, k);
+    let cross_segment = cross.and_then(|c| c.as_ref().ok()).map(scaled);
+    let cross_segment_not_added = cross.and_then(|c| c.as_ref().err()).cloned();
     match asym {
         Ok(a) => {
             let ratio = exact.value.clone() / a.value.clone();
@@ -296,6 +313,8 @@ pub(super) fn correlation<T: Real>(exact: &Estimate<T>, asym: &Result<Estimate<T
             let ratio = reported(&ratio, &(ratio.abs() * rel));
             Correlation {
                 exact: scaled(exact),
+                cross_segment,
+                cross_segment_not_added,
                 asymptotic: Asymptotic { value: Some(asymptotic.value), error: Some(asymptotic.error), missing: None },
                 ratio: Some(ratio.value),
                 ratio_error: Some(ratio.error),
@@ -303,6 +322,8 @@ pub(super) fn correlation<T: Real>(exact: &Estimate<T>, asym: &Result<Estimate<T
         }
         Err(why) => Correlation {
             exact: scaled(exact),
+            cross_segment,
+            cross_segment_not_added,
             asymptotic: Asymptotic { value: None, error: None, missing: Some(why.clone()) },
             ratio: None,
             ratio_error: None,

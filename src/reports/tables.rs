@@ -245,6 +245,20 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
         )
         .unwrap();
     }
+    for (name, c) in [("(23) cross-segment", &r.corr23), ("(24) cross-segment", &r.corr24)] {
+        if let Some(why) = c.as_ref().and_then(|c| c.cross_segment_not_added.as_ref()) {
+            writeln!(s, "{name:<24} {why}").unwrap();
+        }
+        if let Some(x) = c.as_ref().and_then(|c| c.cross_segment.as_ref()) {
+            let of = c.as_ref().map_or(String::new(), |c| pm(c.exact.value, c.exact.error));
+            writeln!(
+                s,
+                "{name:<24} {} (of {of}; two segments of one path, R → 0 form; not in the paper's (23), (24): E10)",
+                pm(x.value, x.error)
+            )
+            .unwrap();
+        }
+    }
     writeln!(s, "small-sphere model, R → 0:").unwrap();
     if let Some(why) = &r.pairs_not_computed {
         writeln!(s, "  (23), (24), D1..D5       not computed: {why}").unwrap();

@@ -1,0 +1,242 @@
+//! The two segments of one path at two spheres, in the small-sphere model:
+//! the R → 0 form of the cross-segment terms X₂₃, X₂₄ of single-scattered
+//! light (erratum E10, `docs/model.md` §3c). Isotropic media, point lights.
+//!
+//! The uncollided first segment of a path hits the sphere at s, interacts
+//! at x₁ beyond it and scatters; the second segment hits the sphere at s′.
+//! The finite-sphere model computes this exactly (`finite::cross_segments`);
+//! as R → 0 it grows like ln(1/R) (the second segment's hit chance falls
+//! like R²/(4d²) with the distance d from x₁ to the sphere, and
+//! ∫ds′ dt/d² diverges logarithmically as x₁ nears the camera line), so the
+//! paper's (23), (24), which miss it, are wrong by O(ln(1/R)) against their
+//! O(1/R). With the first segment along v₁ = (x(s) − y)/D (D = |x(s) − y|,
+//! α its angle to u, d_y the light's distance from the camera line,
+//! sin α = d_y/D), x₁ = x(s) + t v₁ at the distance b₁ = t sin α from the
+//! camera line and the abscissa z₁ = s + t cos α, the sphere at s′ seen at
+//! the angle θ from x₁ (s′ = z₁ + b₁ tan θ, d = b₁/cos θ):
+//!
+//!   X = K (R⁴/16) ∫₀^∞ ds σ³e^{−σ(D + s)}/(D d_y) · { ∫₀^∞ [E(t) − πŵ₀ 1(σt < 1)] dt/t
+//!                                                  + πŵ₀ (¼ + ln(4 sin α/(σR))) },
+//!
+//!   E(t) = e^{−σt} ∫_{s′ ≥ 0} ŵ(s′) e^{−σ b₁/cos θ} dθ,
+//!
+//! ŵ the pair's weight over σ²e^{−σs}: e^{−σ max(0, s′ − s)} for C₂₃
+//! (K = κ), e^{−σs′} for C₂₄ (K = 2κ), ŵ₀ = ŵ(s); κR⁴ = albedo³𝓕Φ/(16π⁴).
+//! The constant ¼ + ln(4 sin α) is the inner region's (x₁ within O(R/sin α)
+//! of the sphere at s, where the chord's hit interval, the reach condition
+//! and the exact hit chance H of §9.5 enter), derived in closed form in
+//! §3c. Deviation from the paper: (23), (24) do not have this term at all.
+
+use super::correlations::Which;
+use super::field::Field;
+use super::moments::ray_domain;
+use super::scattered::Scattered;
+use super::OracleError;
+use crate::quad::{integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
+use mcrt_scene::Phase;
+
+/// The R → 0 form of X₂₃ (`Which::Eq23`) or X₂₄ (`Which::Eq24`) summed over
+/// the field's single-scattered point lights, times e^{c₀} (module docs):
+/// what the two segments of one path add to (23), (24) in the small-sphere
+/// model. `None` where there is nothing to add (no single-scattered point
+/// light). Domain: isotropic media (the Henyey–Greenstein phase function
+/// would weigh the angle between the segments: not derived, refused), every
+/// light off the camera line (a light on it sends its first segments along
+/// the spheres: refused), R > 0.
+///
+/// ```
+/// use mcrt_noise::model::{correlations::Which, cross_segment::cross_segment, field::Field};
+/// use mcrt_noise::quad::Options;
+/// use mcrt_noise::Scene;
+///
+/// let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic-order1.toml"))?;
+/// let scene = Scene::from_toml_str(&text)?;
+/// let field = Field::from_scene(&scene, &1.0f64)?;
+/// let opts = Options { max_evals: 1_000_000_000, ..Options::rel(1e-4) };
+/// let x23 = cross_segment(&field, &0.1, Which::Eq23, &opts)?.expect("a scattered point light");
+/// assert!(x23.value > 0.0 && x23.error < 1e-4 * x23.value);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn cross_segment<T: CheckRule>(
+    field: &Field<T>,
+    r: &T,
+    which: Which,
+    opts: &Options,
+) -> Result<Option<Estimate<T>>, OracleError> {
+    if field.scattered.is_empty() {
+        return Ok(None);
+    }
+    if field.phase != Phase::Isotropic {
+        return Err(OracleError::Unsupported(NOT_ISOTROPIC.into()));
+    }
+    let opts = opts.clone().declared();
+    let mut total: Option<Estimate<T>> = None;
+    for sc in &field.scattered {
+        if sc.d.is_zero() {
+            return Err(OracleError::Unsupported(ON_THE_LINE.into()));
+        }
+        let e = one_light(field, sc, r, which, &opts).map_err(OracleError::quad(what(which)))?;
+        total = Some(match total {
+            None => e,
+            Some(t) => t.plus(e),
+        });
+    }
+    Ok(total)
+}
+
+/// Why Henyey–Greenstein media get no cross-segment term.
+pub const NOT_ISOTROPIC: &str = "the small-sphere cross-segment terms of (23), (24) (E10) are derived for isotropic \
+     media only: medium.phase must be isotropic";
+
+/// Why a light on the camera line gets none.
+const ON_THE_LINE: &str = "the small-sphere cross-segment terms of (23), (24) (E10) need every point light off the \
+     camera line (its first segments would run along the spheres)";
+
+fn what(which: Which) -> &'static str {
+    match which {
+        Which::Eq23 => "cross-segment term of (23), single-scattered light",
+        Which::Eq24 => "cross-segment term of (24), single-scattered light",
+    }
+}
+
+/// One light's X (module docs), times e^{c₀}.
+fn one_light<T: CheckRule>(field: &Field<T>, sc: &Scattered<T>, r: &T, which: Which, opts: &Options) -> Outcome<T> {
+    let like = r;
+    let sigma = field.sigma_ext.clone();
+    let pi = like.pi();
+    let pi4 = pi.clone() * pi.clone() * pi.clone() * pi.clone();
+    let pair = if which == Which::Eq24 { like.lit(2.0) } else { like.lit(1.0) };
+    let a3 = field.albedo.clone() * field.albedo.clone() * field.albedo.clone();
+    // K R⁴/16 · σ³ = pair · albedo³ 𝓕 Φ σ³/(256 π⁴).
+    let front = pair * a3 * field.total_flux.clone() * sc.flux.clone() * sigma.clone() * sigma.clone() * sigma.clone()
+        / (like.lit(256.0) * pi4);
+    let d_y = sc.d.clone();
+    let x0 = field.x_camera();
+    integrate_nested(
+        |x: &T, inner: &Options| {
+            let s = field.s_of(x);
+            let ds = (field.center.clone() - sc.a.clone()) + x.clone();
+            let dist = (ds.clone() * ds.clone() + d_y.clone() * d_y.clone()).sqrt();
+            // ŵ₀ = e^{−σs} of C₂₄ joins the exponent; the inner integrals
+            // are then O(1) (no absolute goal near the floor of values).
+            let own = if which == Which::Eq24 { s.clone() } else { like.lit(0.0) };
+            let weight = front.clone() * (sc.shift.clone() - sigma.clone() * (dist.clone() + s.clone() + own)).exp()
+                / (dist.clone() * d_y.clone());
+            if weight.is_zero() || !(s > like.lit(0.0)) {
+                return Ok(Estimate::known(like.lit(0.0), like.lit(0.0), 0, inner.rule));
+            }
+            let at = Sphere { s, sin_a: d_y.clone() / dist.clone(), cos_a: ds / dist, sigma: sigma.clone(), which };
+            let o = Options { abs_tol: (inner.abs_tol / weight.to_f64()).min(f64::MAX), ..inner.clone() };
+            let t_part = at.over_t(&o)?;
+            let log =
+                pi.clone() * (like.lit(0.25) + (like.lit(4.0) * at.sin_a.clone() / (sigma.clone() * r.clone())).ln());
+            Ok(t_part.plus(Estimate::known(log, like.lit(0.0), 0, inner.rule)).scaled(&weight))
+        },
+        &ray_domain(field, &x0, None),
+        opts,
+    )
+}
+
+/// The first hit at s: where the chord's direction lies.
+struct Sphere<T> {
+    s: T,
+    sin_a: T,
+    cos_a: T,
+    sigma: T,
+    which: Which,
+}
+
+impl<T: CheckRule> Sphere<T> {
+    /// ∫₀^∞ [E(t) − πŵ₀ 1(σt < 1)] dt/t over ŵ₀, with cuts on the decay length's
+    /// decades, at 1/σ (where the subtraction stops) and where x₁ crosses
+    /// the camera's plane (z₁ = 0).
+    fn over_t(&self, opts: &Options) -> Outcome<T> {
+        let like = &self.s;
+        let one_over = like.lit(1.0) / self.sigma.clone();
+        let mut cuts: Vec<T> = [0, 1].iter().map(|k| one_over.clone() * like.lit(10f64.powi(*k))).collect();
+        if self.cos_a < like.lit(0.0) {
+            cuts.push(self.s.clone() / (-self.cos_a.clone()));
+        }
+        let domain = Domain::semi_infinite(like.lit(0.0)).with_decay(self.sigma.clone()).with_breakpoints(cuts);
+        integrate_within_pass(
+            |t: &T, o: &Options| {
+                let subtract = self.sigma.clone() * t.clone() < like.lit(1.0);
+                let o2 = Options { abs_tol: o.abs_tol * t.to_f64(), ..o.clone() };
+                Ok(self.e_minus(t, subtract, &o2)?.scaled(&(like.lit(1.0) / t.clone())))
+            },
+            &domain,
+            opts,
+        )
+    }
+
+    /// (E(t) − πŵ₀)/ŵ₀ (`subtract`) or E(t)/ŵ₀: the θ-integral in the halves
+    /// θ ≥ 0 and θ ≤ 0, each in its distance φ from ±π/2 (tan θ = ±cot φ,
+    /// cos θ = sin φ, exact near the poles, where the decay length is a
+    /// sliver of angle σb₁), the subtraction made node by node.
+    fn e_minus(&self, t: &T, subtract: bool, opts: &Options) -> Outcome<T> {
+        let like = t;
+        let zero = like.lit(0.0);
+        let half_pi = like.pi() / like.lit(2.0);
+        let b1 = t.clone() * self.sin_a.clone();
+        let z1 = self.s.clone() + t.clone() * self.cos_a.clone();
+        // ŵ(s′)e^{−σ(t + d)}/ŵ₀ = e^{−σ(t + d + (s′ − s)⁺ or (s′ − s))}: the
+        // node's value is an exponential (minus 1 when subtracted, by
+        // exp_m1, so that it keeps its accuracy where x₁ is next to the
+        // sphere and the difference is far below the rounding of 1).
+        let w0 = if subtract { like.lit(1.0) } else { zero.clone() };
+        // s′ = z₁ + sign·b₁ cot φ ≥ 0 for φ in [lo, π/2] (sign +1) or ...
+        let half = |sign: f64, o: &Options| -> Outcome<T> {
+            // The valid range of φ (s′ ≥ 0) and the missing part's share.
+            let (lo, hi) = if sign > 0.0 {
+                if z1 >= zero {
+                    (zero.clone(), half_pi.clone())
+                } else {
+                    (zero.clone(), (b1.clone() / (-z1.clone())).atan())
+                }
+            } else if z1 > zero {
+                ((b1.clone() / z1.clone()).atan(), half_pi.clone())
+            } else {
+                (half_pi.clone(), half_pi.clone())
+            };
+            let missing = -(w0.clone() * (half_pi.clone() - (hi.clone() - lo.clone())));
+            if !(hi > lo) {
+                return Ok(Estimate::known(missing, zero.clone(), 0, o.rule));
+            }
+            let mut cuts: Vec<T> = [-1, 1]
+                .iter()
+                .map(|k| (self.sigma.clone() * b1.clone() / like.lit(10f64.powi(*k))).atan())
+                .filter(|c| *c > lo && *c < hi)
+                .collect();
+            // The kink of C₂₃'s weight at s′ = s: φ = π − α above, α below.
+            if self.which == Which::Eq23 {
+                let kink = match (sign > 0.0, self.cos_a < zero) {
+                    (true, true) => Some((self.sin_a.clone() / (-self.cos_a.clone())).atan()),
+                    (false, false) => Some((self.sin_a.clone() / self.cos_a.clone()).atan()),
+                    _ => None,
+                };
+                cuts.extend(kink.filter(|c| *c > lo && *c < hi));
+            }
+            let e = integrate_within_pass(
+                |phi: &T, o2: &Options| {
+                    let (sin, cos) = (phi.sin(), phi.cos());
+                    // s′ − s = t cos α ± b₁ cot φ, formed without s.
+                    let beyond = t.clone() * self.cos_a.clone() + like.lit(sign) * b1.clone() * cos / sin.clone();
+                    let extra = match self.which {
+                        Which::Eq23 => beyond.max_of(zero.clone()),
+                        Which::Eq24 => beyond,
+                    };
+                    let exponent = -(self.sigma.clone() * (t.clone() + b1.clone() / sin + extra));
+                    let v = if subtract { exponent.exp_m1() } else { exponent.exp() };
+                    Ok(Estimate::known(v, zero.clone(), 1, o2.rule))
+                },
+                &Domain::finite(lo, hi).with_breakpoints(cuts),
+                o,
+            )?;
+            Ok(e.plus(Estimate::known(missing, zero.clone(), 0, o.rule)))
+        };
+        let each = Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() };
+        let up = half(1.0, &each)?;
+        let down = half(-1.0, &each)?;
+        Ok(up.plus(down))
+    }
+}
