@@ -149,14 +149,16 @@ impl From<OracleError> for PredictError {
 /// whose small-sphere error was never measured).
 /// Other order-1 scenes are predicted by the small-sphere model with its
 /// measured allowance as the model bar, for R ≤ 0.1
-/// ([`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE`]); larger R there,
-/// and orders ≥ 2, are refused.
+/// ([`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE`] where its (23), (24)
+/// carry the cross-segment terms of erratum E10, isotropic media;
+/// [`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS`] where
+/// they do not); larger R there, and orders ≥ 2, are refused.
 ///
 /// Cost: milliseconds for uncollided light in a release build; for single
 /// scattering ~1.5 s with q = 1 and N_B = 1 (isotropic medium, point
 /// lights; the small-sphere integrals of two spheres, weighed 0, are
 /// skipped), ~15 s with a beam (its single-scattered light is a 2-D
-/// quadrature at every table node, `docs/model.md` §9.8) and ~10 s
+/// quadrature at every table node, `docs/model.md` §9.8) and ~10–15 s
 /// otherwise (`docs/library.md` gives the profile
 /// settings a dependent crate needs for its debug tests).
 pub fn predict(scene: &Scene) -> Result<Prediction, PredictError> {

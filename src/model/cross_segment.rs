@@ -32,7 +32,7 @@ use super::field::Field;
 use super::moments::ray_domain;
 use super::scattered::Scattered;
 use super::OracleError;
-use crate::quad::{integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
+use crate::quad::{integrate, integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
 use mcrt_scene::Phase;
 
 /// The R → 0 form of X₂₃ (`Which::Eq23`) or X₂₄ (`Which::Eq24`) summed over
@@ -99,7 +99,11 @@ fn what(which: Which) -> &'static str {
     }
 }
 
-/// One light's X (module docs), times e^{c₀}.
+/// One light's X (module docs), times e^{c₀}: X = I₁ + ln(1/(σR))·I₂, the
+/// two integrals independent of R, so that neither their cost nor their
+/// relative goals depend on how far X's two parts cancel (they do where R
+/// leaves the form's range: at σR = 0.5 X is near 0, and a relative goal of
+/// X itself was out of reach).
 fn one_light<T: CheckRule>(field: &Field<T>, sc: &Scattered<T>, r: &T, which: Which, opts: &Options) -> Outcome<T> {
     let like = r;
     let sigma = field.sigma_ext.clone();
@@ -112,29 +116,41 @@ fn one_light<T: CheckRule>(field: &Field<T>, sc: &Scattered<T>, r: &T, which: Wh
         / (like.lit(256.0) * pi4);
     let d_y = sc.d.clone();
     let x0 = field.x_camera();
-    integrate_nested(
+    // The chord at s = center + x: its weight (0 where it underflows or at
+    // the camera) and where it runs.
+    let chord = |x: &T| -> Option<(T, Sphere<T>)> {
+        let s = field.s_of(x);
+        let ds = (field.center.clone() - sc.a.clone()) + x.clone();
+        let dist = (ds.clone() * ds.clone() + d_y.clone() * d_y.clone()).sqrt();
+        // ŵ₀ = e^{−σs} of C₂₄ joins the exponent; the inner integrals are
+        // then O(1) (no absolute goal near the floor of values).
+        let own = if which == Which::Eq24 { s.clone() } else { like.lit(0.0) };
+        let weight = front.clone() * (sc.shift.clone() - sigma.clone() * (dist.clone() + s.clone() + own)).exp()
+            / (dist.clone() * d_y.clone());
+        if weight.is_zero() || !(s > like.lit(0.0)) {
+            return None;
+        }
+        Some((weight, Sphere { s, sin_a: d_y.clone() / dist.clone(), cos_a: ds / dist, sigma: sigma.clone(), which }))
+    };
+    let domain = ray_domain(field, &x0, None);
+    let half = Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() };
+    let i1 = integrate_nested(
         |x: &T, inner: &Options| {
-            let s = field.s_of(x);
-            let ds = (field.center.clone() - sc.a.clone()) + x.clone();
-            let dist = (ds.clone() * ds.clone() + d_y.clone() * d_y.clone()).sqrt();
-            // ŵ₀ = e^{−σs} of C₂₄ joins the exponent; the inner integrals
-            // are then O(1) (no absolute goal near the floor of values).
-            let own = if which == Which::Eq24 { s.clone() } else { like.lit(0.0) };
-            let weight = front.clone() * (sc.shift.clone() - sigma.clone() * (dist.clone() + s.clone() + own)).exp()
-                / (dist.clone() * d_y.clone());
-            if weight.is_zero() || !(s > like.lit(0.0)) {
+            let Some((weight, at)) = chord(x) else {
                 return Ok(Estimate::known(like.lit(0.0), like.lit(0.0), 0, inner.rule));
-            }
-            let at = Sphere { s, sin_a: d_y.clone() / dist.clone(), cos_a: ds / dist, sigma: sigma.clone(), which };
+            };
             let o = Options { abs_tol: (inner.abs_tol / weight.to_f64()).min(f64::MAX), ..inner.clone() };
             let t_part = at.over_t(&o)?;
-            let log =
-                pi.clone() * (like.lit(0.25) + (like.lit(4.0) * at.sin_a.clone() / (sigma.clone() * r.clone())).ln());
+            let log = pi.clone() * (like.lit(0.25) + (like.lit(4.0) * at.sin_a.clone()).ln());
             Ok(t_part.plus(Estimate::known(log, like.lit(0.0), 0, inner.rule)).scaled(&weight))
         },
-        &ray_domain(field, &x0, None),
-        opts,
-    )
+        &domain,
+        &half,
+    )?;
+    let log_r = (like.lit(1.0) / (sigma.clone() * r.clone())).ln();
+    let i2_opts = Options { abs_tol: (half.abs_tol / log_r.abs().to_f64().max(1.0)).min(f64::MAX), ..half.clone() };
+    let i2 = integrate(|x: &T| chord(x).map_or(like.lit(0.0), |(weight, _)| weight * pi.clone()), &domain, &i2_opts)?;
+    Ok(i1.plus(i2.scaled(&log_r)))
 }
 
 /// The first hit at s: where the chord's direction lies.
