@@ -69,18 +69,18 @@ pub struct Integrals<T> {
 pub struct PairIntegrals<T> {
     /// Q = ∫∫_{t>0}⟨𝒞⟩(s)⟨𝒞⟩(s+t)σ²e^{−σ(s+t)} ds dt, the pair part of (17).
     pub q: Estimate<T>,
-    /// C₂₃, the integral (23) at radius R, exactly, with the cross-segment
-    /// term [`PairIntegrals::c23_cross`] of single-scattered light included.
+    /// C₂₃, the integral (23) at radius R: exact for the one-segment part,
+    /// plus the cross-segment term [`PairIntegrals::c23_cross`] of
+    /// single-scattered light where it is added (an R → 0 form).
     pub c23: Estimate<T>,
     /// C₂₄, the integral (24) at radius R, exactly, with
     /// [`PairIntegrals::c24_cross`] included.
     pub c24: Estimate<T>,
     /// X₂₃, the part of `c23` from the two segments of one path meeting one
     /// sphere each (E10; its R → 0 form, `cross_segment`): `None` for
-    /// uncollided light and in Henyey–Greenstein media, where it is not
-    /// derived ([`cross_segment::NOT_ISOTROPIC`]); `Some(Err(why))` where
-    /// the R → 0 form is computed but not positive (R not small against
-    /// 1/σ or the light's distance from the camera line), and not added.
+    /// uncollided light; `Some(Err(why))` where it is not added (`cross_term`:
+    /// Henyey–Greenstein media, R outside the form's checked range, a
+    /// failure, or a form not positive).
     pub c23_cross: Option<Result<Estimate<T>, String>>,
     /// X₂₄, the part of `c24` likewise.
     pub c24_cross: Option<Result<Estimate<T>, String>>,
@@ -208,31 +208,39 @@ impl<T: CheckRule> PairIntegrals<T> {
     }
 }
 
-/// The cross-segment term of (23) or (24) where it is derived (single-scattered
-/// point lights in an isotropic medium), else `None`; `Some(Err(why))` where
-/// its R → 0 form is not positive beyond its bar (the term itself is
-/// positive: R is then not in the form's range, and nothing is added).
+/// The cross-segment term of (23) or (24) where there is one (single-scattered
+/// point lights), else `None`; `Some(Err(why))` where it is not added: not
+/// derived (Henyey–Greenstein media), outside its R → 0 form's checked
+/// range ([`cross_segment::MAX_SCALE`]: σR or R over a light's distance from
+/// the camera line), its computation failed, or it is not positive beyond
+/// its bar (the term itself is positive).
 fn cross_term<T: CheckRule>(
     field: &Field<T>,
     r: &T,
     which: Which,
     o: &Options,
 ) -> Result<Option<Result<Estimate<T>, String>>, OracleError> {
-    if field.phase != mcrt_scene::Phase::Isotropic {
+    if field.scattered.is_empty() {
         return Ok(None);
     }
-    Ok(cross_segment::cross_segment(field, r, which, o)?.map(|x| {
-        if x.value.clone() - x.error.clone() > r.lit(0.0) {
-            Ok(x)
-        } else {
-            Err(format!(
-                "its R → 0 form (times e^{{c₀}}) is {:.3e} ± {:.1e}, not positive: estimator.radius = {} is not small against \
-                 1/σ and the lights' distances from the camera line, where the form holds; not added",
-                x.value.to_f64(),
-                x.error.to_f64(),
-                r.to_f64()
-            ))
-        }
+    if field.phase != mcrt_scene::Phase::Isotropic {
+        return Ok(Some(Err(format!("{}; not added", cross_segment::NOT_ISOTROPIC))));
+    }
+    let x = match cross_segment::cross_segment(field, r, which, o) {
+        Ok(Some(x)) => x,
+        Ok(None) => return Ok(None),
+        Err(e) => return Ok(Some(Err(format!("{e}; not added")))),
+    };
+    Ok(Some(if x.value.clone() - x.error.clone() > r.lit(0.0) {
+        Ok(x)
+    } else {
+        Err(format!(
+            "its R → 0 form (times e^{{c₀}}) is {:.3e} ± {:.1e}, not positive: estimator.radius = {} is not small \
+             against 1/σ and the lights' distances from the camera line, where the form holds; not added",
+            x.value.to_f64(),
+            x.error.to_f64(),
+            r.to_f64()
+        ))
     }))
 }
 

@@ -170,13 +170,15 @@ fn row_at(scene: &Scene, r: f64, budget: &Budget) -> Result<Row, SweepError> {
     Ok(Row {
         radius: r,
         finite,
-        corr23_exact: c23.exact.value,
+        // The one-segment part, whose R → 0 form (25) is (the cross-segment
+        // term of single-scattered light, E10, is an R → 0 form itself).
+        corr23_exact: c23.exact.value - c23.cross_segment.as_ref().map_or(0.0, |x| x.value),
         corr23_exact_error: c23.exact.error,
         corr23_asymptotic: c23.asymptotic.value.ok_or_else(|| missing("(23)"))?,
         corr23_asymptotic_error: c23.asymptotic.error.ok_or_else(|| missing("(23)"))?,
         ratio23: c23.ratio.ok_or_else(|| missing("(23)"))?,
         ratio23_error: c23.ratio_error.ok_or_else(|| missing("(23)"))?,
-        corr24_exact: c24.exact.value,
+        corr24_exact: c24.exact.value - c24.cross_segment.as_ref().map_or(0.0, |x| x.value),
         corr24_exact_error: c24.exact.error,
         corr24_asymptotic: c24.asymptotic.value.ok_or_else(|| missing("(24)"))?,
         corr24_asymptotic_error: c24.asymptotic.error.ok_or_else(|| missing("(24)"))?,
