@@ -42,7 +42,9 @@ use mcrt_scene::Phase;
 /// light). Domain: isotropic media (the Henyey–Greenstein phase function
 /// would weigh the angle between the segments: not derived, refused), every
 /// light off the camera line (a light on it sends its first segments along
-/// the spheres: refused), R > 0.
+/// the spheres: refused), R > 0 with σR and R/d_y at most [`MAX_SCALE`]
+/// for every light (the range the form was checked over: refused beyond).
+/// The goal is never looser than 10⁻⁴ relative (below).
 ///
 /// ```
 /// use mcrt_noise::model::{correlations::Which, cross_segment::cross_segment, field::Field};
