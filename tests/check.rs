@@ -143,6 +143,14 @@ fn scattered_light_is_predicted_with_the_measured_model_bar() {
     assert_eq!(p_hg.mean.model_bar, m0 * scale * p_hg.mean.value);
     assert_eq!(p_hg.variance.model_bar, v0 * scale * p_hg.variance.value);
     assert!(p_hg.model_bar_basis.contains("not added"), "{}", p_hg.model_bar_basis);
+    // With q = 1 and N_B = 1, (7)–(9) weigh (23), (24) 0, so the model is
+    // the same with or without them: the bar measured with them serves.
+    let mut unpaired = hg.clone();
+    (unpaired.estimator.q, unpaired.estimator.camera_rays) = (1.0, 1);
+    let p_un = mcrt_noise::check::predict_with(&unpaired, mcrt_noise::oracle::Precision::F64, Some(1e-4)).unwrap();
+    assert_eq!(p_un.model, Model::SmallSphere);
+    assert_eq!(p_un.variance.model_bar, v * scale * p_un.variance.value);
+    assert!(p_un.model_bar_basis.contains("weigh 0"), "{}", p_un.model_bar_basis);
     // The bars are subtracted before z: two-point samples 0 and 2a (mean a)
     // with a inside the model bar give z = 0; outside it, z counts the
     // excess only, in units of the null-scaled standard error

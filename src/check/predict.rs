@@ -219,7 +219,10 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
             let scale = model_error_scale(radius);
             let crossed =
                 |c: &Option<crate::oracle::Correlation>| c.as_ref().is_some_and(|c| c.cross_segment.is_some());
-            let with_cross = crossed(&report.corr23) && crossed(&report.corr24);
+            // With q = 1 and N_B = 1, (7)–(9) weigh (23), (24) 0: the
+            // model is the same with or without the cross-segment terms.
+            let unpaired = scene.estimator.q == 1.0 && scene.estimator.camera_rays == 1;
+            let with_cross = unpaired || (crossed(&report.corr23) && crossed(&report.corr24));
             let (m, v) = if with_cross {
                 SMALL_SPHERE_SCATTERED_ALLOWANCE
             } else {
@@ -254,7 +257,7 @@ const FINITE_ORDER1_BASIS: &str = "none needed: the finite-sphere model is exact
 
 fn small_sphere_basis(radius: f64, (mean, variance): (f64, f64), with_cross: bool) -> String {
     let which = if with_cross {
-        "with the cross-segment terms of (23), (24) (E10) in the model"
+        "with the cross-segment terms of (23), (24) (E10) in the model, or q = 1 and N_B = 1, where (23), (24) weigh 0"
     } else {
         "measured before the cross-segment terms of (23), (24) (E10) entered the model: they are not added for this \
          scene"

@@ -190,9 +190,9 @@ struct Sphere<T> {
 }
 
 impl<T: CheckRule> Sphere<T> {
-    /// ∫₀^∞ [E(t) − πŵ₀ 1(σt < 1)] dt/t over ŵ₀, with cuts on the decay length's
-    /// decades, at 1/σ (where the subtraction stops) and where x₁ crosses
-    /// the camera's plane (z₁ = 0).
+    /// ∫₀^∞ [E(t) − πŵ₀ 1(σt < 1)] dt/t over ŵ₀, with cuts at 1/σ (where
+    /// the subtraction stops), at 10/σ and where x₁ crosses the camera's
+    /// plane (z₁ = 0).
     fn over_t(&self, opts: &Options) -> Outcome<T> {
         let like = &self.s;
         let one_over = like.lit(1.0) / self.sigma.clone();

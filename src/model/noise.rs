@@ -73,8 +73,8 @@ pub struct PairIntegrals<T> {
     /// plus the cross-segment term [`PairIntegrals::c23_cross`] of
     /// single-scattered light where it is added (an R → 0 form).
     pub c23: Estimate<T>,
-    /// C₂₄, the integral (24) at radius R, exactly, with
-    /// [`PairIntegrals::c24_cross`] included.
+    /// C₂₄, the integral (24) at radius R: exact for the one-segment part,
+    /// plus [`PairIntegrals::c24_cross`] where it is added, as for `c23`.
     pub c24: Estimate<T>,
     /// X₂₃, the part of `c23` from the two segments of one path meeting one
     /// sphere each (E10; its R → 0 form, `cross_segment`): `None` for
@@ -169,7 +169,7 @@ impl<T: CheckRule> PairIntegrals<T> {
         let with_cross = |which: Which| {
             let (exact, cross) =
                 rayon::join(|| correlations::exact(field, r, which, o), || cross_term(field, r, which, o));
-            Ok::<_, OracleError>((exact?, cross?))
+            Ok::<_, OracleError>((exact?, cross))
         };
         let (((c23, c24), (c23_asym, c24_asym)), q) = rayon::join(
             || {
@@ -213,25 +213,15 @@ impl<T: CheckRule> PairIntegrals<T> {
 /// derived (Henyey–Greenstein media), outside its R → 0 form's checked
 /// range ([`cross_segment::MAX_SCALE`]: σR or R over a light's distance from
 /// the camera line), its computation failed, or it is not positive beyond
-/// its bar (the term itself is positive).
-fn cross_term<T: CheckRule>(
-    field: &Field<T>,
-    r: &T,
-    which: Which,
-    o: &Options,
-) -> Result<Option<Result<Estimate<T>, String>>, OracleError> {
-    if field.scattered.is_empty() {
-        return Ok(None);
-    }
-    if field.phase != mcrt_scene::Phase::Isotropic {
-        return Ok(Some(Err(format!("{}; not added", cross_segment::NOT_ISOTROPIC))));
-    }
+/// its bar (the term itself is positive). Never fails: every reason not to
+/// add the term is reported with it.
+fn cross_term<T: CheckRule>(field: &Field<T>, r: &T, which: Which, o: &Options) -> Option<Result<Estimate<T>, String>> {
     let x = match cross_segment::cross_segment(field, r, which, o) {
         Ok(Some(x)) => x,
-        Ok(None) => return Ok(None),
-        Err(e) => return Ok(Some(Err(format!("{e}; not added")))),
+        Ok(None) => return None,
+        Err(e) => return Some(Err(format!("{e}; not added"))),
     };
-    Ok(Some(if x.value.clone() - x.error.clone() > r.lit(0.0) {
+    Some(if x.value.clone() - x.error.clone() > r.lit(0.0) {
         Ok(x)
     } else {
         Err(format!(
@@ -241,7 +231,7 @@ fn cross_term<T: CheckRule>(
             x.error.to_f64(),
             r.to_f64()
         ))
-    }))
+    })
 }
 
 /// Estimator parameters as numbers of the working precision.
