@@ -117,6 +117,13 @@ pub fn fit(runs: &[Measurement], source: String) -> Result<Fit, String> {
     let mut held: Vec<&'static str> = Vec::new();
     loop {
         let (n, p) = (runs.len(), active.len());
+        if p == 0 {
+            return Err(format!(
+                "the fit held every cost at 0 ({}): the timed runs do not resolve any; time longer runs (calibrate \
+                 --seconds) on an otherwise idle machine",
+                held.join(", ")
+            ));
+        }
         if n <= p {
             return Err(format!("{n} runs cannot fit {p} costs: time more parameter sets"));
         }
@@ -150,6 +157,14 @@ pub fn fit(runs: &[Measurement], source: String) -> Result<Fit, String> {
         let max = resid.iter().fold(0.0f64, |m, r| m.max(r.abs()));
         let mut costs = CostTable::from_array(c, e, source);
         costs.covariance = Some(full);
+        // A table `optimize` would refuse is no result: say why and what to do.
+        if let Err(why) = costs.validate() {
+            return Err(format!(
+                "the fit is not a usable [cost] table (held at 0: {}): {why}; the timed runs do not resolve what one \
+                 iteration costs: time longer runs (calibrate --seconds) on an otherwise idle machine",
+                held.join(", ")
+            ));
+        }
         return Ok(Fit {
             costs,
             held_at_zero: held,
@@ -242,6 +257,24 @@ mod tests {
         assert!(f.costs.std_errors[j] > 0.0, "{:?}", f.costs.std_errors);
         let var = f.costs.covariance.unwrap()[j][j];
         assert!((var - f.costs.std_errors[j].powi(2)).abs() <= 4.0 * f64::EPSILON * var, "{var}");
+    }
+
+    /// A CI run (3 December 2026, `calibrate --seconds 0.05` on a loaded
+    /// machine) held trial, forward-ray and camera-ray costs all at 0 and
+    /// wrote a table that `optimize --costs` then refused (iterations free,
+    /// M unbounded). The fit itself refuses such a table, naming the costs
+    /// held and the remedy: timings whose per-iteration costs are all
+    /// negative.
+    #[test]
+    fn a_fit_whose_iterations_are_free_is_refused() {
+        let truth = [0.0, 0.0, 0.0, 40.0, 10.0, 2.0, 3.0, 6.0, 9.0];
+        let e = fit(&runs(truth), "test".into()).unwrap_err();
+        assert!(e.contains("trial_ns") && e.contains("forward_ray_ns") && e.contains("camera_ray_ns"), "{e}");
+        assert!(e.contains("must cost at least") && e.contains("calibrate --seconds"), "{e}");
+        // Timings no cost can explain hold every cost: an error, not a
+        // least-squares problem with no unknowns (nalgebra panics on one).
+        let e = fit(&runs([-1.0; OPERATIONS]), "test".into()).unwrap_err();
+        assert!(e.contains("held every cost at 0"), "{e}");
     }
 
     #[test]
