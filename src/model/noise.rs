@@ -94,10 +94,9 @@ impl<T: CheckRule> Integrals<T> {
     /// Computes all integrals for spheres of radius `r`. The evaluations of
     /// the field's along-ray tables (single-scattered light), which every
     /// integral reads, are charged to the mean once, at the end (as the
-    /// finite-sphere model's order-1 tables are; its Henyey–Greenstein
-    /// ⟨𝒞⟩ tables are still not counted): with a field used for one computation the
-    /// counts are then complete and do not depend on which thread built a
-    /// table.
+    /// finite-sphere model's order-1 tables are, and its Henyey–Greenstein
+    /// ⟨𝒞⟩ tables to P): with a field used for one computation the counts
+    /// are then complete and do not depend on which thread built a table.
     pub fn compute(field: &Field<T>, r: &T, opts: &Options) -> Result<Integrals<T>, OracleError> {
         let opts = opts.clone().declared();
         let o = &opts;

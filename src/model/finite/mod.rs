@@ -357,8 +357,20 @@ impl<T: CheckRule> FiniteField<T> {
     }
 
     /// P and Q of (17) from ⟨𝒞⟩_R along the camera ray (times e^{c₀}).
+    /// In a Henyey–Greenstein medium both read ⟨𝒞⟩_R from tables built
+    /// once per pass (`tables`), whose evaluations are charged to P once
+    /// both have finished (the counts then do not depend on which integral,
+    /// on which thread, built a table).
     pub fn p_and_q(&self, opts: &Options) -> (Result<Estimate<T>, OracleError>, Result<Estimate<T>, OracleError>) {
-        self.with_mean(|line, m| rayon::join(|| line.p_single(m, opts), || line.q_pair(m, opts)))
+        let (p, q) = self.with_mean(|line, m| rayon::join(|| line.p_single(m, opts), || line.q_pair(m, opts)));
+        let built = self.tables.evaluations();
+        (
+            p.map(|mut e| {
+                e.evaluations += built;
+                e
+            }),
+            q,
+        )
     }
 
     /// Every integral of the model for the scene's R (each times e^{c₀}),

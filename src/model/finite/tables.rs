@@ -80,6 +80,14 @@ impl<T> Default for Tables<T> {
     }
 }
 
+impl<T> Tables<T> {
+    /// Evaluations spent building every table so far (failed builds
+    /// included), the same whichever thread built which.
+    pub(super) fn evaluations(&self) -> u64 {
+        self.map.lock().expect("no panic while holding the tables").values().map(|t| t.evaluations()).sum()
+    }
+}
+
 impl<T: CheckRule> Tables<T> {
     /// ⟨𝒞⟩_R·e^{c₀} of light `index` (the point `p`) at x, with its bar.
     /// Beyond the table's range (past 4^K decay lengths, where the weight
