@@ -150,7 +150,7 @@ fn scattered_light_is_predicted_with_the_measured_model_bar() {
     let p_un = mcrt_noise::check::predict_with(&unpaired, mcrt_noise::oracle::Precision::F64, Some(1e-4)).unwrap();
     assert_eq!(p_un.model, Model::SmallSphere);
     assert_eq!(p_un.variance.model_bar, v * scale * p_un.variance.value);
-    assert!(p_un.model_bar_basis.contains("weigh 0"), "{}", p_un.model_bar_basis);
+    assert!(p_un.model_bar_basis.contains("here q = 1 and N_B = 1, where (7)–(9)"), "{}", p_un.model_bar_basis);
     // The bars are subtracted before z: two-point samples 0 and 2a (mean a)
     // with a inside the model bar give z = 0; outside it, z counts the
     // excess only, in units of the null-scaled standard error

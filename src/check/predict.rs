@@ -150,9 +150,10 @@ impl From<OracleError> for PredictError {
 /// Other order-1 scenes are predicted by the small-sphere model with its
 /// measured allowance as the model bar, for R ≤ 0.1
 /// ([`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE`] where its (23), (24)
-/// carry the cross-segment terms of erratum E10, isotropic media;
-/// [`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS`] where
-/// they do not); larger R there, and orders ≥ 2, are refused.
+/// carry the cross-segment terms of erratum E10, isotropic media, or where
+/// q = 1 and N_B = 1 weigh (23), (24) 0;
+/// [`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS`]
+/// elsewhere); larger R there, and orders ≥ 2, are refused.
 ///
 /// Cost: milliseconds for uncollided light in a release build; for single
 /// scattering ~1.5 s with q = 1 and N_B = 1 (isotropic medium, point
@@ -221,14 +222,18 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
                 |c: &Option<crate::oracle::Correlation>| c.as_ref().is_some_and(|c| c.cross_segment.is_some());
             // With q = 1 and N_B = 1, (7)–(9) weigh (23), (24) 0: the
             // model is the same with or without the cross-segment terms.
-            let unpaired = scene.estimator.q == 1.0 && scene.estimator.camera_rays == 1;
-            let with_cross = unpaired || (crossed(&report.corr23) && crossed(&report.corr24));
-            let (m, v) = if with_cross {
-                SMALL_SPHERE_SCATTERED_ALLOWANCE
+            let cross = if oracle::pairs_weigh_nothing(&scene) {
+                CrossTerms::WeighNothing
+            } else if crossed(&report.corr23) && crossed(&report.corr24) {
+                CrossTerms::Added
             } else {
-                SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS
+                CrossTerms::NotAdded
             };
-            let mut basis = small_sphere_basis(radius, (m * scale, v * scale), with_cross);
+            let (m, v) = match cross {
+                CrossTerms::NotAdded => SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS,
+                _ => SMALL_SPHERE_SCATTERED_ALLOWANCE,
+            };
+            let mut basis = small_sphere_basis(radius, (m * scale, v * scale), cross);
             if let Some(why) = &report.finite_not_used {
                 basis.push_str(&format!(". Not the finite-sphere model: {why}"));
             }
@@ -255,12 +260,30 @@ const FINITE_BASIS: &str = "none needed: the finite-sphere model is exact at thi
 const FINITE_ORDER1_BASIS: &str = "none needed: the finite-sphere model is exact at this R for uncollided and \
      single-scattered light (isotropic medium, q = 1, N_B = 1; docs/model.md §9.6, §9.8)";
 
-fn small_sphere_basis(radius: f64, (mean, variance): (f64, f64), with_cross: bool) -> String {
-    let which = if with_cross {
-        "with the cross-segment terms of (23), (24) (E10) in the model, or q = 1 and N_B = 1, where (23), (24) weigh 0"
-    } else {
-        "measured before the cross-segment terms of (23), (24) (E10) entered the model: they are not added for this \
-         scene"
+/// Whether the small-sphere model's (23), (24) carry the cross-segment
+/// terms of E10, which picks the measured bar.
+#[derive(Debug, Clone, Copy)]
+enum CrossTerms {
+    /// Added (isotropic media, R in their form's range).
+    Added,
+    /// Not added (Henyey–Greenstein media, R out of range, a failure).
+    NotAdded,
+    /// q = 1 and N_B = 1: (7)–(9) weigh (23), (24) 0, so the model is the
+    /// same with or without them.
+    WeighNothing,
+}
+
+fn small_sphere_basis(radius: f64, (mean, variance): (f64, f64), cross: CrossTerms) -> String {
+    let which = match cross {
+        CrossTerms::Added => "with the cross-segment terms of (23), (24) (E10) in the model",
+        CrossTerms::NotAdded => {
+            "measured before the cross-segment terms of (23), (24) (E10) entered the model: they are not added for \
+             this scene"
+        }
+        CrossTerms::WeighNothing => {
+            "with the cross-segment terms of (23), (24) (E10) in the model; here q = 1 and N_B = 1, where (7)–(9) \
+             weigh (23), (24) 0, with those terms or without"
+        }
     };
     format!(
         "the small-sphere model's own error, measured with the reference tracer on point-isotropic-order1 at R = \

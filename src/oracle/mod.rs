@@ -587,7 +587,7 @@ fn scattered_covered(scene: &Scene) -> bool {
 
 /// Whether (7)–(9) weigh Q, C₂₃ and C₂₄ 0: q = 1 (one sphere per camera
 /// ray) and N_B = 1 (one camera ray).
-fn pairs_weigh_nothing(scene: &Scene) -> bool {
+pub(crate) fn pairs_weigh_nothing(scene: &Scene) -> bool {
     scene.estimator.q == 1.0 && scene.estimator.camera_rays == 1
 }
 

@@ -6,7 +6,7 @@
 //! (negative in the fit) is held at 0 and the rest refitted, one at a time
 //! (non-negative least squares by elimination); the fit says which.
 
-use super::cost::{expected_s_log2_s, CostTable, OPERATIONS};
+use super::cost::{expected_s_log2_s, CostTable, MIN_ITERATION_NS, OPERATIONS};
 use mcrt_reference::Counters;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -159,11 +159,14 @@ pub fn fit(runs: &[Measurement], source: String) -> Result<Fit, String> {
         costs.covariance = Some(full);
         // A table `optimize` would refuse is no result: say why and what to do.
         if let Err(why) = costs.validate() {
-            return Err(format!(
-                "the fit is not a usable [cost] table (held at 0: {}): {why}; the timed runs do not resolve what one \
-                 iteration costs: time longer runs (calibrate --seconds) on an otherwise idle machine",
-                held.join(", ")
-            ));
+            let held_text = if held.is_empty() { String::new() } else { format!(" (held at 0: {})", held.join(", ")) };
+            let hint = if costs.least_iteration_ns() < MIN_ITERATION_NS {
+                "; the timed runs do not resolve what one iteration costs: time longer runs (calibrate --seconds) on \
+                 an otherwise idle machine"
+            } else {
+                ""
+            };
+            return Err(format!("the fit is not a usable [cost] table{held_text}: {why}{hint}"));
         }
         return Ok(Fit {
             costs,
@@ -263,13 +266,18 @@ mod tests {
     /// machine) held trial, forward-ray and camera-ray costs all at 0 and
     /// wrote a table that `optimize --costs` then refused (iterations free,
     /// M unbounded). The fit itself refuses such a table, naming the costs
-    /// held and the remedy: timings whose per-iteration costs are all
-    /// negative.
+    /// held and the remedy: timings whose per-iteration costs are negative
+    /// (the data pull them below 0), the rest positive.
     #[test]
     fn a_fit_whose_iterations_are_free_is_refused() {
-        let truth = [0.0, 0.0, 0.0, 40.0, 10.0, 2.0, 3.0, 6.0, 9.0];
-        let e = fit(&runs(truth), "test".into()).unwrap_err();
-        assert!(e.contains("trial_ns") && e.contains("forward_ray_ns") && e.contains("camera_ray_ns"), "{e}");
+        let truth = [-100.0, -5.0, -30.0, 40.0, 10.0, 2.0, 3.0, 6.0, 9.0];
+        let measured = runs(truth);
+        assert!(measured.iter().all(|m| m.seconds > 0.0), "the timings themselves are positive");
+        let e = fit(&measured, "test".into()).unwrap_err();
+        let held = e.split("(held at 0: ").nth(1).and_then(|t| t.split(')').next()).unwrap_or_else(|| panic!("{e}"));
+        for key in ["trial_ns", "forward_ray_ns", "camera_ray_ns"] {
+            assert!(held.contains(key), "{key} not named as held: {e}");
+        }
         assert!(e.contains("must cost at least") && e.contains("calibrate --seconds"), "{e}");
         // Timings no cost can explain hold every cost: an error, not a
         // least-squares problem with no unknowns (nalgebra panics on one).

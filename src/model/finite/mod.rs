@@ -360,7 +360,10 @@ impl<T: CheckRule> FiniteField<T> {
     /// In a Henyey–Greenstein medium both read ⟨𝒞⟩_R from tables built
     /// once per pass (`tables`), whose evaluations are charged to P once
     /// both have finished (the counts then do not depend on which integral,
-    /// on which thread, built a table).
+    /// on which thread, built a table). Every table the field has built so
+    /// far is charged: a field serves one computation (as the oracle uses
+    /// it), and a second call, or one after [`FiniteField::mean_sphere_centric`],
+    /// charges tables it found built; a failed P carries no table count.
     pub fn p_and_q(&self, opts: &Options) -> (Result<Estimate<T>, OracleError>, Result<Estimate<T>, OracleError>) {
         let (p, q) = self.with_mean(|line, m| rayon::join(|| line.p_single(m, opts), || line.q_pair(m, opts)));
         let built = self.tables.evaluations();
