@@ -3,7 +3,7 @@
 use clap::{Parser, Subcommand};
 use cli::paths::Needed;
 use cli::CliError;
-use mcrt_noise::oracle::Precision;
+use mcrt_noise::oracle::{Precision, Scope};
 use mcrt_noise::quad::Budget;
 use mcrt_noise::reports;
 use mcrt_noise::scene::Scene;
@@ -54,6 +54,9 @@ enum Command {
         /// One JSON object instead of the table.
         #[arg(long)]
         json: bool,
+        /// Also compute the finite-sphere C₂₃, Q and C₂₄ of single-scattered light (scattering_orders = 1, isotropic medium, point lights) where q < 1 or camera_rays > 1, so that the prediction is the exact finite-sphere model: minutes (~5·10⁹ evaluations at --rel-tol 1e-3, ~5 min on two cores), so it needs --rel-tol, and --max-evals to match (e.g. 1e-3 and 2e10).
+        #[arg(long, requires = "rel_tol")]
+        finite_pairs: bool,
     },
     /// Kernel of integral (23), I(ϑ, R), at a chosen precision, with error bar and cost.
     Kernel {
@@ -310,9 +313,10 @@ fn main() -> ExitCode {
 fn run(command: Command) -> Result<(), CliError> {
     match command {
         Command::Validate { scene } => validate(&scene),
-        Command::Oracle { scene, precision, rel_tol, budget, json } => {
+        Command::Oracle { scene, precision, rel_tol, budget, json, finite_pairs } => {
             let precision = Precision::parse(&precision).map_err(CliError::Usage)?;
-            oracle(&scene, precision, rel_tol, &budget_from_flags(precision, budget), json)
+            let scope = if finite_pairs { Scope::FinitePairs } else { Scope::Everything };
+            oracle(&scene, precision, rel_tol, &budget_from_flags(precision, budget), scope, json)
         }
         Command::Kernel { theta, radius, precision, rel_tol, nested, bare, budget } => {
             let path = match (nested, bare) {
@@ -475,10 +479,11 @@ fn oracle(
     precision: Precision,
     rel_tol: Option<f64>,
     budget: &Budget,
+    scope: Scope,
     json: bool,
 ) -> Result<(), CliError> {
     let scene = load(path)?;
-    let report = mcrt_noise::oracle::run_within(&scene, precision, rel_tol, budget)
+    let report = mcrt_noise::oracle::run_within_scoped(&scene, precision, rel_tol, budget, scope)
         .map_err(|e| CliError::from(e).at(path.display()))?;
     if json {
         println!("{}", cli::to_json(&report)?);

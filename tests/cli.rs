@@ -58,6 +58,21 @@ fn unconverged_kernel_is_loud() {
     assert!(err.contains("NOT CONVERGED"), "{err}");
 }
 
+/// `--finite-pairs` takes minutes at a goal it must be given: without
+/// `--rel-tol` it is refused (exit 2), naming both flags, before any work.
+#[test]
+fn finite_pairs_need_a_tolerance() {
+    let out = bin()
+        .args(["oracle", "scenes/point-isotropic-order1.toml", "--finite-pairs"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(out.stdout.is_empty());
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("--rel-tol") && err.contains("--finite-pairs"), "{err}");
+}
+
 #[test]
 fn oracle_json_has_the_documented_keys() {
     let out = bin()

@@ -134,3 +134,59 @@ fn order1_correlations_agree_with_the_tracer() {
         }
     }
 }
+
+/// `mcrt-noise oracle --finite-pairs` ([`Scope::FinitePairs`]) at the
+/// second point of `docs/model.md` §9.7: the report's prediction is the
+/// finite-sphere model with its pairs, and its mean and Var L are the ones
+/// assembled above from the library's integrals, within their bars; the
+/// small-sphere prediction of the same run stays beside it. ~6 minutes on
+/// two cores (`cargo test --release --test finite_order1_pairs --
+/// --ignored --nocapture`).
+#[test]
+#[ignore]
+fn the_oracle_predicts_with_the_finite_pairs_when_asked() {
+    use mcrt_noise::oracle::{run_within_scoped, Precision, Scope};
+    let p = Point { radius: 0.5, q: 0.2, n_f: 1, n_b: 2, albedo: 0.8, light_b: 1.0, trials: 0 };
+    let s = p.scene();
+    let report =
+        run_within_scoped(&s, Precision::F64, Some(1e-3), &Budget::new(40_000_000_000), Scope::FinitePairs).unwrap();
+    assert_eq!(report.prediction.model, "finite-sphere", "{}", report.prediction.note);
+    let finite = report.finite.as_ref().unwrap();
+    assert!(finite.corr23.is_some() && finite.corr24.is_some() && finite.not_computed.is_none());
+    assert_eq!(report.finite_not_used, None);
+    let (mu, var) = finite_prediction(&s, 1e-3);
+    let close = |what: &str, got: (f64, f64), want: Barred| {
+        let gap = (got.0 - want.0).abs();
+        println!("{what}: oracle {:.9e} ± {:.1e}, assembled {:.9e} ± {:.1e}", got.0, got.1, want.0, want.1);
+        assert!(gap <= got.1 + want.1, "{what}: oracle {got:?}, assembled {want:?}");
+    };
+    close("mean", (report.prediction.mean.value, report.prediction.mean.error), mu);
+    close("Var L", (report.prediction.variance.value, report.prediction.variance.error), var);
+}
+
+/// `Scope::FinitePairs` computes the pairs after everything else: when they
+/// spend the budget, the report stands with the small-sphere prediction,
+/// the exact finite-sphere mean, and the pairs' failure in
+/// `finite_not_used` — the same prediction and mean as `Scope::Everything`
+/// gives (the run is given what `Everything` used plus 2·10⁷ evaluations,
+/// far below the pairs' ~5·10⁹).
+#[test]
+fn finite_pairs_that_spend_the_budget_leave_the_rest_of_the_report() {
+    use mcrt_noise::oracle::{run_within_scoped, Precision, Scope};
+    let p = Point { radius: 0.2, q: 0.5, n_f: 20, n_b: 8, albedo: 0.8, light_b: 1.0, trials: 0 };
+    let s = p.scene();
+    let first = Budget::new(1_000_000_000);
+    let everything = run_within_scoped(&s, Precision::F64, Some(1e-3), &first, Scope::Everything).unwrap();
+    let used = first.used();
+    let asked =
+        run_within_scoped(&s, Precision::F64, Some(1e-3), &Budget::new(used + 20_000_000), Scope::FinitePairs).unwrap();
+    assert_eq!(asked.prediction.model, "small-sphere");
+    let why = asked.finite_not_used.clone().unwrap();
+    assert!(why.contains("its computation failed") && why.contains("budget"), "{why}");
+    assert!(asked.finite_error.is_some());
+    assert_eq!(asked.prediction.variance.value, everything.prediction.variance.value);
+    assert_eq!(asked.prediction.mean.value, everything.prediction.mean.value);
+    let (a, e) = (asked.finite_mean.unwrap().mean.unwrap(), everything.finite_mean.unwrap().mean.unwrap());
+    assert_eq!((a.value, a.error), (e.value, e.error));
+    println!("Everything used {used} evaluations; the pairs' failure: {why}");
+}

@@ -241,8 +241,8 @@ fn a_memory_limit_is_respected() {
 }
 
 /// Single scattering in an isotropic medium: the finite-sphere model gives
-/// Var L at q = 1, N_B = 1 only (its pair integrals are not in the oracle
-/// yet), so `optimize` searches R and N_F there, the bias b(R) predicted.
+/// Var L at q = 1, N_B = 1 only (its pair integrals take minutes, and
+/// the oracle computes them only when asked: `Scope::FinitePairs`), so `optimize` searches R and N_F there, the bias b(R) predicted.
 /// Checked: what was searched; the best's Var L is the oracle's own
 /// finite-sphere Var L at those parameters (the absent pair integrals
 /// weigh exactly 0 there, and the model refuses other q and N_B instead of

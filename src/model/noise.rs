@@ -107,11 +107,46 @@ impl<T: CheckRule> Integrals<T> {
         // so that (24) mostly finds the angular work of the same nodes done.
         let (pairs, single) =
             rayon::join(|| PairIntegrals::compute(field, r, o), || Integrals::single_sphere_parts(field, r, o));
-        // Failures in the order of the fields (the mean's first).
-        let mut ints = single?;
-        ints.pairs = Some(pairs?);
+        let (mut ints, _) = Integrals::assemble(single, pairs, false)?;
         ints.mean.evaluations += field.table_evaluations();
         Ok(ints)
+    }
+
+    /// [`Integrals::compute`] for a scene whose Var L weighs the pair
+    /// integrals 0 (q = 1 and N_B = 1): they are computed (they give
+    /// D₁…D₅ and the noise at other settings), but where they fail the
+    /// failure is returned beside μ, M₂ and P, with `pairs` `None`,
+    /// instead of failing the whole computation, since Var L does not
+    /// need them.
+    pub fn compute_with_optional_pairs(
+        field: &Field<T>,
+        r: &T,
+        opts: &Options,
+    ) -> Result<(Integrals<T>, Option<OracleError>), OracleError> {
+        let opts = opts.clone().declared();
+        let o = &opts;
+        let (pairs, single) =
+            rayon::join(|| PairIntegrals::compute(field, r, o), || Integrals::single_sphere_parts(field, r, o));
+        let (mut ints, failed) = Integrals::assemble(single, pairs, true)?;
+        ints.mean.evaluations += field.table_evaluations();
+        Ok((ints, failed))
+    }
+
+    /// μ, M₂, P and the pair integrals as one result; the failures in the
+    /// order of the fields (the mean's first), a failure of the pairs
+    /// returned beside the rest where they are `optional`.
+    fn assemble(
+        single: Result<Integrals<T>, OracleError>,
+        pairs: Result<PairIntegrals<T>, OracleError>,
+        optional: bool,
+    ) -> Result<(Integrals<T>, Option<OracleError>), OracleError> {
+        let mut ints = single?;
+        match pairs {
+            Ok(p) => ints.pairs = Some(p),
+            Err(e) if optional => return Ok((ints, Some(e))),
+            Err(e) => return Err(e),
+        }
+        Ok((ints, None))
     }
 
     /// μ, M₂ and P alone (`pairs` is `None`): all that Var L needs when
@@ -333,4 +368,38 @@ pub fn relative_from_d<T: Real>(d: &[T; 5], r: &T, sigma: &T, n: &Counts<T>) -> 
         + one.clone() / (nf.clone() * nb.clone())
         - one.clone() / nf
         - one / nb
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::quad::Rule;
+
+    fn known(v: f64) -> Estimate<f64> {
+        Estimate::known(v, 1e-12, 10, Rule::TanhSinh)
+    }
+
+    fn single() -> Integrals<f64> {
+        Integrals { mean: known(1.0), m2: known(2.0), m2_same_path: known(0.0), p: known(3.0), pairs: None }
+    }
+
+    fn failure(what: &'static str) -> OracleError {
+        OracleError::Quadrature { what, reason: "NOT CONVERGED".into(), guess: None, evaluations: 7 }
+    }
+
+    /// Where the pairs weigh nothing their failure is returned beside μ,
+    /// M₂ and P; where they count it fails the whole; a failure of μ, M₂ or
+    /// P fails it either way.
+    #[test]
+    fn a_failure_of_the_pairs_fails_only_where_they_count() {
+        let (ints, failed) = Integrals::assemble(Ok(single()), Err(failure("(23)")), true).unwrap();
+        assert!(ints.pairs.is_none() && ints.p.value == 3.0);
+        assert!(failed.unwrap().to_string().contains("(23)"));
+        let err = Integrals::assemble(Ok(single()), Err(failure("(23)")), false).unwrap_err();
+        assert!(err.to_string().contains("(23)"));
+        for optional in [true, false] {
+            let err = Integrals::<f64>::assemble(Err(failure("mean")), Err(failure("(23)")), optional).unwrap_err();
+            assert!(err.to_string().contains("mean"), "{err}");
+        }
+    }
 }

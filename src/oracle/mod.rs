@@ -27,7 +27,8 @@ mod report;
 use report::{correlation, reported, scaled};
 pub use report::{
     Asymptotic, Correlation, FiniteMean, FiniteReport, Integral, Report, ReportPrediction, ValueWithBar, Variance,
-    FINITE_NOTE, FINITE_ORDER1_NOTE, PAIRS_NOT_NEEDED, SMALL_SPHERE_NOTE, SMALL_SPHERE_PAIRS_NOT_NEEDED,
+    FINITE_NOTE, FINITE_ORDER1_NOTE, PAIRS_NOT_NEEDED, SMALL_SPHERE_NOTE, SMALL_SPHERE_PAIRS_FAILED,
+    SMALL_SPHERE_PAIRS_NOT_NEEDED,
 };
 
 /// How much of the small-sphere model a run computes.
@@ -49,7 +50,10 @@ pub use report::{
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Scope {
     /// Every integral of both models (`mcrt-noise oracle`): D₁…D₅ and
-    /// (23), (24) with their R → 0 forms whatever the scene's q and N_B.
+    /// (23), (24) with their R → 0 forms whatever the scene's q and N_B
+    /// (at q = 1 and N_B = 1, where Var L weighs them 0, their failure is
+    /// reported in [`Report::pairs_not_computed`] and
+    /// [`Report::pairs_error`] instead of failing the run).
     Everything,
     /// What the scene's Var L needs: with q = 1 and N_B = 1, (7)–(9) weigh
     /// the small-sphere integrals of two spheres (Q, (23), (24)) 0, and
@@ -57,6 +61,18 @@ pub enum Scope {
     /// with single-scattered light they are ~97 % of the work). The
     /// library's `predict`.
     Prediction,
+    /// [`Scope::Everything`] and, for single-scattered light (isotropic
+    /// media, point lights) with q < 1 or N_B > 1, the finite-sphere
+    /// model's Q, C₂₃ and C₂₄ (`docs/model.md` §9.7), so that the prediction
+    /// is the exact finite-sphere model at any R (`mcrt-noise oracle
+    /// --finite-pairs`). Minutes where [`Scope::Everything`] takes seconds:
+    /// ~5·10⁹ evaluations at 10⁻³ on `point-isotropic-order1` (R = 0.5,
+    /// ~5 minutes on two cores), beyond the default budget, so give it a
+    /// goal and a budget. Their failure (the budget spent among them) is
+    /// reported, and the prediction is then the small-sphere one; they are
+    /// computed after everything else, so that the rest of the report
+    /// stands when they spend the budget.
+    FinitePairs,
 }
 
 /// The largest MPFR precision a run accepts: its default tolerance
@@ -197,9 +213,12 @@ pub fn run_with_scoped<T: CheckRule>(
             rayon::join(
                 || {
                     if small_unpaired {
-                        Integrals::compute_single_sphere(&field, &r, &opts)
+                        Integrals::compute_single_sphere(&field, &r, &opts).map(|i| (i, None))
+                    } else if pairs_weigh_nothing(scene) {
+                        // Reported, not needed: their failure does not fail the run.
+                        Integrals::compute_with_optional_pairs(&field, &r, &opts)
                     } else {
-                        Integrals::compute(&field, &r, &opts)
+                        Integrals::compute(&field, &r, &opts).map(|i| (i, None))
                     }
                 },
                 || finite_field.as_ref().map(|ff| ff.integrals(&opts)).transpose(),
@@ -207,8 +226,17 @@ pub fn run_with_scoped<T: CheckRule>(
         },
         || scattered_field.as_ref().map(|ff| order_one(ff, unpaired, &opts)).transpose(),
     );
+    // The finite-sphere pairs when asked for, after everything else, so that
+    // if they spend the budget the rest of the report stands.
+    let scattered = match (scattered, &scattered_field) {
+        (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if scope == Scope::FinitePairs => {
+            Ok(Some(with_finite_pairs(ff, mean, &opts)))
+        }
+        (other, _) => other,
+    };
     // A failure's best guess carries its field's e^{c₀}: in the report's units.
-    let ints = ints.map_err(|e| e.unshifted(field.shift.to_f64()))?;
+    let (ints, pairs_failed) = ints.map_err(|e| e.unshifted(field.shift.to_f64()))?;
+    let pairs_failed = pairs_failed.map(|e| e.unshifted(field.shift.to_f64()));
     let finite = finite.map_err(|e| e.unshifted(finite_field.as_ref().map_or(0.0, |ff| ff.shift.to_f64())))?;
     // The exact order-1 model is an addition to the small-sphere report:
     // its failure is reported, with the reason, and does not fail the run.
@@ -334,11 +362,14 @@ pub fn run_with_scoped<T: CheckRule>(
         finite_mean: finite_mean_report(scattered, scattered_field.as_ref(), &ints.mean, &k),
         finite_not_used,
         finite_error,
+        pairs_error: pairs_failed.clone(),
         integral_p: scaled(&ints.p, &k),
         integral_q: pairs.map(|p| scaled(&p.q, &k)),
-        pairs_not_computed: pairs
-            .is_none()
-            .then(|| if beam_scattered { BEAM_PAIRS_NOT_DERIVED } else { SMALL_SPHERE_PAIRS_NOT_NEEDED }.to_string()),
+        pairs_not_computed: pairs.is_none().then(|| match &pairs_failed {
+            Some(e) => format!("{e}: {SMALL_SPHERE_PAIRS_FAILED}"),
+            None if beam_scattered => BEAM_PAIRS_NOT_DERIVED.to_string(),
+            None => SMALL_SPHERE_PAIRS_NOT_NEEDED.to_string(),
+        }),
         attenuation_shift: field.shift.to_f64(),
         d: d.map(|d| d.map(|v| v.to_f64())),
         d_error: d_error_reported,
@@ -522,7 +553,9 @@ fn scattered_mean_field<T: CheckRule>(scene: &Scene, field: &Field<T>) -> Option
 /// Whether the oracle's prediction for `scene` is the finite-sphere model
 /// (exact at the scene's R; when its computation succeeds): uncollided
 /// light, and single-scattered light in an isotropic medium (point lights
-/// and beams) with q = 1 and N_B = 1.
+/// and beams) with q = 1 and N_B = 1. (With [`Scope::FinitePairs`] the
+/// oracle gives it at other q and N_B too, for point lights; this is what
+/// every scope, and the library's `predict`, covers.)
 ///
 /// ```
 /// use mcrt_noise::{oracle::finite_sphere_covers, Scene};
@@ -593,7 +626,8 @@ pub(crate) fn pairs_weigh_nothing(scene: &Scene) -> bool {
 
 /// What the finite-sphere model gives of an order-1 scene.
 enum OrderOne<T> {
-    /// μ, M₂, P: the whole model where the pairs weigh nothing.
+    /// μ, M₂, P: the whole model where the pairs weigh nothing; with Q,
+    /// C₂₃ and C₂₄ too where they were asked for ([`Scope::FinitePairs`]).
     Integrals(FiniteIntegrals<T>),
     /// μ(R)·e^{c₀} alone: the pairs are not affordable yet, or (the
     /// error) the whole model was asked for and failed.
@@ -619,6 +653,17 @@ fn order_one<T: CheckRule>(ff: &FiniteField<T>, unpaired: bool, opts: &Options) 
     Ok(OrderOne::Mean(uncollided?.plus(scattered?), None))
 }
 
+/// Every integral of the order-1 finite-sphere model, Q, C₂₃ and C₂₄
+/// included ([`Scope::FinitePairs`]), or, where that fails, the exact
+/// mean `mean` computed before with the failure: the mean survives a
+/// budget the pairs spent.
+fn with_finite_pairs<T: CheckRule>(ff: &FiniteField<T>, mean: Estimate<T>, opts: &Options) -> OrderOne<T> {
+    match ff.order1_integrals(opts) {
+        Ok(whole) => OrderOne::Integrals(whole),
+        Err(failed) => OrderOne::Mean(mean, Some(failed)),
+    }
+}
+
 /// Why an order-1 scene's prediction is not the finite-sphere model: what
 /// the model does not cover yet, or its failure (`None` for order 0, or
 /// when it is the prediction).
@@ -641,7 +686,8 @@ fn finite_not_used<T>(scene: &Scene, run: &Result<Option<OrderOne<T>>, OracleErr
         Ok(Some(OrderOne::Mean(_, None))) | Err(_) => Some(format!(
             "with single-scattered light it covers q = 1 and N_B = 1 only (here q = {}, N_B = {}), where (7)–(9) \
              weigh the correlations of two spheres 0; this scene needs {needed}, which take minutes at 10⁻³ \
-             (docs/model.md §9.7) and are not in the oracle yet; its exact mean is `finite_mean`",
+             (docs/model.md §9.7): `mcrt-noise oracle --finite-pairs` computes them (give it --rel-tol and \
+             --max-evals); its exact mean is `finite_mean`",
             e.q, e.camera_rays
         )),
         Ok(None) => Some("the finite-sphere model of single-scattered light covers isotropic media only".into()),
@@ -673,5 +719,29 @@ fn finite_mean_report<T: CheckRule>(
         }
         (Err(e), _) => Some(FiniteMean { mean: None, bias: None, missing: Some(e.to_string()), evaluations: 0 }),
         _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An order-1 scene with several spheres per camera ray gets the
+    /// small-sphere prediction by default, and the reason names the flag
+    /// that computes the finite-sphere pairs.
+    #[test]
+    fn the_reason_for_the_small_sphere_prediction_names_the_flag() {
+        let scene = Scene::builder()
+            .medium(1.0, 0.8)
+            .point_light([1.0, 0.0, 1.0], 1.0)
+            .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+            .estimator(0.2, 0.5, 20, 8)
+            .build()
+            .unwrap();
+        let mut scene = scene;
+        scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
+        let mean = Estimate::known(1.0f64, 1e-9, 1, crate::quad::Rule::TanhSinh);
+        let why = finite_not_used(&scene, &Ok(Some(OrderOne::Mean(mean, None)))).unwrap();
+        assert!(why.contains("--finite-pairs") && why.contains("C₂₃, Q and C₂₄"), "{why}");
     }
 }

@@ -141,6 +141,12 @@ pub const SMALL_SPHERE_PAIRS_NOT_NEEDED: &str = "Q, (23), (24) and their R → 0
      q = 1 and N_B = 1 (one sphere per camera ray, one camera ray) and a prediction does not compute them; \
      `mcrt-noise oracle` does (they give D₁…D₅ and the other settings' noise)";
 
+/// Follows the failure in [`Report::pairs_not_computed`] where the
+/// small-sphere pair integrals failed at q = 1 and N_B = 1.
+pub const SMALL_SPHERE_PAIRS_FAILED: &str = "the small-sphere Q, (23), (24) and their R → 0 forms failed; they \
+     enter Var L with weight 0 at q = 1 and N_B = 1 (one sphere per camera ray, one camera ray), so the report \
+     stands without them (no D₁…D₅, no noise at other settings)";
+
 /// [`FiniteReport::not_computed`] of an order-1 scene with q = 1, N_B = 1.
 pub const PAIRS_NOT_NEEDED: &str = "Q, C₂₃ and C₂₄ enter Var L with weight 0 at q = 1 and N_B = 1 (one sphere per \
      camera ray, one camera ray) and are not computed; with single-scattered light they take minutes \
@@ -165,7 +171,8 @@ pub struct FiniteMean {
 #[derive(Debug, Clone, Serialize)]
 pub struct ReportPrediction {
     /// `"finite-sphere"` (exact at the scene's R: uncollided light, and
-    /// single-scattered light with q = 1, N_B = 1 in isotropic media) or
+    /// single-scattered light in isotropic media with q = 1, N_B = 1, or
+    /// at any q, N_B with [`super::Scope::FinitePairs`]) or
     /// `"small-sphere"` (§4.3, exact as R → 0; the other
     /// scenes with scattered light).
     pub model: &'static str,
@@ -194,8 +201,8 @@ pub const FINITE_NOTE: &str = "exact at this R for uncollided light; the bars ar
      approximates nothing)";
 
 /// The note of a finite-sphere prediction with single-scattered light.
-pub const FINITE_ORDER1_NOTE: &str = "exact at this R for uncollided and single-scattered light (isotropic medium, \
-     q = 1, N_B = 1); the bars are the quadrature's (the model approximates nothing)";
+pub const FINITE_ORDER1_NOTE: &str = "exact at this R for uncollided and single-scattered light (isotropic medium); \
+     the bars are the quadrature's (the model approximates nothing)";
 
 /// Everything the oracle says about one scene.
 #[derive(Debug, Clone, Serialize)]
@@ -249,6 +256,12 @@ pub struct Report {
     /// quadrature did not converge), kept for the library's `predict`.
     #[serde(skip)]
     pub finite_error: Option<crate::model::OracleError>,
+    /// The failure of the small-sphere pair integrals at q = 1 and N_B = 1,
+    /// where Var L weighs them 0 and the report stands without them
+    /// ([`Report::pairs_not_computed`] gives it as text), kept for callers
+    /// that need them (`sweep`, the optimiser's small-sphere comparison).
+    #[serde(skip)]
+    pub pairs_error: Option<crate::model::OracleError>,
     /// P = ∫σe^{−σs}⟨𝒞⟩² ds of (17).
     pub integral_p: Integral,
     /// Q = ∫∫σ²e^{−σ(s+s′)}⟨𝒞⟩(s)⟨𝒞⟩(s′) ds ds′ of (17); `None` as
@@ -257,8 +270,9 @@ pub struct Report {
     /// Why the small-sphere model's integrals of two spheres (Q, (23),
     /// (24), (25), (26)) are missing, if they are: a prediction
     /// ([`Scope::Prediction`]) with q = 1 and N_B = 1, whose Var L weighs
-    /// them 0, or a beam's single-scattered light, for which they are not
-    /// derived (`docs/model.md` §9.8).
+    /// them 0, their failure with q = 1 and N_B = 1 (the failure, then
+    /// [`SMALL_SPHERE_PAIRS_FAILED`]), or a beam's single-scattered light,
+    /// for which they are not derived (`docs/model.md` §9.8).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pairs_not_computed: Option<String>,
     /// c₀ = σ_ext × shortest light path to the camera ray: integrals are
@@ -271,8 +285,10 @@ pub struct Report {
     /// Evaluations of the small-sphere model's integrals.
     pub evaluations: u64,
     /// The finite-sphere model: for uncollided light, and for
-    /// single-scattered light with q = 1, N_B = 1 (isotropic media, point
-    /// lights); `None` elsewhere ([`Report::finite_not_used`] says why).
+    /// single-scattered light in isotropic media with q = 1, N_B = 1 (point
+    /// lights and beams) or, with [`super::Scope::FinitePairs`], any q and
+    /// N_B (point lights); `None` elsewhere ([`Report::finite_not_used`]
+    /// says why).
     pub finite: Option<FiniteReport>,
     /// The prediction to test a renderer against: the finite-sphere model
     /// where it exists, else the small-sphere one.

@@ -157,7 +157,11 @@ fn row_at(scene: &Scene, r: f64, budget: &Budget) -> Result<Row, SweepError> {
     s.estimator.radius = r;
     let rep = run_within(&s, Precision::F64, None, budget).map_err(|error| SweepError::Oracle { radius: r, error })?;
     let missing = |which| SweepError::NoAsymptoticForm { radius: r, which };
-    // A run of every integral (`run_within`) has both correlations.
+    // A run of every integral (`run_within`) has both correlations, unless
+    // they failed where Var L weighs them 0 (q = 1, N_B = 1): that failure.
+    if let Some(error) = &rep.pairs_error {
+        return Err(SweepError::Oracle { radius: r, error: error.clone() });
+    }
     let (Some(c23), Some(c24)) = (&rep.corr23, &rep.corr24) else {
         let why = rep.pairs_not_computed.clone().unwrap_or_else(|| "(23), (24) not computed".into());
         return Err(SweepError::Oracle { radius: r, error: crate::model::OracleError::Unsupported(why) });

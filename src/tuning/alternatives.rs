@@ -139,7 +139,8 @@ pub(crate) fn beside_the_standard_method(
         name: "q < 1 or N_B > 1 by the finite-sphere model".into(),
         scored: Err("not scored: the finite-sphere correlations of two spheres of single-scattered light \
                      (C₂₃, Q, C₂₄), which several spheres per camera ray, the cylinder limit and N_B > 1 need, \
-                     are not in the oracle yet (minutes at 10⁻³: docs/model.md §9.7)"
+                     take minutes at 10⁻³ (docs/model.md §9.7; `oracle --finite-pairs`), too long to score \
+                     alternatives with"
             .into()),
         note: String::new(),
     });

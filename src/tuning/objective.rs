@@ -101,6 +101,11 @@ impl ModelAtRadius {
     /// ```
     pub fn small_sphere_from_report(r: &Report) -> Result<ModelAtRadius, crate::model::OracleError> {
         let vb = |i: crate::oracle::Integral| ValueWithBar::from(i);
+        // Their failure (at q = 1, N_B = 1, where the report stands without
+        // them) is a computed failure, not an unsupported scene.
+        if let Some(e) = &r.pairs_error {
+            return Err(e.clone());
+        }
         let (Some(corr23), Some(integral_q), Some(corr24)) = (&r.corr23, r.integral_q, &r.corr24) else {
             return Err(crate::model::OracleError::Unsupported(format!(
                 "the oracle report lacks the small-sphere pair integrals (Q, (23), (24)) that other q and N_B need: {}",

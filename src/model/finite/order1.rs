@@ -21,7 +21,7 @@ use super::cross_segments::CrossPair;
 use super::point::{cap_half_angle, PointLight};
 use super::ray::Functional;
 use super::scattered_table::ScatteredTables;
-use super::second_hit::{second_hit_after, SecondHitTable, SecondHitTables};
+use super::second_hit::{weighted_second_hit, with_table_bar, SecondHitTable, SecondHitTables};
 use super::{FiniteField, FiniteIntegrals, FiniteLight};
 use crate::model::field::graded_about;
 use crate::model::OracleError;
@@ -34,7 +34,7 @@ impl<T: CheckRule> PointLight<T> {
     /// first segment leaves the light along ψ of the cap about
     /// w = (x(s) − y)/D, passes the centre at p = D sin ψ, must reach its
     /// closest point (at D cos ψ: e^{−σD cos ψ}), then interacts u further
-    /// and scatters (albedo) so that the second hits (K, [`second_hit_after`]):
+    /// and scatters (albedo) so that the second hits (K, [`super::second_hit::second_hit_after`]):
     ///
     ///   ⟨𝒞₀𝒞₁⟩ = albedo (c²Φ/𝓕) f² ½∫_cap sin ψ e^{−σD cos ψ} K dψ.
     ///
@@ -56,19 +56,8 @@ impl<T: CheckRule> PointLight<T> {
         let f = x.lit(1.0) / (x.pi() * x.lit(4.0));
         let front = ff.per_hit_power(2, &self.flux) * f.clone() * f * ff.albedo.clone() / x.lit(2.0);
         let o = Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
-        // weight·K(w): the cap's measure and reach times the second hit,
-        // K from the pass's table when there is one (its relative bar is
-        // added to the result below), else by quadrature.
-        let weighted = |w: &T, weight: T, inner: &Options| {
-            if weight.is_zero() {
-                return Ok(Estimate::known(w.lit(0.0), w.lit(0.0), 0, inner.rule));
-            }
-            if let Some(t) = table {
-                return Ok(Estimate::known(weight * t.eval(w), w.lit(0.0), 1, inner.rule));
-            }
-            let each = Options { abs_tol: (inner.abs_tol / weight.to_f64()).min(f64::MAX), ..inner.clone() };
-            Ok(second_hit_after(sigma, r, w, &each)?.scaled(&weight))
-        };
+        // weight·K(w): the cap's measure and reach times the second hit.
+        let weighted = |w: &T, weight: T, inner: &Options| weighted_second_hit(sigma, r, w, weight, table, inner);
         let e = if big_d > *r {
             let gap = (big_d.clone() - r.clone()) * (big_d.clone() + r.clone());
             integrate_within_pass(
@@ -95,16 +84,7 @@ impl<T: CheckRule> PointLight<T> {
                 &o,
             )?
         };
-        // K ≥ 0 against a non-negative weight: the table's relative bar is
-        // a relative bar of the integral.
-        let e = match table {
-            Some(t) => {
-                let error = e.error.clone() + e.value.abs() * t.rel_error.clone();
-                Estimate::known(e.value, error, e.evaluations, opts.rule)
-            }
-            None => e,
-        };
-        Ok(e.scaled(&front))
+        Ok(with_table_bar(e, table, opts).scaled(&front))
     }
 }
 

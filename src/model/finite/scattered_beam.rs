@@ -22,7 +22,7 @@
 use super::beam::BeamLight;
 use super::scattered::hit_chance_parts;
 use super::scattered_table::ScatteredTables;
-use super::second_hit::{second_hit_after, SecondHitTable};
+use super::second_hit::{weighted_second_hit, with_table_bar, SecondHitTable};
 use super::{FiniteField, FiniteLight};
 use crate::model::beam_source::BeamPoint;
 use crate::model::chebyshev::{sample_options, Piecewise};
@@ -146,27 +146,10 @@ impl<T: CheckRule> BeamLight<T> {
                 None => rho.clone() - m.clone(),
             };
             let angle = arc_in_disc_gaps(&rho, a, p, &gap(&kinks[0]), &-gap(&kinks[1]));
-            let weight = angle * w.clone();
-            if weight.is_zero() {
-                return Ok(Estimate::known(w.lit(0.0), w.lit(0.0), 0, inner.rule));
-            }
-            if let Some(t) = table {
-                return Ok(Estimate::known(weight * t.eval(w), w.lit(0.0), 1, inner.rule));
-            }
-            let each = Options { abs_tol: (inner.abs_tol / weight.to_f64()).min(f64::MAX), ..inner.clone() };
-            Ok(second_hit_after(&ff.sigma, r, w, &each)?.scaled(&weight))
+            weighted_second_hit(&ff.sigma, r, w, angle * w.clone(), table, inner)
         };
         let e = integrate_within_pass(integrand, &domain, &o)?;
-        // K ≥ 0 against a non-negative weight: the table's relative bar is a
-        // relative bar of the integral.
-        let e = match table {
-            Some(t) => {
-                let error = e.error.clone() + e.value.abs() * t.rel_error.clone();
-                Estimate::known(e.value, error, e.evaluations, opts.rule)
-            }
-            None => e,
-        };
-        Ok(e.scaled(&front))
+        Ok(with_table_bar(e, table, opts).scaled(&front))
     }
 
     /// Where along the camera ray (in x) the single-scattered moments bend

@@ -37,6 +37,46 @@ pub(super) fn second_hit_after<T: CheckRule>(sigma: &T, r: &T, w: &T, opts: &Opt
     integrate_within_pass(f, &domain, opts)
 }
 
+/// weight·K(w), K from the pass's `table` when there is one (its relative
+/// bar is added to the whole integral by [`with_table_bar`]), else by
+/// quadrature with the goal divided by the weight: the integrand of a
+/// same-path moment ⟨𝒞₀𝒞₁⟩ (`PointLight::same_path_moment`,
+/// `BeamLight::same_path_moment`). Domain: 0 ≤ w ≤ R, weight ≥ 0.
+pub(super) fn weighted_second_hit<T: CheckRule>(
+    sigma: &T,
+    r: &T,
+    w: &T,
+    weight: T,
+    table: Option<&SecondHitTable<T>>,
+    opts: &Options,
+) -> Outcome<T> {
+    if weight.is_zero() {
+        return Ok(Estimate::known(w.lit(0.0), w.lit(0.0), 0, opts.rule));
+    }
+    if let Some(t) = table {
+        return Ok(Estimate::known(weight * t.eval(w), w.lit(0.0), 1, opts.rule));
+    }
+    let each = Options { abs_tol: (opts.abs_tol / weight.to_f64()).min(f64::MAX), ..opts.clone() };
+    Ok(second_hit_after(sigma, r, w, &each)?.scaled(&weight))
+}
+
+/// An integral of [`weighted_second_hit`] with the table's relative bar
+/// added: K ≥ 0 against a non-negative weight, so the table's relative bar
+/// is a relative bar of the integral.
+pub(super) fn with_table_bar<T: CheckRule>(
+    e: Estimate<T>,
+    table: Option<&SecondHitTable<T>>,
+    opts: &Options,
+) -> Estimate<T> {
+    match table {
+        Some(t) => {
+            let error = e.error.clone() + e.value.abs() * t.rel_error.clone();
+            Estimate::known(e.value, error, e.evaluations, opts.rule)
+        }
+        None => e,
+    }
+}
+
 /// δ₀, δ₁ of [`SecondHitTable`]: the interpolant covers [δ₀R, (1 − δ₁)R].
 /// K's gap across a margin is O(δ₀² ln δ₀) at w = 0 but O(δ₁ ln δ₁) at
 /// w = R (p² ∝ R − w there), hence the narrower δ₁.
