@@ -206,7 +206,7 @@ fn order1_second_moment_and_p_tend_to_the_small_sphere_ones() {
 /// agree within their bars (measured: a gap of 1.5·10⁻⁸ relative against
 /// bars of 5·10⁻⁶ relative). In an isotropic medium ⟨𝒞₁²⟩ = c f⟨𝒞₁⟩ at
 /// every sphere, so this checks the I(D) behind M₂'s ⟨𝒞₁²⟩ too (its
-/// prefactor is the tracer points' to check). ~4.5 minutes on two cores:
+/// prefactor is the tracer points' to check). ~3 minutes on two cores:
 /// `cargo test --release --test finite_order1 -- --ignored`.
 #[test]
 #[ignore]

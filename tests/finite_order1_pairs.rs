@@ -169,7 +169,7 @@ fn the_oracle_predicts_with_the_finite_pairs_when_asked() {
 /// the exact finite-sphere mean, and the pairs' failure in
 /// `finite_not_used` — the same prediction and mean as `Scope::Everything`
 /// gives (the run is given what `Everything` used plus 2·10⁷ evaluations,
-/// far below the pairs' ~5·10⁹).
+/// far below the pairs' billions).
 #[test]
 fn finite_pairs_that_spend_the_budget_leave_the_rest_of_the_report() {
     use mcrt_noise::oracle::{run_within_scoped, Precision, Scope};

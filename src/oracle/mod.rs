@@ -66,8 +66,8 @@ pub enum Scope {
     /// model's Q, C₂₃ and C₂₄ (`docs/model.md` §9.7), so that the prediction
     /// is the exact finite-sphere model at any R (`mcrt-noise oracle
     /// --finite-pairs`). Minutes where [`Scope::Everything`] takes seconds:
-    /// ~5·10⁹ evaluations at 10⁻³ on `point-isotropic-order1` (R = 0.5,
-    /// ~5 minutes on two cores), beyond the default budget, so give it a
+    /// ~4·10⁹ evaluations at 10⁻³ on `point-isotropic-order1` (R = 0.5,
+    /// ~4 minutes on two cores), beyond the default budget, so give it a
     /// goal and a budget. Their failure (the budget spent among them) is
     /// reported, and the prediction is then the small-sphere one; they are
     /// computed after everything else, so that the rest of the report
