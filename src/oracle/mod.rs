@@ -682,8 +682,10 @@ fn finite_not_used<T>(scene: &Scene, run: &Result<Option<OrderOne<T>>, OracleErr
         Ok(Some(OrderOne::Mean(_, Some(err)))) => {
             Some(format!("its computation failed (its exact mean is still `finite_mean`): {err}"))
         }
-        Err(err) if pairs_weigh_nothing(scene) => Some(format!("its computation failed: {err}")),
-        Ok(Some(OrderOne::Mean(_, None))) | Err(_) => Some(format!(
+        // The mean itself failed (before any pairs were tried): that is
+        // the reason, whatever the scene's q and N_B.
+        Err(err) => Some(format!("its computation failed: {err}")),
+        Ok(Some(OrderOne::Mean(_, None))) => Some(format!(
             "with single-scattered light it covers q = 1 and N_B = 1 only (here q = {}, N_B = {}), where (7)–(9) \
              weigh the correlations of two spheres 0; this scene needs {needed}, which take minutes at 10⁻³ \
              (docs/model.md §9.7): `mcrt-noise oracle --finite-pairs` computes them (give it --rel-tol and \
@@ -743,5 +745,16 @@ mod tests {
         let mean = Estimate::known(1.0f64, 1e-9, 1, crate::quad::Rule::TanhSinh);
         let why = finite_not_used(&scene, &Ok(Some(OrderOne::Mean(mean, None)))).unwrap();
         assert!(why.contains("--finite-pairs") && why.contains("C₂₃, Q and C₂₄"), "{why}");
+        // Where the mean itself failed, the failure is the reason: the flag
+        // would not help (it computes the pairs after the mean).
+        let failed = OracleError::Quadrature {
+            what: "finite-sphere mean luminance",
+            reason: "budget spent".into(),
+            guess: None,
+            evaluations: 7,
+        };
+        let why = finite_not_used::<f64>(&scene, &Err(failed)).unwrap();
+        assert!(why.contains("its computation failed") && why.contains("budget spent"), "{why}");
+        assert!(!why.contains("--finite-pairs"), "{why}");
     }
 }
