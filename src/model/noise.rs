@@ -98,18 +98,7 @@ impl<T: CheckRule> Integrals<T> {
     /// ⟨𝒞⟩ tables to P): with a field used for one computation the counts
     /// are then complete and do not depend on which thread built a table.
     pub fn compute(field: &Field<T>, r: &T, opts: &Options) -> Result<Integrals<T>, OracleError> {
-        let opts = opts.clone().declared();
-        let o = &opts;
-        // Independent integrals, computed side by side (each is
-        // deterministic, so the result does not depend on the threads).
-        // One tree, so that the moments fill the time a thread would
-        // otherwise wait for the longest correlation pass; (23) before (24),
-        // so that (24) mostly finds the angular work of the same nodes done.
-        let (pairs, single) =
-            rayon::join(|| PairIntegrals::compute(field, r, o), || Integrals::single_sphere_parts(field, r, o));
-        let (mut ints, _) = Integrals::assemble(single, pairs, false)?;
-        ints.mean.evaluations += field.table_evaluations();
-        Ok(ints)
+        Integrals::compute_all(field, r, opts, false).map(|(ints, _)| ints)
     }
 
     /// [`Integrals::compute`] for a scene whose Var L weighs the pair
@@ -123,11 +112,27 @@ impl<T: CheckRule> Integrals<T> {
         r: &T,
         opts: &Options,
     ) -> Result<(Integrals<T>, Option<OracleError>), OracleError> {
+        Integrals::compute_all(field, r, opts, true)
+    }
+
+    /// Both of the above: every integral, the pairs' failure returned
+    /// beside the rest where they are `optional`.
+    fn compute_all(
+        field: &Field<T>,
+        r: &T,
+        opts: &Options,
+        optional: bool,
+    ) -> Result<(Integrals<T>, Option<OracleError>), OracleError> {
         let opts = opts.clone().declared();
         let o = &opts;
+        // Independent integrals, computed side by side (each is
+        // deterministic, so the result does not depend on the threads).
+        // One tree, so that the moments fill the time a thread would
+        // otherwise wait for the longest correlation pass; (23) before (24),
+        // so that (24) mostly finds the angular work of the same nodes done.
         let (pairs, single) =
             rayon::join(|| PairIntegrals::compute(field, r, o), || Integrals::single_sphere_parts(field, r, o));
-        let (mut ints, failed) = Integrals::assemble(single, pairs, true)?;
+        let (mut ints, failed) = Integrals::assemble(single, pairs, optional)?;
         ints.mean.evaluations += field.table_evaluations();
         Ok((ints, failed))
     }
