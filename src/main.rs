@@ -54,7 +54,7 @@ enum Command {
         /// One JSON object instead of the table.
         #[arg(long)]
         json: bool,
-        /// Also compute the finite-sphere C₂₃, Q and C₂₄ of single-scattered light (scattering_orders = 1, isotropic medium, point lights) where q < 1 or camera_rays > 1, so that the prediction is the exact finite-sphere model: minutes (~4·10⁹ evaluations at --rel-tol 1e-3, ~4 min on two cores), so it needs --rel-tol, and --max-evals to match (e.g. 1e-3 and 2e10).
+        /// Also compute the finite-sphere C₂₃, Q and C₂₄ of single-scattered light (scattering_orders = 1, isotropic medium, point lights) where q < 1 or camera_rays > 1, so that the prediction is the exact finite-sphere model: minutes (billions of evaluations: ~3 min on two cores at --rel-tol 1e-3), so it needs --rel-tol, and --max-evals to match (e.g. 1e-3 and 2e10).
         #[arg(long, requires = "rel_tol")]
         finite_pairs: bool,
     },
