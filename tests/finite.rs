@@ -62,6 +62,12 @@ fn consistency_cases() -> Vec<(String, Scene)> {
     let mut near_far = point_at([0.02, 0.0, 2.0]);
     near_far.medium.sigma_ext = 200.0;
     v.push(("σ = 200, light 0.02 from the line at distance 2".into(), near_far));
+    // The smallest angular scales of a point light (min(b, R)/|y − o| down
+    // to 5·10⁻⁷, and R = 10⁻⁸): the ϑ-integrals' only grading towards the
+    // poles is their rules' own (`docs/model.md` §9.2).
+    v.push(("light 1e-6 from the line ahead, R = 0.01".into(), point_at([1e-6, 0.0, 2.0])));
+    v.push(("light 1e-6 from the line behind, R = 0.01".into(), point_at([1e-6, 0.0, -2.0])));
+    v.push(("R = 1e-8".into(), with_radius(scene("point-isotropic"), 1e-8)));
     v
 }
 

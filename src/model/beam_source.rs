@@ -132,7 +132,7 @@ impl<T: CheckRule> BeamPoint<T> {
         }
         // A purely relative goal (a table's sample): the shells get an
         // absolute goal from the integral's scale, found at 10⁻³ first (as
-        // `integrate_nested` does): shells that meet the beam in a sliver,
+        // `integrate_nested` does for goals of 10⁻⁴ and tighter): shells that meet the beam in a sliver,
         // next to a corner of its volume, are at their rounding's level and
         // cannot meet a relative goal of their own (without it, a beam behind
         // a light at the camera bisected such a shell into 2000 panels).
