@@ -6,6 +6,12 @@ fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_mcrt-noise"))
 }
 
+/// The command with `args`, run from the repository's root (so that the
+/// bundled scenes are at `scenes/…`), and its output.
+fn run_in_repo(args: &[&str]) -> std::process::Output {
+    bin().args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
+}
+
 #[test]
 fn validate_prints_normalised_scene_for_every_bundled_scene() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
@@ -62,11 +68,7 @@ fn unconverged_kernel_is_loud() {
 /// `--rel-tol` it is refused (exit 2), naming both flags, before any work.
 #[test]
 fn finite_pairs_need_a_tolerance() {
-    let out = bin()
-        .args(["oracle", "scenes/point-isotropic-order1.toml", "--finite-pairs"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
+    let out = run_in_repo(&["oracle", "scenes/point-isotropic-order1.toml", "--finite-pairs"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(out.stdout.is_empty());
     let err = String::from_utf8(out.stderr).unwrap();
@@ -75,11 +77,7 @@ fn finite_pairs_need_a_tolerance() {
 
 #[test]
 fn oracle_json_has_the_documented_keys() {
-    let out = bin()
-        .args(["oracle", "scenes/point-isotropic.toml", "--json"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
+    let out = run_in_repo(&["oracle", "scenes/point-isotropic.toml", "--json"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     for path in [
@@ -138,21 +136,13 @@ fn oracle_refuses_order_two_loudly() {
 
 #[test]
 fn sweep_prints_ratios_and_order() {
-    let out = bin()
-        .args(["sweep", "scenes/beam-isotropic.toml", "--radii", "1e-2,1e-3,1e-4,1e-5", "--json"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
+    let out = run_in_repo(&["sweep", "scenes/beam-isotropic.toml", "--radii", "1e-2,1e-3,1e-4,1e-5", "--json"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let order = v.pointer("/order23/order").and_then(|x| x.as_f64()).unwrap();
     let err = v.pointer("/order23/error").and_then(|x| x.as_f64()).unwrap();
     assert!((order - 1.0).abs() <= 0.01 && err < 0.01, "order {order} ± {err}");
-    let bad = bin()
-        .args(["sweep", "scenes/beam-isotropic.toml", "--radii", "1e-2,-1"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
+    let bad = run_in_repo(&["sweep", "scenes/beam-isotropic.toml", "--radii", "1e-2,-1"]);
     assert_eq!(bad.status.code(), Some(2));
 }
 

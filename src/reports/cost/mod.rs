@@ -68,7 +68,7 @@ pub fn cost_markdown(repeats: usize, figures_dir: &Path) -> Result<String, Strin
     let svg = figures::log_log_svg(
         "oracle, point-isotropic: relative error bar against time",
         "log₁₀ wall time / ms",
-        "log₁₀ achieved rel. error",
+        "log₁₀ rel. error bar",
         oracle_series,
     )?;
     writeln!(body, "\n{}\n", figures::write(figures_dir, "cost-oracle.svg", &svg)?).unwrap();
