@@ -23,7 +23,8 @@
 //! symmetric). For b > R only a window χ ≤ arcsin(R/b) towards the line
 //! can hit (the other side would need the closest point behind the light),
 //! integrated in η = b sin χ/R ∈ [0, 1], dχ = (R/b) dη/cos χ, ρ = R√(1 − η²);
-//! for b ≤ R every χ can, and χ ∈ [0, π] is integrated directly.
+//! for b ≤ R every χ can, and χ ∈ [0, π] is integrated directly (above 53
+//! bits, for a light ahead of the camera, folded about π/2: `FOLD_POWER`).
 //!
 //! Sphere-centric ⟨𝒞⟩_R(s): a light at distance d from the centre sees the
 //! sphere as a cap of half-angle ψ_R = arcsin(R/d) about w = (x(s) − y)/d
@@ -326,7 +327,7 @@ impl<T: CheckRule> PointLight<T> {
             )
         } else if like.prec() > 53 && self.z > zero {
             // χ = π/2 ∓ δ, δ = (π/2)w^k, both halves folded onto w ∈ [0, 1]
-            // (`FOLD_POWER`): in MPFR, for a light ahead.
+            // (`FOLD_POWER`): above 53 bits, for a light ahead.
             let quarter = like.pi() / like.lit(2.0);
             let cuts: Vec<T> = self
                 .azimuth_kinks(r, which)
@@ -510,13 +511,15 @@ impl<T: CheckRule> PointLight<T> {
 /// algebraically. In f64 goals that costs a few bisections; at 128 bits it
 /// spent the 5·10⁷ budget (a light 10⁻⁶ from the line, 2 ahead, R = 0.01:
 /// 6 336 azimuths for the check against 339 for tanh–sinh). The fold makes
-/// δ ln δ a w^{2k−1} ln w that one 64-node panel integrates: there 4.1·10⁶
-/// evaluations and 27 s instead of 4.7·10⁷ and 384 s for the mean, the same
+/// δ ln δ a w^{2k−1} ln w that one 64-node panel integrates (and a term odd
+/// in B cancels between the two halves it adds): there the mean alone took
+/// 4.1·10⁶ evaluations and 27 s instead of 4.7·10⁷ and 384 s, the same
 /// value, and lights at (0.005, 2) with R = 0.01 and (0.3, 0.5) with R = 0.5,
-/// which ran past 200 s, converge in 4.5·10⁶ and 3.9·10⁶. Not in f64 (the
-/// order-1 pair share at 10⁻³ took 22 % more evaluations with it) nor for a
-/// light behind the camera, where the light's end is inactive (at 128 bits
-/// 1.0·10⁶ evaluations with it, 4.6·10⁵ without).
+/// whose means ran past 200 s, converge in 4.5·10⁶ and 3.9·10⁶. Used above 53
+/// bits only (in f64 the order-1 pair share at 10⁻³ took 22 % more
+/// evaluations with it), virtual lights of single scattering included, and
+/// not for a light behind the camera, where the light's end is inactive (at
+/// 128 bits its mean took 1.0·10⁶ evaluations with it, 4.6·10⁵ without).
 const FOLD_POWER: i32 = 6;
 
 /// The outermost level of a ray integral: nested with its own passes, or
