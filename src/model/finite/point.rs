@@ -503,7 +503,7 @@ impl<T: CheckRule> PointLight<T> {
 }
 
 /// The power k of the fold χ = π/2 ∓ (π/2)w^k of [`PointLight::ray_integral_in`]
-/// (b ≤ R, a light ahead of the camera, MPFR). As χ → π/2, B = b cos χ → 0
+/// (b ≤ R, a light ahead of the camera, above 53 bits). As χ → π/2, B = b cos χ → 0
 /// and the ϑ-kinks where the light's end of J meets the window's
 /// (ρ cos ϑ = ±B) close in on ϑ = π/2; the χ-integrand is then singular at
 /// π/2 (a B ln|B| term, by the sketch in `docs/quadrature.md`, Limits), which
