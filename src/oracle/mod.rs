@@ -65,9 +65,11 @@ pub enum Scope {
     /// media, point lights) with q < 1 or N_B > 1, the finite-sphere
     /// model's Q, C₂₃ and C₂₄ (`docs/model.md` §9.7), so that the prediction
     /// is the exact finite-sphere model at any R (`mcrt-noise oracle
-    /// --finite-pairs`). Minutes where [`Scope::Everything`] takes seconds:
-    /// ~4·10⁹ evaluations at 10⁻³ on `point-isotropic-order1` (R = 0.5,
-    /// ~4 minutes on two cores), beyond the default budget, so give it a
+    /// --finite-pairs`). A minute or more where [`Scope::Everything`] takes
+    /// seconds: ~7·10⁸ evaluations at 10⁻³ on `point-isotropic-order1` at
+    /// R = 0.05 (51 s on two cores with the Gauss–Kronrod pair of rules),
+    /// 1.4·10⁹ with a light 0.1 from the camera line at R = 0.2 (141 s),
+    /// beyond the default budget, so give it a
     /// goal and a budget. Their failure (the budget spent among them) is
     /// reported, and the prediction is then the small-sphere one; they are
     /// computed after everything else, so that the rest of the report

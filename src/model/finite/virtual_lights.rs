@@ -19,8 +19,9 @@
 //! (the hit intervals of §9.2 against the cap of §9.5):
 //! `tests/finite_order1.rs` (ignored: ~3 minutes on two cores at 10⁻⁴,
 //! 2.8·10⁹ evaluations).
-//! For C₂₃, C₂₄ it is the one-segment-two-spheres part of order 1, not yet
-//! affordable this way (§9.6).
+//! For C₂₃, C₂₄ it is the one-segment-two-spheres part of order 1 (§9.7),
+//! run with the Gauss–Kronrod pair of rules at loose goals
+//! (`order1::pair_rule`): ~15 s at 10⁻³ on two cores.
 
 use super::point::{power_of, PointLight};
 use super::ray::Functional;
