@@ -6,7 +6,7 @@
 
 use mcrt_noise::model::field::Field;
 use mcrt_noise::model::finite::{FiniteField, FiniteIntegrals};
-use mcrt_noise::quad::{Budget, Estimate, Options};
+use mcrt_noise::quad::{Budget, Estimate, Options, Rule};
 use mcrt_reference::{trace, HitMethod, Tracer};
 use mcrt_scene::{DVec3, Light, Scene};
 use std::path::Path;
@@ -97,7 +97,8 @@ fn two_segment_share(p: &Point, goal: f64) -> Barred {
     let s = p.scene();
     let field = Field::from_scene(&s, &1.0f64).unwrap();
     let ff = FiniteField::of_first_segments(&s, &field);
-    let o = Options::rel(goal).declared().with_budget(Budget::new(20_000_000_000));
+    // The rules `order1_pair_added` runs this share with at such goals.
+    let o = Options { rule: Rule::Kronrod, ..Options::rel(goal).declared().with_budget(Budget::new(20_000_000_000)) };
     let k = (-ff.shift).exp();
     let x23 = ff.order1_cross(CrossPair::C23, &o).unwrap();
     let x24 = ff.order1_cross(CrossPair::C24, &o).unwrap();
@@ -214,11 +215,14 @@ fn finite_pairs_that_spend_the_budget_leave_the_rest_of_the_report() {
 /// (24) as R → 0 (both with every share: the scattered segment meeting
 /// both spheres, and the two segments of one path meeting one each —
 /// §3c's cross-segment terms on the small-sphere side), the relative gaps
-/// and their fitted orders printed. Each gap must lie above its bar (the
-/// two models' bars added), shrink with R, and at a fitted order of at
-/// least 1; the orders are reported, not pinned (6.4 minutes on two cores
-/// for C₂₃ at R = 0.04, so ~40 minutes in all: `cargo test --release
-/// --test finite_order1_pairs -- --ignored --nocapture`).
+/// and their fitted orders printed. Each gap must lie above three of its
+/// bars (the two models' bars added) and shrink with R at a fitted order
+/// of at least ½; the orders themselves are reported, not pinned (the
+/// cross-segment share alone tends to its R → 0 form at order ~1, §3c).
+/// Not yet run to completion: 6.4 minutes on two cores for C₂₃ at
+/// R = 0.04 (gap +9.594·10⁻³ ± 9.0·10⁻⁶), so ~40 minutes in all
+/// (`cargo test --release --test finite_order1_pairs -- --ignored
+/// --nocapture`).
 #[test]
 #[ignore]
 fn order1_correlations_tend_to_the_small_sphere_ones() {
@@ -270,7 +274,7 @@ fn order1_correlations_tend_to_the_small_sphere_ones() {
             );
         }
         for o in &orders {
-            assert!(*o >= 1.0, "the gap shrinks at order {o} only");
+            assert!(*o >= 0.5, "the gap shrinks at order {o} only");
         }
     }
 }

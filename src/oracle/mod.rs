@@ -69,8 +69,8 @@ pub enum Scope {
     /// seconds: ~7·10⁸ evaluations at 10⁻³ on `point-isotropic-order1` at
     /// R = 0.05 (51 s on two cores with the Gauss–Kronrod pair of rules),
     /// 1.4·10⁹ with a light 0.1 from the camera line at R = 0.2 (141 s),
-    /// beyond the default budget, so give it a
-    /// goal and a budget. Their failure (the budget spent among them) is
+    /// beyond the default budget of 10⁹, and more at tighter goals: give
+    /// it a goal and a budget. Their failure (the budget spent among them) is
     /// reported, and the prediction is then the small-sphere one; they are
     /// computed after everything else, so that the rest of the report
     /// stands when they spend the budget.

@@ -91,14 +91,17 @@ pub struct Options {
     /// out); the guard then acts on the outer integral, which is zero
     /// everywhere exactly when every inner one is.
     pub zero_guard: bool,
-    /// Which rule computes the value; the other one cross-checks it.
-    /// [`integrate_nested`] runs its second, independent pass with
-    /// [`Rule::Check`] at every level.
+    /// Which rule computes the value; the other one ([`Rule::other`])
+    /// cross-checks it. [`integrate_nested`] runs its second, independent
+    /// pass with that other rule at every level.
     pub rule: Rule,
 }
 
-/// The two quadrature rules of the engine.
+/// The quadrature rules of the engine, in two pairs that cross-check each
+/// other: tanh–sinh and [`Rule::Check`] (the default), and for deep nests
+/// at loose goals [`Rule::Kronrod`] and [`Rule::KronrodCheck`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[non_exhaustive]
 pub enum Rule {
     /// Tanh–sinh, refined level by level (the default primary rule).
     #[default]
@@ -109,10 +112,12 @@ pub enum Rule {
     /// Adaptive bisection of 7–15-point Gauss–Kronrod panels in another
     /// smoothing substitution (`kronrod` module): 15 evaluations a panel,
     /// for nested integrals at loose goals. Cross-checked by
-    /// [`Rule::KronrodCheck`]; above 53 bits it runs tanh–sinh.
+    /// [`Rule::KronrodCheck`]. Its nodes are f64 constants: above 53 bits
+    /// tanh–sinh runs instead, and the estimate names it.
     Kronrod,
-    /// Its cross-check: 10–21-point Gauss–Kronrod panels in the check
-    /// rule's substitution; above 53 bits the check rule.
+    /// The cross-check of [`Rule::Kronrod`]: 10–21-point Gauss–Kronrod
+    /// panels in the check rule's substitution; above 53 bits the check
+    /// rule runs instead.
     KronrodCheck,
 }
 
@@ -124,6 +129,16 @@ impl Rule {
             Rule::Check => Rule::TanhSinh,
             Rule::Kronrod => Rule::KronrodCheck,
             Rule::KronrodCheck => Rule::Kronrod,
+        }
+    }
+    /// The rule that runs at the precision `bits`: the Gauss–Kronrod pair
+    /// only up to 53 bits (its nodes are f64 constants), tanh–sinh and the
+    /// check rule above.
+    fn at_precision(self, bits: u32) -> Rule {
+        match self {
+            Rule::Kronrod if bits > 53 => Rule::TanhSinh,
+            Rule::KronrodCheck if bits > 53 => Rule::Check,
+            other => other,
         }
     }
     fn name<T: CheckRule>(self) -> &'static str {
@@ -499,17 +514,13 @@ fn integrate_pieces<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, o
     let run = |rule: Rule, mapped: &mut Mapped<'_, '_, T>| match rule {
         Rule::TanhSinh => tanh_sinh::integrate(mapped, &pieces, &quarter),
         Rule::Check => check::adaptive(mapped, &pieces, &quarter),
-        Rule::Kronrod if a.prec() <= 53 => {
-            kronrod::adaptive(&kronrod::G7_K15, kronrod::Map::Cosine, mapped, &pieces, &quarter)
-        }
-        Rule::KronrodCheck if a.prec() <= 53 => {
-            kronrod::adaptive(&kronrod::G10_K21, kronrod::Map::Cubic, mapped, &pieces, &quarter)
-        }
-        Rule::Kronrod => tanh_sinh::integrate(mapped, &pieces, &quarter),
-        Rule::KronrodCheck => check::adaptive(mapped, &pieces, &quarter),
+        Rule::Kronrod => kronrod::adaptive(&kronrod::G7_K15, kronrod::Map::Cosine, mapped, &pieces, &quarter),
+        Rule::KronrodCheck => kronrod::adaptive(&kronrod::G10_K21, kronrod::Map::Cubic, mapped, &pieces, &quarter),
     };
-    let primary = run(opts.rule, &mut mapped)?;
-    let check = if opts.cross_check { Some(run(opts.rule.other(), &mut mapped)?) } else { None };
+    let bits = a.prec();
+    let (rule, other) = (opts.rule.at_precision(bits), opts.rule.other().at_precision(bits));
+    let primary = run(rule, &mut mapped)?;
+    let check = if opts.cross_check { Some(run(other, &mut mapped)?) } else { None };
     if opts.structure == Structure::Unknown && opts.zero_guard && mapped.tally.all_zero {
         return Err(mapped.fail(
             "the integrand was exactly zero at every sample: a support narrower than the scan resolves cannot be excluded (pass its edges as breakpoints and declare the structure)".into(),
@@ -524,9 +535,9 @@ fn integrate_pieces<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, o
         check_value: r.value.clone(),
         pieces: r.pieces,
         found_breakpoints: found,
-        rule: opts.rule,
+        rule,
     };
-    let check = check.map(|c| Estimate { rule: opts.rule.other(), ..estimate(&c) });
+    let check = check.map(|c| Estimate { rule: other, ..estimate(&c) });
     reconcile(estimate(&primary), check, opts)
 }
 

@@ -17,7 +17,8 @@ use crate::real::Real;
 /// out in a tail, which cannot matter, are not driven into the rounding
 /// noise of their own integrand (e^{−(s+t)} at s = 700 is only good to
 /// ~10⁻¹³ relative in f64). The check pass repeats the computation with
-/// the check rule at every level, and the two are reconciled as for a
+/// the primary rule's cross-check (`Rule::other`: the check rule for
+/// tanh–sinh) at every level, and the two are reconciled as for a
 /// plain integral. Inner error bars are the inner integrals' own
 /// estimates, integrated into the outer bar. An inner `Failure` aborts the
 /// outer integral with its reason.
@@ -55,7 +56,7 @@ pub fn integrate_nested<T: CheckRule, F: Fn(&T, &Options) -> Outcome<T> + Sync>(
         primary.evaluations += scale.evaluations;
         return reconcile(primary, None, opts);
     }
-    // The second pass is independent at every level: the check rule outside
+    // The second pass is independent at every level: the other rule outside
     // and inside. The two passes share nothing, so they run side by side;
     // each is deterministic, so the result does not depend on the threads.
     let other = opts.rule.other();

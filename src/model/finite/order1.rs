@@ -292,7 +292,7 @@ impl<T: CheckRule> FiniteField<T> {
             Functional::Pair24 => CrossPair::C24,
             _ => return Err(OracleError::Unsupported(format!("{} is not a correlation", which.name()))),
         };
-        let half = Options { abs_tol: opts.abs_tol / 2.0, rule: pair_rule(opts), ..opts.clone() };
+        let half = Options { abs_tol: opts.abs_tol / 2.0, rule: pair_rule(&self.radius, opts), ..opts.clone() };
         let (one, two) = rayon::join(|| self.order1_virtual(which, &half), || self.order1_cross(pair, &half));
         Ok(one?.plus(two?))
     }
@@ -339,18 +339,19 @@ impl<T: CheckRule> FiniteField<T> {
 }
 
 /// The rule pair of the order-1 pair shares: Gauss–Kronrod
-/// ([`Rule::Kronrod`], cross-checked by [`Rule::KronrodCheck`]) for goals
-/// of [`KRONROD_TIGHTEST`] and looser, when the caller left the default
-/// tanh–sinh; else the caller's. Those shares nest four levels deep, and
-/// at the goals they run at each level costs its floor per piece (61
-/// evaluations for tanh–sinh's first estimate, 30 for the check rule, 15
-/// and 21 for the pair): at R = 0.5, 0.2 and 0.05 and 10⁻³ the
-/// one-segment-two-spheres share of C₂₃ took 1.1·10⁹ evaluations and
-/// 70–80 s with tanh–sinh, 2.1–2.6·10⁸ and 14–17 s with the pair, the
-/// same values within their bars (`docs/model.md` §9.7, **Cost**). Above
-/// 53 bits the pair runs tanh–sinh and the check rule.
-fn pair_rule(opts: &Options) -> Rule {
-    if opts.rule == Rule::TanhSinh && opts.rel_tol >= KRONROD_TIGHTEST {
+/// ([`Rule::Kronrod`], cross-checked by [`Rule::KronrodCheck`]) in f64 for
+/// goals of [`KRONROD_TIGHTEST`] and looser, when the caller left the
+/// default tanh–sinh; else the caller's. Those shares nest four levels
+/// deep, and at the goals they run at each level costs its floor per piece
+/// (61 evaluations for tanh–sinh's first estimate, 30 for the check rule,
+/// 15 and 21 for the pair): at 10⁻³ the one-segment-two-spheres share of
+/// C₂₃ took 1.13·10⁹ evaluations and 70 s at R = 0.5 with tanh–sinh
+/// (1.23·10⁹ and 79 s at R = 0.2) and takes 2.1·10⁸ and 14 s with the pair
+/// at both, the same values within their bars (`docs/model.md` §9.7,
+/// **Cost**). Above 53 bits (`like`'s precision) the pair's f64 nodes
+/// would not serve: tanh–sinh stays.
+fn pair_rule<T: CheckRule>(like: &T, opts: &Options) -> Rule {
+    if opts.rule == Rule::TanhSinh && opts.rel_tol >= KRONROD_TIGHTEST && like.prec() <= 53 {
         Rule::Kronrod
     } else {
         opts.rule
@@ -361,7 +362,9 @@ fn pair_rule(opts: &Options) -> Rule {
 /// Gauss–Kronrod pair ([`pair_rule`]): tanh–sinh's double-exponential
 /// convergence overtakes its floor per piece at tighter goals (on ln x
 /// over [0, 1] at 10⁻¹⁰ the pair takes 930 evaluations, tanh–sinh and the
-/// check rule 567; `tests/kronrod.rs`).
+/// check rule 567; `tests/kronrod.rs`). It applies to the outer goal; the
+/// inner levels run tighter (rel_tol/20, then /4 per level). Measured on
+/// the pair shares at 10⁻³ and 10⁻⁴ only (`docs/model.md` §9.7).
 const KRONROD_TIGHTEST: f64 = 1e-8;
 
 /// One integral's outcome.
