@@ -15,8 +15,8 @@
 //! constants, so above 53 bits tanh–sinh and the check rule run instead
 //! (`Rule::at_precision`).
 
-use super::check::PanelFn;
-use super::{control, Failure, Mapped, Options, Piece, RuleResult, Sample};
+use super::check::{Map, Panel, PanelEstimate, PanelFn};
+use super::{control, Failure, Mapped, Options, Piece, RuleResult};
 use crate::real::Real;
 
 /// A Gauss–Kronrod pair on [−1, 1] (QUADPACK `qk15`, `qk21`): the
@@ -95,61 +95,6 @@ pub(crate) const G10_K21: Pair = Pair {
     ],
 };
 
-/// The substitution x = a + (b − a)φ(s) of a piece.
-#[derive(Clone, Copy)]
-pub(crate) enum Map {
-    /// φ = (1 − cos πs)/2 = sin²(πs/2).
-    Cosine,
-    /// φ = 3s² − 2s³ (the check rule's).
-    Cubic,
-}
-
-impl Map {
-    /// (φ(s), φ′(s)).
-    fn at<T: Real>(self, s: &T) -> (T, T) {
-        match self {
-            Map::Cosine => {
-                // sin²(πs/2), not (1 − cos πs)/2: that rounds to 0 below
-                // s ≈ 3·10⁻⁹ and keeps no relative accuracy near s = 0;
-                // sin(π·min(s, 1 − s)) keeps φ′ accurate near s = 1.
-                let half = (s.pi() * s.clone() / s.lit(2.0)).sin();
-                let near = s.clone().min_of(s.lit(1.0) - s.clone());
-                (half.clone() * half, s.pi() / s.lit(2.0) * (s.pi() * near).sin())
-            }
-            Map::Cubic => {
-                let s2 = s.clone() * s.clone();
-                (s2 * (s.lit(3.0) - s.lit(2.0) * s.clone()), s.lit(6.0) * s.clone() * (s.lit(1.0) - s.clone()))
-            }
-        }
-    }
-}
-
-/// One panel's estimate: K, |K − G|, inner bars, ∫|g|.
-struct Panel<T> {
-    piece: usize,
-    s0: T,
-    s1: T,
-    value: T,
-    quad_err: T,
-    inner_err: T,
-    abs: T,
-}
-
-impl<T: Real> control::Panel<T> for Panel<T> {
-    fn value(&self) -> T {
-        self.value.clone()
-    }
-    fn quad_err(&self) -> T {
-        self.quad_err.clone()
-    }
-    fn floor(&self) -> T {
-        self.s0.eps() * self.s0.lit(8.0) * self.abs.clone() + self.s0.underflow_floor() / self.s0.lit(1024.0)
-    }
-    fn error(&self) -> T {
-        self.quad_err.clone() + self.inner_err.clone() + self.floor()
-    }
-}
-
 /// The pair's panel on [s0, s1] of g: (K, |K − G|, inner bars, ∫|g|).
 fn panel<T: Real>(pair: &Pair, g: &mut PanelFn<'_, T>, s0: &T, s1: &T) -> Result<(T, T, T, T), Failure<T>> {
     let half = (s1.clone() - s0.clone()) / s0.lit(2.0);
@@ -192,21 +137,9 @@ pub(crate) fn adaptive<T: Real>(
     // g(s) = f(x(s)) (b − a) φ'(s), x(s) = a + (b − a) φ(s), φ of `map`.
     let estimate = |piece_idx: usize, s0: &T, s1: &T, f: &mut Mapped<'_, '_, T>| {
         let piece = &pieces[piece_idx];
-        let width = piece.b.clone() - piece.a.clone();
-        let mut g = |s: &T| -> Result<Sample<T>, Failure<T>> {
-            let (phi, dphi) = map.at(s);
-            let x = piece.a.clone() + width.clone() * phi;
-            if !(x > piece.a && x < piece.b) {
-                return Ok(Sample { value: s.lit(0.0), error: s.lit(0.0), evaluations: 0 });
-            }
-            let mut sample = f.eval(&x)?;
-            let jac = width.clone() * dphi;
-            sample.value = sample.value * jac.clone();
-            sample.error = sample.error * jac;
-            Ok(sample)
-        };
-        let (value, quad_err, inner_err, abs) = panel(pair, &mut g, s0, s1)?;
-        Ok::<_, Failure<T>>(Panel { piece: piece_idx, s0: s0.clone(), s1: s1.clone(), value, quad_err, inner_err, abs })
+        let (value, quad_err, inner_err, abs) = panel(pair, &mut |s: &T| map.sample(f, piece, s), s0, s1)?;
+        let est = PanelEstimate { value, quad_err, inner_err, abs, halves: [None, None] };
+        Ok::<_, Failure<T>>(Panel { piece: piece_idx, s0: s0.clone(), s1: s1.clone(), est })
     };
     let (zero, one) = (like.lit(0.0), like.lit(1.0));
     let mut panels = Vec::new();

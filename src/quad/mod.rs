@@ -514,8 +514,8 @@ fn integrate_pieces<T: CheckRule>(f: &mut SampleFn<'_, T>, domain: &Domain<T>, o
     let run = |rule: Rule, mapped: &mut Mapped<'_, '_, T>| match rule {
         Rule::TanhSinh => tanh_sinh::integrate(mapped, &pieces, &quarter),
         Rule::Check => check::adaptive(mapped, &pieces, &quarter),
-        Rule::Kronrod => kronrod::adaptive(&kronrod::G7_K15, kronrod::Map::Cosine, mapped, &pieces, &quarter),
-        Rule::KronrodCheck => kronrod::adaptive(&kronrod::G10_K21, kronrod::Map::Cubic, mapped, &pieces, &quarter),
+        Rule::Kronrod => kronrod::adaptive(&kronrod::G7_K15, check::Map::Cosine, mapped, &pieces, &quarter),
+        Rule::KronrodCheck => kronrod::adaptive(&kronrod::G10_K21, check::Map::Cubic, mapped, &pieces, &quarter),
     };
     let bits = a.prec();
     let (rule, other) = (opts.rule.at_precision(bits), opts.rule.other().at_precision(bits));
