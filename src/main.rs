@@ -54,7 +54,7 @@ enum Command {
         /// One JSON object instead of the table.
         #[arg(long)]
         json: bool,
-        /// Also compute the finite-sphere C₂₃, Q and C₂₄ of single-scattered light (scattering_orders = 1, isotropic medium, point lights) where q < 1 or camera_rays > 1, so that the prediction is the exact finite-sphere model: minutes (billions of evaluations: ~3 min on two cores at --rel-tol 1e-3), so it needs --rel-tol, and --max-evals to match (e.g. 1e-3 and 2e10).
+        /// Also compute the finite-sphere Q and the correlations Var L weighs (C₂₃ where q < 1, C₂₄ where camera_rays > 1) of single-scattered light (scattering_orders = 1, isotropic medium, point lights), so that the prediction is the exact finite-sphere model (the library's `predict` does so at a goal of 1e-3): about a minute on two cores at --rel-tol 1e-3 (~7e8 evaluations; minutes with a light near the camera line), so it needs --rel-tol, and --max-evals to match (e.g. 1e-3 and 3e9).
         #[arg(long, requires = "rel_tol")]
         finite_pairs: bool,
     },

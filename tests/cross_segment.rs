@@ -149,8 +149,7 @@ fn cross_segment_terms_converge_in_hard_cases() {
 }
 
 /// Outside the R → 0 form's checked range (σR or R/d_y above 0.2) the terms
-/// are not added, the report says why, and `predict` takes the model bar
-/// measured without them.
+/// are not added and the report says why.
 #[test]
 fn outside_its_range_the_cross_segment_term_is_not_added() {
     use mcrt_noise::oracle::{run, Precision};
@@ -163,10 +162,10 @@ fn outside_its_range_the_cross_segment_term_is_not_added() {
         assert!(c.cross_segment.is_none());
         assert!(c.cross_segment_not_added.as_ref().is_some_and(|w| w.contains("not added")), "{c:?}");
     }
-    let p = mcrt_noise::check::predict_with(&thick, Precision::F64, Some(1e-4)).unwrap();
-    let (_, v0) = mcrt_noise::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS;
-    let scale = mcrt_noise::prec::model_error_scale(0.1);
-    assert_eq!(p.variance.model_bar, v0 * scale * p.variance.value);
+    // `predict` gives this scene (isotropic, a point light) the exact
+    // finite-sphere model, correlations of two spheres included; in MPFR,
+    // or where those fail, its small-sphere fallback takes the bar measured
+    // without the cross-segment terms here (`check::predict`).
 }
 
 /// As R → 0 the finite-sphere model's exact X (`finite::cross_segments`)

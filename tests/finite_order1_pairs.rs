@@ -219,10 +219,11 @@ fn finite_pairs_that_spend_the_budget_leave_the_rest_of_the_report() {
 /// bars (the two models' bars added) and shrink with R at a fitted order
 /// of at least ½; the orders themselves are reported, not pinned (the
 /// cross-segment share alone tends to its R → 0 form at order ~1, §3c).
-/// Not yet run to completion: 6.4 minutes on two cores for C₂₃ at
-/// R = 0.04 (gap +9.594·10⁻³ ± 9.0·10⁻⁶), so ~40 minutes in all
-/// (`cargo test --release --test finite_order1_pairs -- --ignored
-/// --nocapture`).
+/// 23 minutes on two cores (`cargo test --release --test
+/// finite_order1_pairs -- --ignored --nocapture`); on 5 December 2026 the
+/// gaps at R = 0.04, 0.02, 0.01 were 9.594·10⁻³, 4.586·10⁻³, 2.243·10⁻³
+/// (C₂₃) and 7.310·10⁻³, 3.435·10⁻³, 1.666·10⁻³ (C₂₄): fitted orders
+/// 1.065, 1.032 and 1.089, 1.044 (`docs/model.md` §9.7).
 #[test]
 #[ignore]
 fn order1_correlations_tend_to_the_small_sphere_ones() {

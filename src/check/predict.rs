@@ -3,9 +3,10 @@
 use crate::model::OracleError;
 use crate::oracle::{self, Precision, Report, ValueWithBar};
 use crate::prec::{
-    model_error_scale, MODEL_ERROR_RADIUS, SMALL_SPHERE_SCATTERED_ALLOWANCE,
-    SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS,
+    model_error_scale, FINITE_PAIRS_PREDICTION_EVALUATIONS, FINITE_PAIRS_PREDICTION_TOL, MODEL_ERROR_RADIUS,
+    SMALL_SPHERE_SCATTERED_ALLOWANCE, SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS,
 };
+use crate::quad::Budget;
 use mcrt_scene::{ScatteringOrders, Scene, SceneError};
 use serde::Serialize;
 use std::fmt;
@@ -16,8 +17,8 @@ use std::fmt;
 pub enum Model {
     /// The finite-sphere model (`docs/model.md` §9): the estimator's exact
     /// moments at the scene's R, for uncollided light, and for
-    /// single-scattered light with q = 1, N_B = 1 (isotropic media). Its
-    /// model bar is 0.
+    /// single-scattered light in isotropic media (point lights at any q and
+    /// N_B, in f64; beams with q = 1, N_B = 1). Its model bar is 0.
     FiniteSphere,
     /// The paper's small-sphere model (§4.3), exact only as R → 0; used for
     /// the other scenes with single-scattered light, with a measured model
@@ -137,9 +138,14 @@ impl From<OracleError> for PredictError {
 /// The scene is validated first (a hand-assembled [`Scene`] gets the scene
 /// file's checks). Uncollided light (scattering order 0) is predicted by the
 /// finite-sphere model, exact at the scene's R: the model bar is 0.
-/// Single-scattered light (order 1) in an isotropic medium (point lights
-/// and beams) with q = 1 and N_B = 1 is predicted by the finite-sphere
-/// model too, exact at any R (model bar 0; [`oracle::finite_sphere_covers`]);
+/// Single-scattered light (order 1) in an isotropic medium is predicted by
+/// the finite-sphere model too, exact at any R (model bar 0): point lights
+/// and beams with q = 1 and N_B = 1 ([`oracle::finite_sphere_covers`]), and
+/// point lights at any q, N_B in f64 with the correlations of two spheres
+/// that the scene's Var L weighs ([`oracle::finite_pairs_cover`],
+/// [`oracle::Scope::ExactPrediction`], at a goal no tighter than
+/// [`crate::prec::FINITE_PAIRS_PREDICTION_TOL`] with the budget
+/// [`crate::prec::FINITE_PAIRS_PREDICTION_EVALUATIONS`]);
 /// the oracle computes the small-sphere model beside it all the same, so
 /// a failure of that model fails the prediction too (none is known since
 /// its (23) was mended for lights near the camera line, `docs/model.md`
@@ -147,7 +153,9 @@ impl From<OracleError> for PredictError {
 /// computation itself fails, the small-sphere model with its allowance
 /// serves for R ≤ 0.1 and the failure is returned beyond (and with a beam,
 /// whose small-sphere error was never measured).
-/// Other order-1 scenes are predicted by the small-sphere model with its
+/// Other order-1 scenes (Henyey–Greenstein media; at more than 53 bits,
+/// point lights with q < 1 or N_B > 1) are predicted by the small-sphere
+/// model with its
 /// measured allowance as the model bar, for R ≤ 0.1
 /// ([`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE`] where its (23), (24)
 /// carry the cross-segment terms of erratum E10, isotropic media, or where
@@ -159,8 +167,10 @@ impl From<OracleError> for PredictError {
 /// scattering ~1.5 s with q = 1 and N_B = 1 (isotropic medium, point
 /// lights; the small-sphere integrals of two spheres, weighed 0, are
 /// skipped), ~15 s with a beam (its single-scattered light is a 2-D
-/// quadrature at every table node, `docs/model.md` §9.8) and ~10–15 s
-/// otherwise (`docs/library.md` gives the profile
+/// quadrature at every table node, `docs/model.md` §9.8), about a minute
+/// with point lights at q < 1 or N_B > 1 (the finite-sphere correlations:
+/// 55 s on `point-isotropic-order1`, minutes with a light near the camera
+/// line) and ~10–15 s in Henyey–Greenstein media (`docs/library.md` gives the profile
 /// settings a dependent crate needs for its debug tests).
 pub fn predict(scene: &Scene) -> Result<Prediction, PredictError> {
     predict_with(scene, Precision::F64, None)
@@ -191,20 +201,29 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
         PredictError::Unsupported(format!(
             "estimator.radius = {radius}: with scattered light (effects.scattering_orders ≥ 1) the prediction here \
              is the small-sphere model ({why}), whose own error is measured only for R ≤ {MODEL_ERROR_RADIUS}; use \
-             R ≤ {MODEL_ERROR_RADIUS}, or q = 1 and N_B = 1 with scattering_orders = 1 (isotropic medium: the \
-             finite-sphere model, exact at any R), or scattering_orders = 0"
+             R ≤ {MODEL_ERROR_RADIUS}, or scattering_orders = 1 in an isotropic medium (the finite-sphere model, \
+             exact at any R: point lights at any q and N_B in f64, beams with q = 1 and N_B = 1), or \
+             scattering_orders = 0"
         ))
     };
     // With a beam, what the finite-sphere model does not cover the oracle
     // refuses at any R, naming the fields (a smaller R would not help).
     let scattered_beam = scattered && scene.lights.iter().any(|l| matches!(l, mcrt_scene::Light::Beam { .. }));
-    if scattered && !scattered_beam && radius > MODEL_ERROR_RADIUS && !oracle::finite_sphere_covers(&scene) {
+    let with_pairs = precision == Precision::F64 && oracle::finite_pairs_cover(&scene);
+    let covered = oracle::finite_sphere_covers(&scene) || with_pairs;
+    if scattered && !scattered_beam && radius > MODEL_ERROR_RADIUS && !covered {
         return Err(small_sphere_too_large("the finite-sphere model does not cover this scene"));
     }
-    let report = oracle::run_scoped(&scene, precision, rel_tol, oracle::Scope::Prediction)?;
+    let report = if with_pairs {
+        let budget = Budget::new(FINITE_PAIRS_PREDICTION_EVALUATIONS);
+        oracle::run_within_scoped(&scene, precision, rel_tol, &budget, oracle::Scope::ExactPrediction)?
+    } else {
+        oracle::run_scoped(&scene, precision, rel_tol, oracle::Scope::Prediction)?
+    };
     let p = &report.prediction;
     let (model, (mean_rel, var_rel), basis) = match &report.finite {
         Some(f) if f.covers == "uncollided" => (Model::FiniteSphere, (0.0, 0.0), FINITE_BASIS.to_string()),
+        Some(_) if with_pairs => (Model::FiniteSphere, (0.0, 0.0), finite_pairs_basis()),
         Some(_) => (Model::FiniteSphere, (0.0, 0.0), FINITE_ORDER1_BASIS.to_string()),
         // A covered scene whose finite-sphere computation failed: beyond the
         // small-sphere model's measured range that failure is the answer, and
@@ -259,6 +278,14 @@ const FINITE_BASIS: &str = "none needed: the finite-sphere model is exact at thi
 
 const FINITE_ORDER1_BASIS: &str = "none needed: the finite-sphere model is exact at this R for uncollided and \
      single-scattered light (isotropic medium, q = 1, N_B = 1; docs/model.md §9.6, §9.8)";
+
+fn finite_pairs_basis() -> String {
+    format!(
+        "none needed: the finite-sphere model is exact at this R for uncollided and single-scattered light, the \
+         correlations of two spheres included (isotropic medium, point lights; docs/model.md §9.6, §9.7); they \
+         are computed to a goal no tighter than {FINITE_PAIRS_PREDICTION_TOL:e}, within the quadrature bar"
+    )
+}
 
 /// Whether the small-sphere model's (23), (24) carry the cross-segment
 /// terms of E10, which picks the measured bar.

@@ -11,19 +11,24 @@
 //! why in `finite_not_used`).
 
 use crate::model::field::{beam_interval, Field};
-use crate::model::finite::{FiniteField, FiniteIntegrals, Functional};
+use crate::model::finite::{FiniteField, FiniteIntegrals, Functional, Weighed};
 use crate::model::noise::{
     d_constants, d_errors, relative_from_d, relative_from_d_error, variance, Counts, Integrals, Valued,
     BEAM_PAIRS_NOT_DERIVED,
 };
 use crate::model::OracleError;
+use crate::prec::FINITE_PAIRS_PREDICTION_TOL;
 use crate::quad::{Budget, CheckRule, Estimate, Options};
 use crate::real::Real;
 use mcrt_scene::{Light, Scene};
 use serde::Serialize;
 use std::time::Instant;
 
+mod order_one;
 mod report;
+pub(crate) use order_one::pairs_weigh_nothing;
+use order_one::{finite_mean_report, finite_not_used, order_one, scattered_mean_field, with_finite_pairs, OrderOne};
+pub use order_one::{finite_pairs_cover, finite_sphere_covers, finite_sphere_covers_the_standard_method};
 use report::{correlation, reported, scaled};
 pub use report::{
     Asymptotic, Correlation, FiniteMean, FiniteReport, Integral, Report, ReportPrediction, ValueWithBar, Variance,
@@ -75,6 +80,15 @@ pub enum Scope {
     /// computed after everything else, so that the rest of the report
     /// stands when they spend the budget.
     FinitePairs,
+    /// [`Scope::Prediction`] and, for single-scattered light (isotropic
+    /// media, point lights) with q < 1 or N_B > 1 in f64, the finite-sphere
+    /// model with the correlations that the scene's Var L weighs
+    /// (`model::finite::Weighed`) at a goal no tighter than
+    /// [`crate::prec::FINITE_PAIRS_PREDICTION_TOL`]: the library's
+    /// `predict`, exact at any R (model bar 0). About a minute on two cores
+    /// (`point-isotropic-order1`: 55 s); their failure is reported as with
+    /// [`Scope::FinitePairs`].
+    ExactPrediction,
 }
 
 /// The largest MPFR precision a run accepts: its default tolerance
@@ -209,7 +223,8 @@ pub fn run_with_scoped<T: CheckRule>(
             scene.estimator.q, scene.estimator.camera_rays
         )));
     }
-    let small_unpaired = (scope == Scope::Prediction || beam_scattered) && pairs_weigh_nothing(scene);
+    let predicting = matches!(scope, Scope::Prediction | Scope::ExactPrediction);
+    let small_unpaired = (predicting || beam_scattered) && pairs_weigh_nothing(scene);
     let ((ints, finite), scattered) = rayon::join(
         || {
             rayon::join(
@@ -232,7 +247,12 @@ pub fn run_with_scoped<T: CheckRule>(
     // if they spend the budget the rest of the report stands.
     let scattered = match (scattered, &scattered_field) {
         (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if scope == Scope::FinitePairs => {
-            Ok(Some(with_finite_pairs(ff, mean, &opts)))
+            Ok(Some(with_finite_pairs(ff, mean, &opts, Weighed::of(scene.estimator.q, scene.estimator.camera_rays))))
+        }
+        (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if scope == Scope::ExactPrediction => {
+            let loose = Options { rel_tol: opts.rel_tol.max(FINITE_PAIRS_PREDICTION_TOL), ..opts.clone() };
+            let weighed = Weighed::of(scene.estimator.q, scene.estimator.camera_rays);
+            Ok(Some(with_finite_pairs(ff, mean, &loose, weighed)))
         }
         (other, _) => other,
     };
@@ -492,10 +512,35 @@ fn finite_report<T: CheckRule>(
         integral_q: f.q.as_ref().map(|e| scaled(e, &k)),
         corr23: f.c23.as_ref().map(|e| scaled(e, &k)),
         corr24: f.c24.as_ref().map(|e| scaled(e, &k)),
-        not_computed: (!f.has_pairs()).then(|| PAIRS_NOT_NEEDED.to_string()),
+        not_computed: not_weighed(f, counts),
         covers,
         attenuation_shift: ff.shift.to_f64(),
         evaluations: f.evaluations(),
+    }
+}
+
+/// Why some of Q, C₂₃, C₂₄ are missing from a finite-sphere report: all
+/// three at q = 1 and N_B = 1 ([`PAIRS_NOT_NEEDED`]), C₂₃ alone at q = 1,
+/// C₂₄ alone at N_B = 1 (`Weighed`); `None` when none is.
+fn not_weighed<T: CheckRule>(f: &FiniteIntegrals<T>, counts: &Counts<T>) -> Option<String> {
+    match (f.q.is_some(), f.c23.is_some(), f.c24.is_some()) {
+        (true, true, true) => None,
+        (false, _, _) => Some(PAIRS_NOT_NEEDED.to_string()),
+        (true, false, true) => Some(format!(
+            "C₂₃ enters Var L with weight 2(1 − q)/(N_F N_B) = 0 at q = {} (one \
+             sphere per camera ray) and is not computed",
+            counts.q.to_f64()
+        )),
+        (true, true, false) => Some(format!(
+            "C₂₄ enters Var L with weight (1 − 1/N_B)/N_F = 0 at N_B = {} (one \
+             camera ray) and is not computed",
+            counts.n_b.to_f64()
+        )),
+        (true, false, false) => Some(
+            "C₂₃ and C₂₄ enter Var L with weight 0 at q = 1 and N_B = 1 and are not \
+             computed"
+                .to_string(),
+        ),
     }
 }
 
@@ -542,221 +587,5 @@ pub fn run_within_scoped(
         Precision::Bits(b) => {
             run_with_scoped(scene, &rug::Float::with_val(b, 0), tol, format!("{b} bits"), budget, scope)
         }
-    }
-}
-
-/// The finite-sphere field of an order-1 scene whose exact mean the model
-/// covers (isotropic medium; `model::finite::scattered`,
-/// `model::finite::scattered_beam`), or `None`.
-fn scattered_mean_field<T: CheckRule>(scene: &Scene, field: &Field<T>) -> Option<FiniteField<T>> {
-    scattered_covered(scene).then(|| FiniteField::of_first_segments(scene, field))
-}
-
-/// Whether the oracle's prediction for `scene` is the finite-sphere model
-/// (exact at the scene's R; when its computation succeeds): uncollided
-/// light, and single-scattered light in an isotropic medium (point lights
-/// and beams) with q = 1 and N_B = 1. (With [`Scope::FinitePairs`] the
-/// oracle gives it at other q and N_B too, for point lights; this is what
-/// every scope, and the library's `predict`, covers.)
-///
-/// ```
-/// use mcrt_noise::{oracle::finite_sphere_covers, Scene};
-///
-/// let mut scene = Scene::builder()
-///     .medium(1.0, 0.8)
-///     .point_light([1.0, 0.0, 1.0], 1.0)
-///     .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
-///     .estimator(0.2, 1.0, 20, 1)
-///     .build()?;
-/// assert!(finite_sphere_covers(&scene));
-/// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
-/// assert!(finite_sphere_covers(&scene));
-/// scene.estimator.camera_rays = 4;
-/// assert!(!finite_sphere_covers(&scene));
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-pub fn finite_sphere_covers(scene: &Scene) -> bool {
-    use mcrt_scene::ScatteringOrders::Limited;
-    match scene.effects.scattering_orders {
-        Limited(0) => true,
-        Limited(1) => scattered_covered(scene) && pairs_weigh_nothing(scene),
-        _ => false,
-    }
-}
-
-/// Whether the finite-sphere model covers `scene` once q = 1 and N_B = 1
-/// (the standard method: one sphere per camera ray, one camera ray) at any
-/// R: uncollided light, and single-scattered light in an isotropic medium
-/// (point lights and beams). `tuning::optimize` searches R there.
-///
-/// ```
-/// use mcrt_noise::{oracle::finite_sphere_covers_the_standard_method, Scene};
-///
-/// let mut scene = Scene::builder()
-///     .medium(1.0, 0.8)
-///     .point_light([1.0, 0.0, 1.0], 1.0)
-///     .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
-///     .estimator(0.2, 0.5, 20, 4)
-///     .build()?;
-/// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
-/// assert!(finite_sphere_covers_the_standard_method(&scene));
-/// scene.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g: 0.5 };
-/// assert!(!finite_sphere_covers_the_standard_method(&scene));
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-pub fn finite_sphere_covers_the_standard_method(scene: &Scene) -> bool {
-    use mcrt_scene::ScatteringOrders::Limited;
-    match scene.effects.scattering_orders {
-        Limited(0) => true,
-        Limited(1) => scattered_covered(scene),
-        _ => false,
-    }
-}
-
-/// An order-1 scene whose medium the finite-sphere model of single
-/// scattering covers: isotropic (point lights and beams).
-fn scattered_covered(scene: &Scene) -> bool {
-    scene.effects.scattering_orders == mcrt_scene::ScatteringOrders::Limited(1)
-        && scene.medium.phase == mcrt_scene::Phase::Isotropic
-}
-
-/// Whether (7)–(9) weigh Q, C₂₃ and C₂₄ 0: q = 1 (one sphere per camera
-/// ray) and N_B = 1 (one camera ray).
-pub(crate) fn pairs_weigh_nothing(scene: &Scene) -> bool {
-    scene.estimator.q == 1.0 && scene.estimator.camera_rays == 1
-}
-
-/// What the finite-sphere model gives of an order-1 scene.
-enum OrderOne<T> {
-    /// μ, M₂, P: the whole model where the pairs weigh nothing; with Q,
-    /// C₂₃ and C₂₄ too where they were asked for ([`Scope::FinitePairs`]).
-    Integrals(FiniteIntegrals<T>),
-    /// μ(R)·e^{c₀} alone: the pairs are not affordable yet, or (the
-    /// error) the whole model was asked for and failed.
-    Mean(Estimate<T>, Option<OracleError>),
-}
-
-/// The finite-sphere model of an order-1 scene: its μ, M₂ and P when
-/// `unpaired` (q = 1, N_B = 1: all its Var L needs), else — or when M₂ or P
-/// fails (none is known to; the fallback keeps the exact mean) — μ(R)·e^{c₀} =
-/// μ₀(R) + μ₁(R) alone, the uncollided mean (ray-centric) plus the
-/// single-scattered one (`finite::scattered`), computed once either way.
-fn order_one<T: CheckRule>(ff: &FiniteField<T>, unpaired: bool, opts: &Options) -> Result<OrderOne<T>, OracleError> {
-    if unpaired {
-        let parts = ff.order1_unpaired_parts(opts)?;
-        let mean = parts.mean?;
-        return Ok(match (parts.m2, parts.p) {
-            (Ok(m2), Ok(p)) => OrderOne::Integrals(FiniteIntegrals { mean, m2, p, q: None, c23: None, c24: None }),
-            (Err(e), _) | (_, Err(e)) => OrderOne::Mean(mean, Some(e)),
-        });
-    }
-    let o = opts.clone().declared();
-    let (uncollided, scattered) = rayon::join(|| ff.ray_total(Functional::Mean, &o), || ff.scattered_mean(&o));
-    Ok(OrderOne::Mean(uncollided?.plus(scattered?), None))
-}
-
-/// Every integral of the order-1 finite-sphere model, Q, C₂₃ and C₂₄
-/// included ([`Scope::FinitePairs`]), or, where that fails, the exact
-/// mean `mean` computed before with the failure: the mean survives a
-/// budget the pairs spent.
-fn with_finite_pairs<T: CheckRule>(ff: &FiniteField<T>, mean: Estimate<T>, opts: &Options) -> OrderOne<T> {
-    match ff.order1_integrals(opts) {
-        Ok(whole) => OrderOne::Integrals(whole),
-        Err(failed) => OrderOne::Mean(mean, Some(failed)),
-    }
-}
-
-/// Why an order-1 scene's prediction is not the finite-sphere model: what
-/// the model does not cover yet, or its failure (`None` for order 0, or
-/// when it is the prediction).
-fn finite_not_used<T>(scene: &Scene, run: &Result<Option<OrderOne<T>>, OracleError>) -> Option<String> {
-    if scene.effects.scattering_orders == mcrt_scene::ScatteringOrders::Limited(0) {
-        return None;
-    }
-    let e = &scene.estimator;
-    let needed = match (e.q < 1.0, e.camera_rays > 1) {
-        (true, true) => "C₂₃, Q and C₂₄",
-        (true, false) => "C₂₃ and Q (q < 1: several spheres per camera ray)",
-        _ => "C₂₄ (N_B > 1: several camera rays)",
-    };
-    match run {
-        Ok(Some(OrderOne::Integrals(_))) => None,
-        Ok(Some(OrderOne::Mean(_, Some(err)))) => {
-            Some(format!("its computation failed (its exact mean is still `finite_mean`): {err}"))
-        }
-        // The mean itself failed (before any pairs were tried): that is
-        // the reason, whatever the scene's q and N_B.
-        Err(err) => Some(format!("its computation failed: {err}")),
-        Ok(Some(OrderOne::Mean(_, None))) => Some(format!(
-            "with single-scattered light it covers q = 1 and N_B = 1 only (here q = {}, N_B = {}), where (7)–(9) \
-             weigh the correlations of two spheres 0; this scene needs {needed}, which take minutes at 10⁻³ \
-             (docs/model.md §9.7): `mcrt-noise oracle --finite-pairs` computes them (give it --rel-tol and \
-             --max-evals); its exact mean is `finite_mean`",
-            e.q, e.camera_rays
-        )),
-        Ok(None) => Some("the finite-sphere model of single-scattered light covers isotropic media only".into()),
-    }
-}
-
-/// The report's `finite_mean` from the order-1 mean μ(R)·e^{c₀} (or its
-/// failure, reported as missing), with the small-sphere mean μ(0)·e^{c₀}
-/// (`small`, restored by `k` = e^{−c₀}) for the bias, formed in the working
-/// precision.
-fn finite_mean_report<T: CheckRule>(
-    scattered: Result<Option<Estimate<T>>, OracleError>,
-    ff: Option<&FiniteField<T>>,
-    small: &Estimate<T>,
-    k: &T,
-) -> Option<FiniteMean> {
-    match (scattered, ff) {
-        (Ok(Some(m)), Some(ff)) => {
-            let kf = (-ff.shift.clone()).exp();
-            let (value, error) = (m.value.clone() * kf.clone(), m.error.clone() * kf);
-            let bias = value.clone() - small.value.clone() * k.clone();
-            let bias_error = error.clone() + small.error.clone() * k.clone();
-            Some(FiniteMean {
-                mean: Some(reported(&value, &error)),
-                bias: Some(reported(&bias, &bias_error)),
-                missing: None,
-                evaluations: m.evaluations,
-            })
-        }
-        (Err(e), _) => Some(FiniteMean { mean: None, bias: None, missing: Some(e.to_string()), evaluations: 0 }),
-        _ => None,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// An order-1 scene with several spheres per camera ray gets the
-    /// small-sphere prediction by default, and the reason names the flag
-    /// that computes the finite-sphere pairs.
-    #[test]
-    fn the_reason_for_the_small_sphere_prediction_names_the_flag() {
-        let scene = Scene::builder()
-            .medium(1.0, 0.8)
-            .point_light([1.0, 0.0, 1.0], 1.0)
-            .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
-            .estimator(0.2, 0.5, 20, 8)
-            .build()
-            .unwrap();
-        let mut scene = scene;
-        scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
-        let mean = Estimate::known(1.0f64, 1e-9, 1, crate::quad::Rule::TanhSinh);
-        let why = finite_not_used(&scene, &Ok(Some(OrderOne::Mean(mean, None)))).unwrap();
-        assert!(why.contains("--finite-pairs") && why.contains("C₂₃, Q and C₂₄"), "{why}");
-        // Where the mean itself failed, the failure is the reason: the flag
-        // would not help (it computes the pairs after the mean).
-        let failed = OracleError::Quadrature {
-            what: "finite-sphere mean luminance",
-            reason: "budget spent".into(),
-            guess: None,
-            evaluations: 7,
-        };
-        let why = finite_not_used::<f64>(&scene, &Err(failed)).unwrap();
-        assert!(why.contains("its computation failed") && why.contains("budget spent"), "{why}");
-        assert!(!why.contains("--finite-pairs"), "{why}");
     }
 }

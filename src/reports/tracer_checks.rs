@@ -320,11 +320,13 @@ pub fn markdown(scenes_dir: &Path, figures_dir: &Path) -> Result<String, String>
     writeln!(
         w,
         "The statistical tests compare the tracer with the finite-sphere model with no allowance at all \
-         (`tests/tracer_vs_finite.rs`: 14 points; `tests/tracer_vs_oracle.rs`: its order-0 points). For \
-         single-scattered light, which the finite-sphere model does not cover, `tests/tracer_vs_oracle.rs` \
-         allows for the small-sphere model's error, measured at R = 0.1 with each point's own q, N_F, N_B (plus \
-         two standard errors) and carried to the point's R by R ln(1/R) (`prec::model_error_scale`); `cargo test \
-         --release --test tracer_vs_oracle -- --ignored --nocapture` re-measures those constants (~3 min)."
+         (`tests/tracer_vs_finite.rs`: 14 points; `tests/tracer_vs_oracle.rs`: all its points, through the \
+         library's `predict`, its two order-1 points with the correlations of two spheres of single-scattered \
+         light; `tests/finite_order1*.rs`: single-scattered light from point lights and beams). The small-sphere \
+         model's own error for single-scattered light, which serves Henyey–Greenstein media at order 1 (not yet \
+         in the finite model), is measured at R = 0.1 with the order-1 points' q, N_F, N_B (plus two standard \
+         errors) and carried to a scene's R by R ln(1/R) (`prec::model_error_scale`); `cargo test --release \
+         --test tracer_vs_oracle -- --ignored --nocapture` re-measures it (~3 min)."
     )
     .unwrap();
     writeln!(w).unwrap();

@@ -49,6 +49,7 @@ use crate::quad::{decay_lengths, CheckRule, Domain, Estimate, Options, Outcome};
 use crate::real::Real;
 use beam::BeamLight;
 use mcrt_scene::{DVec3, Light, Phase, ScatteringOrders, Scene};
+pub use order1::Weighed;
 use point::PointLight;
 pub use ray::Functional;
 

@@ -301,40 +301,70 @@ impl<T: CheckRule> FiniteField<T> {
     /// light; isotropic media, point lights: beams are refused), each times
     /// e^{c₀}.
     pub fn order1_integrals(&self, opts: &Options) -> Result<FiniteIntegrals<T>, OracleError> {
+        self.order1_integrals_weighed(opts, Weighed::ALL)
+    }
+
+    /// [`FiniteField::order1_integrals`] with only the correlations that
+    /// (7)–(9) weigh: C₂₃ when q < 1 (weight 2(1 − q)/(N_F N_B)), C₂₄ when
+    /// N_B > 1 (weight 1/N_F − 1/(N_F N_B)); the others are `None`, which
+    /// Var L takes as exact zeros. Q is computed always (beside P, seconds).
+    /// Each correlation is about half the cost of the whole model.
+    pub fn order1_integrals_weighed(
+        &self,
+        opts: &Options,
+        weighed: Weighed,
+    ) -> Result<FiniteIntegrals<T>, OracleError> {
         self.order1_pairs_covered()?;
         // Each integral is a sum of two parts: half the absolute goal each.
         let o = &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() }.declared();
         // One set of I(D) tables for μ, M₂, P and Q, charged to μ.
         let tables = ScatteredTables::default();
-        let ((mean, m2), ((c230, c231), (c240, c241))) = rayon::join(
+        let correlation = |which: Functional, needed: bool| {
+            needed.then(|| {
+                let (ray, added) = rayon::join(|| self.ray_total(which, o), || self.order1_pair_added(which, o));
+                sum(ray, added)
+            })
+        };
+        let ((mean, m2), (c23, c24)) = rayon::join(
             || self.order1_mean_and_m2(&tables, o),
             || {
                 rayon::join(
-                    || {
-                        rayon::join(
-                            || self.ray_total(Functional::Pair23, o),
-                            || self.order1_pair_added(Functional::Pair23, o),
-                        )
-                    },
-                    || {
-                        rayon::join(
-                            || self.ray_total(Functional::Pair24, o),
-                            || self.order1_pair_added(Functional::Pair24, o),
-                        )
-                    },
+                    || correlation(Functional::Pair23, weighed.c23),
+                    || correlation(Functional::Pair24, weighed.c24),
                 )
             },
         );
         let (p, q) = self.order1_p_and_q_with(&tables, o);
         let mean = tables.charge(mean);
-        Ok(FiniteIntegrals {
-            mean: mean?,
-            m2: m2?,
-            p: p?,
-            q: Some(q?),
-            c23: Some(sum(c230, c231)?),
-            c24: Some(sum(c240, c241)?),
-        })
+        Ok(FiniteIntegrals { mean: mean?, m2: m2?, p: p?, q: Some(q?), c23: c23.transpose()?, c24: c24.transpose()? })
+    }
+}
+
+/// Which correlations of two spheres (7)–(9) weigh: the ones
+/// [`FiniteField::order1_integrals_weighed`] computes.
+///
+/// ```
+/// use mcrt_noise::model::finite::Weighed;
+///
+/// assert_eq!(Weighed::of(0.5, 1), Weighed { c23: true, c24: false });
+/// assert_eq!(Weighed::of(1.0, 8), Weighed { c23: false, c24: true });
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Weighed {
+    /// C₂₃: two spheres of one camera ray, weighed 2(1 − q)/(N_F N_B).
+    pub c23: bool,
+    /// C₂₄: spheres of two camera rays, weighed (1 − 1/N_B)/N_F.
+    pub c24: bool,
+}
+
+impl Weighed {
+    /// Both correlations.
+    pub const ALL: Weighed = Weighed { c23: true, c24: true };
+
+    /// The correlations with a non-zero weight at `q` and `camera_rays`
+    /// (N_B).
+    pub fn of(q: f64, camera_rays: u64) -> Weighed {
+        Weighed { c23: q < 1.0, c24: camera_rays > 1 }
     }
 }
 

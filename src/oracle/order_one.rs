@@ -1,0 +1,277 @@
+//! What the finite-sphere model covers of an order-1 scene (uncollided
+//! plus single-scattered light) and what the oracle computes of it: the
+//! exact mean always, μ, M₂ and P where q = 1 and N_B = 1, the correlations
+//! of two spheres when asked ([`Scope::FinitePairs`](super::Scope::FinitePairs),
+//! [`Scope::ExactPrediction`](super::Scope::ExactPrediction)), and why the prediction is not this
+//! model where it is not.
+
+use super::report::{reported, FiniteMean};
+use crate::model::field::Field;
+use crate::model::finite::{FiniteField, FiniteIntegrals, Functional, Weighed};
+use crate::model::OracleError;
+use crate::quad::{CheckRule, Estimate, Options};
+use mcrt_scene::{Light, Scene};
+
+/// The finite-sphere field of an order-1 scene whose exact mean the model
+/// covers (isotropic medium; `model::finite::scattered`,
+/// `model::finite::scattered_beam`), or `None`.
+pub(super) fn scattered_mean_field<T: CheckRule>(scene: &Scene, field: &Field<T>) -> Option<FiniteField<T>> {
+    scattered_covered(scene).then(|| FiniteField::of_first_segments(scene, field))
+}
+
+/// Whether the oracle's prediction for `scene` is the finite-sphere model
+/// (exact at the scene's R; when its computation succeeds): uncollided
+/// light, and single-scattered light in an isotropic medium (point lights
+/// and beams) with q = 1 and N_B = 1. (With [`Scope::FinitePairs`](super::Scope::FinitePairs) the
+/// oracle gives it at other q and N_B too, for point lights; this is what
+/// every scope, and the library's `predict`, covers.)
+///
+/// ```
+/// use mcrt_noise::{oracle::finite_sphere_covers, Scene};
+///
+/// let mut scene = Scene::builder()
+///     .medium(1.0, 0.8)
+///     .point_light([1.0, 0.0, 1.0], 1.0)
+///     .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+///     .estimator(0.2, 1.0, 20, 1)
+///     .build()?;
+/// assert!(finite_sphere_covers(&scene));
+/// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
+/// assert!(finite_sphere_covers(&scene));
+/// scene.estimator.camera_rays = 4;
+/// assert!(!finite_sphere_covers(&scene));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn finite_sphere_covers(scene: &Scene) -> bool {
+    use mcrt_scene::ScatteringOrders::Limited;
+    match scene.effects.scattering_orders {
+        Limited(0) => true,
+        Limited(1) => scattered_covered(scene) && pairs_weigh_nothing(scene),
+        _ => false,
+    }
+}
+
+/// Whether [`Scope::ExactPrediction`](super::Scope::ExactPrediction) (and [`Scope::FinitePairs`](super::Scope::FinitePairs)) give
+/// the finite-sphere model of `scene` with the correlations of two spheres
+/// (exact at any R, q, N_B; when their computation succeeds): single-scattered
+/// light in an isotropic medium, point lights only, q < 1 or N_B > 1 (at
+/// q = 1 and N_B = 1 [`finite_sphere_covers`] covers it without them).
+///
+/// ```
+/// use mcrt_noise::oracle::finite_pairs_cover;
+/// use mcrt_noise::Scene;
+///
+/// let mut scene = Scene::builder()
+///     .medium(1.0, 0.8)
+///     .point_light([1.0, 0.0, 1.0], 1.0)
+///     .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+///     .estimator(0.2, 0.5, 20, 4)
+///     .build()?;
+/// assert!(!finite_pairs_cover(&scene)); // uncollided light needs no pairs model
+/// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
+/// assert!(finite_pairs_cover(&scene));
+/// scene.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g: 0.5 };
+/// assert!(!finite_pairs_cover(&scene));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn finite_pairs_cover(scene: &Scene) -> bool {
+    scattered_covered(scene)
+        && !pairs_weigh_nothing(scene)
+        && scene.lights.iter().all(|l| matches!(l, Light::Point { .. }))
+}
+
+/// Whether the finite-sphere model covers `scene` once q = 1 and N_B = 1
+/// (the standard method: one sphere per camera ray, one camera ray) at any
+/// R: uncollided light, and single-scattered light in an isotropic medium
+/// (point lights and beams). `tuning::optimize` searches R there.
+///
+/// ```
+/// use mcrt_noise::{oracle::finite_sphere_covers_the_standard_method, Scene};
+///
+/// let mut scene = Scene::builder()
+///     .medium(1.0, 0.8)
+///     .point_light([1.0, 0.0, 1.0], 1.0)
+///     .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+///     .estimator(0.2, 0.5, 20, 4)
+///     .build()?;
+/// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
+/// assert!(finite_sphere_covers_the_standard_method(&scene));
+/// scene.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g: 0.5 };
+/// assert!(!finite_sphere_covers_the_standard_method(&scene));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn finite_sphere_covers_the_standard_method(scene: &Scene) -> bool {
+    use mcrt_scene::ScatteringOrders::Limited;
+    match scene.effects.scattering_orders {
+        Limited(0) => true,
+        Limited(1) => scattered_covered(scene),
+        _ => false,
+    }
+}
+
+/// An order-1 scene whose medium the finite-sphere model of single
+/// scattering covers: isotropic (point lights and beams).
+fn scattered_covered(scene: &Scene) -> bool {
+    scene.effects.scattering_orders == mcrt_scene::ScatteringOrders::Limited(1)
+        && scene.medium.phase == mcrt_scene::Phase::Isotropic
+}
+
+/// Whether (7)–(9) weigh Q, C₂₃ and C₂₄ 0: q = 1 (one sphere per camera
+/// ray) and N_B = 1 (one camera ray).
+pub(crate) fn pairs_weigh_nothing(scene: &Scene) -> bool {
+    scene.estimator.q == 1.0 && scene.estimator.camera_rays == 1
+}
+
+/// What the finite-sphere model gives of an order-1 scene.
+pub(super) enum OrderOne<T> {
+    /// μ, M₂, P: the whole model where the pairs weigh nothing; with Q,
+    /// C₂₃ and C₂₄ too where they were asked for ([`Scope::FinitePairs`](super::Scope::FinitePairs)).
+    Integrals(FiniteIntegrals<T>),
+    /// μ(R)·e^{c₀} alone: the pairs are not affordable yet, or (the
+    /// error) the whole model was asked for and failed.
+    Mean(Estimate<T>, Option<OracleError>),
+}
+
+/// The finite-sphere model of an order-1 scene: its μ, M₂ and P when
+/// `unpaired` (q = 1, N_B = 1: all its Var L needs), else — or when M₂ or P
+/// fails (none is known to; the fallback keeps the exact mean) — μ(R)·e^{c₀} =
+/// μ₀(R) + μ₁(R) alone, the uncollided mean (ray-centric) plus the
+/// single-scattered one (`finite::scattered`), computed once either way.
+pub(super) fn order_one<T: CheckRule>(
+    ff: &FiniteField<T>,
+    unpaired: bool,
+    opts: &Options,
+) -> Result<OrderOne<T>, OracleError> {
+    if unpaired {
+        let parts = ff.order1_unpaired_parts(opts)?;
+        let mean = parts.mean?;
+        return Ok(match (parts.m2, parts.p) {
+            (Ok(m2), Ok(p)) => OrderOne::Integrals(FiniteIntegrals { mean, m2, p, q: None, c23: None, c24: None }),
+            (Err(e), _) | (_, Err(e)) => OrderOne::Mean(mean, Some(e)),
+        });
+    }
+    let o = opts.clone().declared();
+    let (uncollided, scattered) = rayon::join(|| ff.ray_total(Functional::Mean, &o), || ff.scattered_mean(&o));
+    Ok(OrderOne::Mean(uncollided?.plus(scattered?), None))
+}
+
+/// Every integral of the order-1 finite-sphere model, Q and the
+/// correlations `weighed` included ([`Scope::FinitePairs`](super::Scope::FinitePairs),
+/// [`Scope::ExactPrediction`](super::Scope::ExactPrediction)), or, where that fails, the exact mean
+/// `mean` computed before with the failure: the mean survives a budget the
+/// pairs spent. Of the two means (`mean`, computed at the run's goal, and
+/// the one computed beside the pairs, at theirs) the one with the smaller
+/// bar is kept: two computations of one μ by different routes, each within
+/// its bar.
+pub(super) fn with_finite_pairs<T: CheckRule>(
+    ff: &FiniteField<T>,
+    mean: Estimate<T>,
+    opts: &Options,
+    weighed: Weighed,
+) -> OrderOne<T> {
+    match ff.order1_integrals_weighed(opts, weighed) {
+        Ok(mut whole) => {
+            if mean.error < whole.mean.error {
+                whole.mean = mean;
+            }
+            OrderOne::Integrals(whole)
+        }
+        Err(failed) => OrderOne::Mean(mean, Some(failed)),
+    }
+}
+
+/// Why an order-1 scene's prediction is not the finite-sphere model: what
+/// the model does not cover yet, or its failure (`None` for order 0, or
+/// when it is the prediction).
+pub(super) fn finite_not_used<T>(scene: &Scene, run: &Result<Option<OrderOne<T>>, OracleError>) -> Option<String> {
+    if scene.effects.scattering_orders == mcrt_scene::ScatteringOrders::Limited(0) {
+        return None;
+    }
+    let e = &scene.estimator;
+    let needed = match (e.q < 1.0, e.camera_rays > 1) {
+        (true, true) => "C₂₃, Q and C₂₄",
+        (true, false) => "C₂₃ and Q (q < 1: several spheres per camera ray)",
+        _ => "C₂₄ (N_B > 1: several camera rays)",
+    };
+    match run {
+        Ok(Some(OrderOne::Integrals(_))) => None,
+        Ok(Some(OrderOne::Mean(_, Some(err)))) => {
+            Some(format!("its computation failed (its exact mean is still `finite_mean`): {err}"))
+        }
+        // The mean itself failed (before any pairs were tried): that is
+        // the reason, whatever the scene's q and N_B.
+        Err(err) => Some(format!("its computation failed: {err}")),
+        Ok(Some(OrderOne::Mean(_, None))) => Some(format!(
+            "with single-scattered light it covers q = 1 and N_B = 1 only (here q = {}, N_B = {}), where (7)–(9) \
+             weigh the correlations of two spheres 0; this scene needs {needed}, which take about a minute at \
+             10⁻³ (docs/model.md §9.7): the library's `predict` computes them (point lights, f64), and so does \
+             `mcrt-noise oracle --finite-pairs` (give it --rel-tol and --max-evals); its exact mean is \
+             `finite_mean`",
+            e.q, e.camera_rays
+        )),
+        Ok(None) => Some("the finite-sphere model of single-scattered light covers isotropic media only".into()),
+    }
+}
+
+/// The report's `finite_mean` from the order-1 mean μ(R)·e^{c₀} (or its
+/// failure, reported as missing), with the small-sphere mean μ(0)·e^{c₀}
+/// (`small`, restored by `k` = e^{−c₀}) for the bias, formed in the working
+/// precision.
+pub(super) fn finite_mean_report<T: CheckRule>(
+    scattered: Result<Option<Estimate<T>>, OracleError>,
+    ff: Option<&FiniteField<T>>,
+    small: &Estimate<T>,
+    k: &T,
+) -> Option<FiniteMean> {
+    match (scattered, ff) {
+        (Ok(Some(m)), Some(ff)) => {
+            let kf = (-ff.shift.clone()).exp();
+            let (value, error) = (m.value.clone() * kf.clone(), m.error.clone() * kf);
+            let bias = value.clone() - small.value.clone() * k.clone();
+            let bias_error = error.clone() + small.error.clone() * k.clone();
+            Some(FiniteMean {
+                mean: Some(reported(&value, &error)),
+                bias: Some(reported(&bias, &bias_error)),
+                missing: None,
+                evaluations: m.evaluations,
+            })
+        }
+        (Err(e), _) => Some(FiniteMean { mean: None, bias: None, missing: Some(e.to_string()), evaluations: 0 }),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An order-1 scene with several spheres per camera ray gets the
+    /// small-sphere prediction by default, and the reason names the flag
+    /// that computes the finite-sphere pairs.
+    #[test]
+    fn the_reason_for_the_small_sphere_prediction_names_the_flag() {
+        let scene = Scene::builder()
+            .medium(1.0, 0.8)
+            .point_light([1.0, 0.0, 1.0], 1.0)
+            .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+            .estimator(0.2, 0.5, 20, 8)
+            .build()
+            .unwrap();
+        let mut scene = scene;
+        scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
+        let mean = Estimate::known(1.0f64, 1e-9, 1, crate::quad::Rule::TanhSinh);
+        let why = finite_not_used(&scene, &Ok(Some(OrderOne::Mean(mean, None)))).unwrap();
+        assert!(why.contains("--finite-pairs") && why.contains("C₂₃, Q and C₂₄"), "{why}");
+        // Where the mean itself failed, the failure is the reason: the flag
+        // would not help (it computes the pairs after the mean).
+        let failed = OracleError::Quadrature {
+            what: "finite-sphere mean luminance",
+            reason: "budget spent".into(),
+            guess: None,
+            evaluations: 7,
+        };
+        let why = finite_not_used::<f64>(&scene, &Err(failed)).unwrap();
+        assert!(why.contains("its computation failed") && why.contains("budget spent"), "{why}");
+        assert!(!why.contains("--finite-pairs"), "{why}");
+    }
+}
