@@ -126,7 +126,7 @@ fn predict_validates_a_hand_assembled_scene_and_refuses_what_it_cannot_vouch_for
 /// Single-scattered light in an isotropic medium with point lights is
 /// predicted by the finite-sphere model with the correlations of two
 /// spheres that Var L weighs (model bar 0): here q < 1 and N_B = 1, so C₂₃
-/// and not C₂₄ (~15 s).
+/// and not C₂₄ (~40 s).
 #[test]
 fn scattered_light_with_point_lights_is_predicted_exactly_at_any_q() {
     let text =
@@ -144,6 +144,42 @@ fn scattered_light_with_point_lights_is_predicted_exactly_at_any_q() {
     // The Var L bar is that of a goal of 1e-3 at the loosest.
     assert!(p.variance.quadrature_bar <= 1e-3 * p.variance.value, "{p:?}");
     assert_eq!(p.report.prediction.model, "finite-sphere");
+}
+
+/// When the finite-sphere correlations spend the budget (they run last),
+/// `predict` falls back to the small-sphere model with its allowance for
+/// R ≤ 0.1 — here with the cross-segment terms of E10 in it — and returns
+/// the failure beyond (~30 s).
+#[test]
+fn a_prediction_whose_finite_correlations_fail_falls_back_or_fails_loudly() {
+    use mcrt_noise::check::{predict_within, PredictError};
+    use mcrt_noise::oracle::{run_within_scoped, Precision, Scope};
+    use mcrt_noise::quad::Budget;
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic-order1.toml")).unwrap();
+    let mut scene = Scene::from_toml_str(&text).unwrap();
+    (scene.estimator.forward_rays, scene.estimator.camera_rays) = (20, 1);
+    let tol = Some(1e-4);
+    // The budget of everything but the correlations, and a little more.
+    let all_but_the_pairs = |scene: &Scene| {
+        let first = Budget::new(1_000_000_000);
+        run_within_scoped(scene, Precision::F64, tol, &first, Scope::Prediction).unwrap();
+        Budget::new(first.used() + 20_000_000)
+    };
+    scene.estimator.radius = 0.1;
+    let p = predict_within(&scene, Precision::F64, tol, &all_but_the_pairs(&scene)).unwrap();
+    assert_eq!(p.model, Model::SmallSphere, "{}", p.model_bar_basis);
+    let (m, v) = mcrt_noise::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE;
+    let scale = mcrt_noise::prec::model_error_scale(0.1);
+    assert_eq!(p.mean.model_bar, m * scale * p.mean.value);
+    assert_eq!(p.variance.model_bar, v * scale * p.variance.value);
+    let basis = &p.model_bar_basis;
+    assert!(basis.contains("with the cross-segment terms") && basis.contains("its computation failed"), "{basis}");
+    assert!(basis.contains("budget"), "{basis}");
+    scene.estimator.radius = 0.2;
+    let err = predict_within(&scene, Precision::F64, tol, &all_but_the_pairs(&scene)).unwrap_err();
+    assert!(matches!(err, PredictError::Oracle(_)), "{err}");
+    assert!(err.to_string().contains("budget"), "{err}");
 }
 
 /// What the finite-sphere model does not cover yet (Henyey–Greenstein

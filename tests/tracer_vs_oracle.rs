@@ -18,7 +18,10 @@
 //! order-1 scenes the finite model does not cover (Henyey–Greenstein
 //! media): |tracer/small-sphere − 1| at R = 0.1 with the order-1 points'
 //! q, N_F, N_B (4·10⁷ trials), plus two standard errors, is
-//! `mcrt_noise::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE`; the ignored test
+//! `mcrt_noise::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE`; at the order-1
+//! points the small-sphere model of the same report is also checked
+//! against the tracer with that allowance carried to the point's R by
+//! `prec::model_error_scale` (R ln(1/R)); the ignored test
 //! `model_error_at_the_reference_radius` re-measures it
 //! (`cargo test --release --test tracer_vs_oracle -- --ignored --nocapture`,
 //! ~3 min). More points, without any allowance, in `tests/tracer_vs_finite.rs`
@@ -29,8 +32,8 @@
 
 use mcrt_noise::check::{predict, Model};
 use mcrt_noise::oracle::{run, Precision};
-use mcrt_noise::prec::MODEL_ERROR_RADIUS;
-use mcrt_noise::reports::compare::{sides, Side};
+use mcrt_noise::prec::{model_error_scale, MODEL_ERROR_RADIUS};
+use mcrt_noise::reports::compare::{sides, small_sphere_sides, Side};
 use mcrt_reference::{trace, HitMethod, Tracer};
 use mcrt_scene::{Phase, ScatteringOrders, Scene};
 use std::path::Path;
@@ -108,6 +111,18 @@ fn check(p: Point, seed: u64) {
     let (dv, av) = line("variance", &var, eps.1);
     assert!(dm <= am, "{}: mean disagrees: {mean:?}", p.scene);
     assert!(dv <= av, "{}: variance disagrees: {var:?}", p.scene);
+    // The small-sphere model beside it (the same report), with the
+    // allowance measured for these q, N_F, N_B at R = 0.1 and carried to
+    // the point's R: the check of that carrying, which serves
+    // Henyey–Greenstein media at order 1.
+    if let Some(((m, v), _)) = p.model_at_r0 {
+        let scale = model_error_scale(p.radius);
+        let (small_mean, small_var) = small_sphere_sides(&oracle, &s);
+        let (dm, am) = line("small-sphere mean", &small_mean, m * scale * small_mean.oracle.abs());
+        let (dv, av) = line("small-sphere variance", &small_var, v * scale * small_var.oracle.abs());
+        assert!(dm <= am, "{}: the small-sphere mean is beyond its allowance: {small_mean:?}", p.scene);
+        assert!(dv <= av, "{}: the small-sphere Var L is beyond its allowance: {small_var:?}", p.scene);
+    }
     let (rm, rv) = (mean.tracer_se / mean.tracer, var.tracer_se / var.tracer);
     assert!(
         rm <= p.resolution.0 && rv <= p.resolution.1,

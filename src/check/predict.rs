@@ -133,7 +133,9 @@ impl From<OracleError> for PredictError {
 }
 
 /// The prediction for `scene` in f64 at the default tolerance (1e-10
-/// relative for uncollided light, 1e-6 with scattered light).
+/// relative for uncollided light, 1e-6 with scattered light; the
+/// finite-sphere correlations of single-scattered light 1e-3,
+/// [`crate::prec::FINITE_PAIRS_PREDICTION_TOL`]).
 ///
 /// The scene is validated first (a hand-assembled [`Scene`] gets the scene
 /// file's checks). Uncollided light (scattering order 0) is predicted by the
@@ -153,8 +155,8 @@ impl From<OracleError> for PredictError {
 /// computation itself fails, the small-sphere model with its allowance
 /// serves for R ≤ 0.1 and the failure is returned beyond (and with a beam,
 /// whose small-sphere error was never measured).
-/// Other order-1 scenes (Henyey–Greenstein media; at more than 53 bits,
-/// point lights with q < 1 or N_B > 1) are predicted by the small-sphere
+/// Other order-1 scenes (Henyey–Greenstein media; in MPFR, point lights
+/// with q < 1 or N_B > 1) are predicted by the small-sphere
 /// model with its
 /// measured allowance as the model bar, for R ≤ 0.1
 /// ([`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE`] where its (23), (24)
@@ -177,7 +179,9 @@ pub fn predict(scene: &Scene) -> Result<Prediction, PredictError> {
 }
 
 /// [`predict`] at a chosen precision and relative tolerance (default:
-/// [`Precision::default_tol_for`]).
+/// [`Precision::default_tol_for`]; the finite-sphere correlations of
+/// single-scattered light, computed in f64 only, at `rel_tol` or
+/// [`crate::prec::FINITE_PAIRS_PREDICTION_TOL`], whichever is looser).
 ///
 /// ```
 /// use mcrt_noise::{check::predict_with, oracle::Precision, Scene};
@@ -189,6 +193,34 @@ pub fn predict(scene: &Scene) -> Result<Prediction, PredictError> {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -> Result<Prediction, PredictError> {
+    let pairs = precision == Precision::F64 && oracle::finite_pairs_cover(scene);
+    let evaluations = if pairs { FINITE_PAIRS_PREDICTION_EVALUATIONS } else { precision.default_evaluations() };
+    predict_within(scene, precision, rel_tol, &Budget::new(evaluations))
+}
+
+/// [`predict_with`] within the evaluation budget (and deadline) `budget`,
+/// shared by every integral of the prediction, in place of its default
+/// ([`Precision::default_evaluations`], or
+/// [`crate::prec::FINITE_PAIRS_PREDICTION_EVALUATIONS`] where the
+/// finite-sphere correlations of single-scattered light are computed).
+/// Those correlations run last: if they spend the budget the small-sphere
+/// model with its allowance serves for R ≤ 0.1, and beyond the failure is
+/// returned ([`PredictError::Oracle`]).
+///
+/// ```
+/// use mcrt_noise::{check::predict_within, oracle::Precision, quad::Budget, Scene};
+///
+/// let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml"))?;
+/// let scene = Scene::from_toml_str(&text)?;
+/// assert!(predict_within(&scene, Precision::F64, None, &Budget::new(100)).is_err());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn predict_within(
+    scene: &Scene,
+    precision: Precision,
+    rel_tol: Option<f64>,
+    budget: &Budget,
+) -> Result<Prediction, PredictError> {
     let scene = scene.validated()?;
     if let Some(tol) = rel_tol {
         if !(tol > 0.0 && tol < 1.0) {
@@ -212,14 +244,15 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
     let with_pairs = precision == Precision::F64 && oracle::finite_pairs_cover(&scene);
     let covered = oracle::finite_sphere_covers(&scene) || with_pairs;
     if scattered && !scattered_beam && radius > MODEL_ERROR_RADIUS && !covered {
-        return Err(small_sphere_too_large("the finite-sphere model does not cover this scene"));
+        let why = if oracle::finite_pairs_cover(&scene) {
+            "in MPFR the finite-sphere correlations of single-scattered light are not computed: f64 gives them"
+        } else {
+            "the finite-sphere model does not cover this scene"
+        };
+        return Err(small_sphere_too_large(why));
     }
-    let report = if with_pairs {
-        let budget = Budget::new(FINITE_PAIRS_PREDICTION_EVALUATIONS);
-        oracle::run_within_scoped(&scene, precision, rel_tol, &budget, oracle::Scope::ExactPrediction)?
-    } else {
-        oracle::run_scoped(&scene, precision, rel_tol, oracle::Scope::Prediction)?
-    };
+    let scope = if with_pairs { oracle::Scope::ExactPrediction } else { oracle::Scope::Prediction };
+    let report = oracle::run_within_scoped(&scene, precision, rel_tol, budget, scope)?;
     let p = &report.prediction;
     let (model, (mean_rel, var_rel), basis) = match &report.finite {
         Some(f) if f.covers == "uncollided" => (Model::FiniteSphere, (0.0, 0.0), FINITE_BASIS.to_string()),

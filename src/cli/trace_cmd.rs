@@ -219,8 +219,18 @@ pub fn compare_cmd(scene: &Scene, trials: &str, seed: u64, threads: Option<usize
         )));
     }
     let tracer = prepared(scene, &range)?;
-    // The comparison reads the prediction, mean and Var L alone.
-    let oracle = mcrt_noise::oracle::run_scoped(scene, Precision::F64, None, mcrt_noise::oracle::Scope::Prediction)?;
+    // The comparison reads the prediction, mean and Var L alone: the
+    // library's, the finite-sphere correlations of single-scattered light
+    // included where they cover the scene (about a minute).
+    use mcrt_noise::oracle::{finite_pairs_cover, run_within_scoped, Scope};
+    use mcrt_noise::prec::FINITE_PAIRS_PREDICTION_EVALUATIONS;
+    let (scope, evaluations) = if finite_pairs_cover(scene) {
+        (Scope::ExactPrediction, FINITE_PAIRS_PREDICTION_EVALUATIONS)
+    } else {
+        (Scope::Prediction, Precision::F64.default_evaluations())
+    };
+    let budget = mcrt_noise::quad::Budget::new(evaluations);
+    let oracle = run_within_scoped(scene, Precision::F64, None, &budget, scope)?;
     let (run, _) = traced(&tracer, seed, range, threads)?;
     let cmp = Comparison::new(&oracle, &run.estimates(), run.counters.trials, seed);
     if json {

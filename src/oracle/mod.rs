@@ -4,11 +4,13 @@
 //! Two models are computed side by side: the small-sphere model of §4.3
 //! (exact only as R → 0; its exact (23), (24), their R → 0 forms and the
 //! §4.4 formula) and the finite-sphere model (`model::finite`, exact at
-//! the scene's R) for uncollided light and, in isotropic media at q = 1
-//! and N_B = 1, for single-scattered light (point lights and beams). The report's
-//! `prediction` is the finite-sphere model where it exists, the
-//! small-sphere one otherwise, and says which (and, with scattered light,
-//! why in `finite_not_used`).
+//! the scene's R) for uncollided light and, in isotropic media, for
+//! single-scattered light (point lights and beams at q = 1 and N_B = 1;
+//! point lights at any q and N_B with [`Scope::FinitePairs`] or
+//! [`Scope::ExactPrediction`], which add the correlations of two spheres).
+//! The report's `prediction` is the finite-sphere model where it exists,
+//! the small-sphere one otherwise, and says which (and, with scattered
+//! light, why in `finite_not_used`).
 
 use crate::model::field::{beam_interval, Field};
 use crate::model::finite::{FiniteField, FiniteIntegrals, Functional, Weighed};
@@ -27,7 +29,9 @@ use std::time::Instant;
 mod order_one;
 mod report;
 pub(crate) use order_one::pairs_weigh_nothing;
-use order_one::{finite_mean_report, finite_not_used, order_one, scattered_mean_field, with_finite_pairs, OrderOne};
+use order_one::{
+    finite_mean_report, finite_not_used, not_weighed, order_one, scattered_mean_field, with_finite_pairs, OrderOne,
+};
 pub use order_one::{finite_pairs_cover, finite_sphere_covers, finite_sphere_covers_the_standard_method};
 use report::{correlation, reported, scaled};
 pub use report::{
@@ -53,6 +57,7 @@ pub use report::{
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Scope {
     /// Every integral of both models (`mcrt-noise oracle`): D₁…D₅ and
     /// (23), (24) with their R → 0 forms whatever the scene's q and N_B
@@ -64,11 +69,14 @@ pub enum Scope {
     /// the small-sphere integrals of two spheres (Q, (23), (24)) 0, and
     /// they and their R → 0 forms are skipped ([`Report::pairs_not_computed`];
     /// with single-scattered light they are ~97 % of the work). The
-    /// library's `predict`.
+    /// library's `predict` where the finite-sphere correlations of two
+    /// spheres are not needed or not covered.
     Prediction,
     /// [`Scope::Everything`] and, for single-scattered light (isotropic
     /// media, point lights) with q < 1 or N_B > 1, the finite-sphere
-    /// model's Q, C₂₃ and C₂₄ (`docs/model.md` §9.7), so that the prediction
+    /// model's Q and the correlations Var L weighs — C₂₃ where q < 1, C₂₄
+    /// where N_B > 1, the other named in `FiniteReport::not_computed`
+    /// (`docs/model.md` §9.7) — so that the prediction
     /// is the exact finite-sphere model at any R (`mcrt-noise oracle
     /// --finite-pairs`). A minute or more where [`Scope::Everything`] takes
     /// seconds: ~7·10⁸ evaluations at 10⁻³ on `point-isotropic-order1` at
@@ -87,7 +95,9 @@ pub enum Scope {
     /// [`crate::prec::FINITE_PAIRS_PREDICTION_TOL`]: the library's
     /// `predict`, exact at any R (model bar 0). About a minute on two cores
     /// (`point-isotropic-order1`: 55 s); their failure is reported as with
-    /// [`Scope::FinitePairs`].
+    /// [`Scope::FinitePairs`], and a failure of the finite-sphere mean in
+    /// [`Report::finite_error`] too. In MPFR it is [`Scope::Prediction`]:
+    /// the correlations would take hours there.
     ExactPrediction,
 }
 
@@ -224,6 +234,8 @@ pub fn run_with_scoped<T: CheckRule>(
         )));
     }
     let predicting = matches!(scope, Scope::Prediction | Scope::ExactPrediction);
+    // The finite-sphere correlations in the prediction: f64 only.
+    let exact = scope == Scope::ExactPrediction && like.prec() <= 53;
     let small_unpaired = (predicting || beam_scattered) && pairs_weigh_nothing(scene);
     let ((ints, finite), scattered) = rayon::join(
         || {
@@ -249,7 +261,7 @@ pub fn run_with_scoped<T: CheckRule>(
         (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if scope == Scope::FinitePairs => {
             Ok(Some(with_finite_pairs(ff, mean, &opts, Weighed::of(scene.estimator.q, scene.estimator.camera_rays))))
         }
-        (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if scope == Scope::ExactPrediction => {
+        (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if exact => {
             let loose = Options { rel_tol: opts.rel_tol.max(FINITE_PAIRS_PREDICTION_TOL), ..opts.clone() };
             let weighed = Weighed::of(scene.estimator.q, scene.estimator.camera_rays);
             Ok(Some(with_finite_pairs(ff, mean, &loose, weighed)))
@@ -274,7 +286,7 @@ pub fn run_with_scoped<T: CheckRule>(
         Ok(Some(OrderOne::Integrals(f))) => (Some(f), Ok(None), None),
         Ok(Some(OrderOne::Mean(m, failed))) => (None, Ok(Some(m)), failed),
         Ok(None) => (None, Ok(None), None),
-        Err(e) => (None, Err(e.clone()), pairs_weigh_nothing(scene).then_some(e)),
+        Err(e) => (None, Err(e.clone()), (pairs_weigh_nothing(scene) || exact).then_some(e)),
     };
     if ints.mean.value.is_zero() {
         return Err(OracleError::Unsupported(
@@ -470,8 +482,11 @@ fn finite_report<T: CheckRule>(
 ) -> FiniteReport {
     let k = (-ff.shift.clone()).exp();
     let mean_t = Valued::from(&f.mean);
-    // Q, C₂₃, C₂₄ are missing only where (7)–(9) weigh them 0 (q = 1,
-    // N_B = 1: `pairs_weigh_nothing`): they enter as exact zeros.
+    // Q, C₂₃, C₂₄ are missing only where (7)–(9) weigh them 0 (all three
+    // at q = 1 and N_B = 1, C₂₃ at q = 1, C₂₄ at N_B = 1: `Weighed`): they
+    // enter as exact zeros.
+    debug_assert!(f.c23.is_some() || counts.q.to_f64() == 1.0, "C₂₃ missing at q = {}", counts.q.to_f64());
+    debug_assert!(f.c24.is_some() || counts.n_b.to_f64() == 1.0, "C₂₄ missing at N_B = {}", counts.n_b.to_f64());
     let var = variance(
         &mean_t,
         &Valued::from(&f.m2),
@@ -516,31 +531,6 @@ fn finite_report<T: CheckRule>(
         covers,
         attenuation_shift: ff.shift.to_f64(),
         evaluations: f.evaluations(),
-    }
-}
-
-/// Why some of Q, C₂₃, C₂₄ are missing from a finite-sphere report: all
-/// three at q = 1 and N_B = 1 ([`PAIRS_NOT_NEEDED`]), C₂₃ alone at q = 1,
-/// C₂₄ alone at N_B = 1 (`Weighed`); `None` when none is.
-fn not_weighed<T: CheckRule>(f: &FiniteIntegrals<T>, counts: &Counts<T>) -> Option<String> {
-    match (f.q.is_some(), f.c23.is_some(), f.c24.is_some()) {
-        (true, true, true) => None,
-        (false, _, _) => Some(PAIRS_NOT_NEEDED.to_string()),
-        (true, false, true) => Some(format!(
-            "C₂₃ enters Var L with weight 2(1 − q)/(N_F N_B) = 0 at q = {} (one \
-             sphere per camera ray) and is not computed",
-            counts.q.to_f64()
-        )),
-        (true, true, false) => Some(format!(
-            "C₂₄ enters Var L with weight (1 − 1/N_B)/N_F = 0 at N_B = {} (one \
-             camera ray) and is not computed",
-            counts.n_b.to_f64()
-        )),
-        (true, false, false) => Some(
-            "C₂₃ and C₂₄ enter Var L with weight 0 at q = 1 and N_B = 1 and are not \
-             computed"
-                .to_string(),
-        ),
     }
 }
 

@@ -5,9 +5,10 @@
 //! [`Scope::ExactPrediction`](super::Scope::ExactPrediction)), and why the prediction is not this
 //! model where it is not.
 
-use super::report::{reported, FiniteMean};
+use super::report::{reported, FiniteMean, PAIRS_NOT_NEEDED};
 use crate::model::field::Field;
 use crate::model::finite::{FiniteField, FiniteIntegrals, Functional, Weighed};
+use crate::model::noise::Counts;
 use crate::model::OracleError;
 use crate::quad::{CheckRule, Estimate, Options};
 use mcrt_scene::{Light, Scene};
@@ -22,9 +23,11 @@ pub(super) fn scattered_mean_field<T: CheckRule>(scene: &Scene, field: &Field<T>
 /// Whether the oracle's prediction for `scene` is the finite-sphere model
 /// (exact at the scene's R; when its computation succeeds): uncollided
 /// light, and single-scattered light in an isotropic medium (point lights
-/// and beams) with q = 1 and N_B = 1. (With [`Scope::FinitePairs`](super::Scope::FinitePairs) the
-/// oracle gives it at other q and N_B too, for point lights; this is what
-/// every scope, and the library's `predict`, covers.)
+/// and beams) with q = 1 and N_B = 1: what every scope covers. (With
+/// [`Scope::FinitePairs`](super::Scope::FinitePairs) and
+/// [`Scope::ExactPrediction`](super::Scope::ExactPrediction), the library's
+/// `predict`, the oracle gives it at other q and N_B too, for point lights:
+/// [`finite_pairs_cover`].)
 ///
 /// ```
 /// use mcrt_noise::{oracle::finite_sphere_covers, Scene};
@@ -124,8 +127,10 @@ pub(crate) fn pairs_weigh_nothing(scene: &Scene) -> bool {
 
 /// What the finite-sphere model gives of an order-1 scene.
 pub(super) enum OrderOne<T> {
-    /// μ, M₂, P: the whole model where the pairs weigh nothing; with Q,
-    /// C₂₃ and C₂₄ too where they were asked for ([`Scope::FinitePairs`](super::Scope::FinitePairs)).
+    /// μ, M₂, P: the whole model where the pairs weigh nothing; with Q and
+    /// the correlations Var L weighs where they were asked for
+    /// ([`Scope::FinitePairs`](super::Scope::FinitePairs),
+    /// [`Scope::ExactPrediction`](super::Scope::ExactPrediction)).
     Integrals(FiniteIntegrals<T>),
     /// μ(R)·e^{c₀} alone: the pairs are not affordable yet, or (the
     /// error) the whole model was asked for and failed.
@@ -162,7 +167,7 @@ pub(super) fn order_one<T: CheckRule>(
 /// pairs spent. Of the two means (`mean`, computed at the run's goal, and
 /// the one computed beside the pairs, at theirs) the one with the smaller
 /// bar is kept: two computations of one μ by different routes, each within
-/// its bar.
+/// its bar (its evaluations count both).
 pub(super) fn with_finite_pairs<T: CheckRule>(
     ff: &FiniteField<T>,
     mean: Estimate<T>,
@@ -171,9 +176,12 @@ pub(super) fn with_finite_pairs<T: CheckRule>(
 ) -> OrderOne<T> {
     match ff.order1_integrals_weighed(opts, weighed) {
         Ok(mut whole) => {
+            // Both computations are charged, whichever is kept.
+            let evaluations = whole.mean.evaluations + mean.evaluations;
             if mean.error < whole.mean.error {
                 whole.mean = mean;
             }
+            whole.mean.evaluations = evaluations;
             OrderOne::Integrals(whole)
         }
         Err(failed) => OrderOne::Mean(mean, Some(failed)),
@@ -241,6 +249,31 @@ pub(super) fn finite_mean_report<T: CheckRule>(
     }
 }
 
+/// Why some of Q, C₂₃, C₂₄ are missing from a finite-sphere report: all
+/// three at q = 1 and N_B = 1 ([`PAIRS_NOT_NEEDED`]), C₂₃ alone at q = 1,
+/// C₂₄ alone at N_B = 1 (`Weighed`); `None` when none is.
+pub(super) fn not_weighed<T: CheckRule>(f: &FiniteIntegrals<T>, counts: &Counts<T>) -> Option<String> {
+    match (f.q.is_some(), f.c23.is_some(), f.c24.is_some()) {
+        (true, true, true) => None,
+        (false, _, _) => Some(PAIRS_NOT_NEEDED.to_string()),
+        (true, false, true) => Some(format!(
+            "C₂₃ enters Var L with weight 2(1 − q)/(N_F N_B) = 0 at q = {} (one \
+             sphere per camera ray) and is not computed",
+            counts.q.to_f64()
+        )),
+        (true, true, false) => Some(format!(
+            "C₂₄ enters Var L with weight (1 − 1/N_B)/N_F = 0 at N_B = {} (one \
+             camera ray) and is not computed",
+            counts.n_b.to_f64()
+        )),
+        (true, false, false) => Some(
+            "C₂₃ and C₂₄ enter Var L with weight 0 at q = 1 and N_B = 1 and are not \
+             computed"
+                .to_string(),
+        ),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -273,5 +306,22 @@ mod tests {
         let why = finite_not_used::<f64>(&scene, &Err(failed)).unwrap();
         assert!(why.contains("its computation failed") && why.contains("budget spent"), "{why}");
         assert!(!why.contains("--finite-pairs"), "{why}");
+    }
+
+    /// The reason a finite-sphere report lacks a correlation names it and
+    /// the parameter that weighs it 0.
+    #[test]
+    fn a_correlation_weighed_zero_is_named() {
+        let e = |v: f64| Some(Estimate::known(v, 1e-12, 1, crate::quad::Rule::TanhSinh));
+        let known = |v: f64| e(v).unwrap();
+        let with = |q, c23, c24| FiniteIntegrals { mean: known(1.0), m2: known(2.0), p: known(3.0), q, c23, c24 };
+        let counts = |q: f64, n_b: f64| Counts { q, n_f: 20.0, n_b };
+        assert_eq!(not_weighed(&with(e(4.0), e(5.0), e(6.0)), &counts(0.5, 8.0)), None);
+        let c24 = not_weighed(&with(e(4.0), e(5.0), None), &counts(0.5, 1.0)).unwrap();
+        assert!(c24.contains("C₂₄") && c24.contains("N_B = 1") && !c24.contains("C₂₃"), "{c24}");
+        let c23 = not_weighed(&with(e(4.0), None, e(6.0)), &counts(1.0, 8.0)).unwrap();
+        assert!(c23.contains("C₂₃") && c23.contains("q = 1") && !c23.contains("C₂₄"), "{c23}");
+        let all = not_weighed(&with(None, None, None), &counts(1.0, 1.0)).unwrap();
+        assert_eq!(all, PAIRS_NOT_NEEDED);
     }
 }

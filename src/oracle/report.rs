@@ -119,12 +119,15 @@ pub struct FiniteReport {
     /// (JSON `null`) where not computed ([`FiniteReport::not_computed`]
     /// says why).
     pub integral_q: Option<Integral>,
-    /// C₂₃, the finite-sphere form of integral (23); `None` as `integral_q`.
+    /// C₂₃, the finite-sphere form of integral (23); `None` where not
+    /// computed (also when q = 1 alone: [`FiniteReport::not_computed`]).
     pub corr23: Option<Integral>,
-    /// C₂₄, the finite-sphere form of integral (24); `None` as `integral_q`.
+    /// C₂₄, the finite-sphere form of integral (24); `None` where not
+    /// computed (also when N_B = 1 alone: [`FiniteReport::not_computed`]).
     pub corr24: Option<Integral>,
-    /// Why Q, C₂₃ and C₂₄ are missing, if they are: a scene with
-    /// single-scattered light and q = 1, N_B = 1, whose Var L weighs them 0.
+    /// Why some of Q, C₂₃ and C₂₄ are missing, if any is: each is computed
+    /// only where Var L weighs it (all three missing at q = 1 and N_B = 1,
+    /// C₂₃ alone at q = 1, C₂₄ alone at N_B = 1).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub not_computed: Option<String>,
     /// The light the model covers: `"uncollided"` (scattering order 0) or
@@ -149,7 +152,7 @@ pub const SMALL_SPHERE_PAIRS_FAILED: &str = "the small-sphere Q, (23), (24) and 
 
 /// [`FiniteReport::not_computed`] of an order-1 scene with q = 1, N_B = 1.
 pub const PAIRS_NOT_NEEDED: &str = "Q, C₂₃ and C₂₄ enter Var L with weight 0 at q = 1 and N_B = 1 (one sphere per \
-     camera ray, one camera ray) and are not computed; with single-scattered light they take minutes \
+     camera ray, one camera ray) and are not computed; with single-scattered light they take about a minute \
      (docs/model.md §9.7)";
 
 /// The finite-sphere mean of a scene with single-scattered light.
@@ -172,7 +175,8 @@ pub struct FiniteMean {
 pub struct ReportPrediction {
     /// `"finite-sphere"` (exact at the scene's R: uncollided light, and
     /// single-scattered light in isotropic media with q = 1, N_B = 1, or
-    /// at any q, N_B with [`super::Scope::FinitePairs`]) or
+    /// at any q, N_B with [`super::Scope::FinitePairs`] or
+    /// [`super::Scope::ExactPrediction`]) or
     /// `"small-sphere"` (§4.3, exact as R → 0; the other
     /// scenes with scattered light).
     pub model: &'static str,
@@ -286,8 +290,9 @@ pub struct Report {
     pub evaluations: u64,
     /// The finite-sphere model: for uncollided light, and for
     /// single-scattered light in isotropic media with q = 1, N_B = 1 (point
-    /// lights and beams) or, with [`super::Scope::FinitePairs`], any q and
-    /// N_B (point lights); `None` elsewhere ([`Report::finite_not_used`]
+    /// lights and beams) or, with [`super::Scope::FinitePairs`] or
+    /// [`super::Scope::ExactPrediction`], any q and N_B (point lights);
+    /// `None` elsewhere ([`Report::finite_not_used`]
     /// says why).
     pub finite: Option<FiniteReport>,
     /// The prediction to test a renderer against: the finite-sphere model

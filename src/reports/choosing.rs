@@ -354,7 +354,7 @@ fn order_one_section(s: &mut String, scenes_dir: &Path, cal: &Calibration) -> Re
     let t0 = Instant::now();
     let o = crate::tuning::optimize(&scene, &opts).map_err(|e| e.to_string())?;
     writeln!(s, "\n## `scenes/{name}.toml` (single scattering): the standard method over R\n").unwrap();
-    writeln!(s, "For single-scattered light in an isotropic medium the finite-sphere model gives the exact Var L and bias at any R, but only at q = 1, N_B = 1 (docs/model.md §9.6: the correlations of two spheres that other q and N_B need take minutes, §9.7, and the oracle computes them only when asked, `--finite-pairs`). So `optimize` searches R and N_F there, with the bias predicted, and shows beside it the small-sphere model's choice of q, N_F, N_B at the scene's R (its Var L exact only as R → 0, the bias from the finite-sphere mean) ({:.1} s):\n", t0.elapsed().as_secs_f64()).unwrap();
+    writeln!(s, "For single-scattered light in an isotropic medium the finite-sphere model gives the exact Var L and bias at any R, but `optimize` uses it at q = 1, N_B = 1 only (docs/model.md §9.6: the correlations of two spheres that other q and N_B need take about a minute per setting, §9.7, too much for a search; `predict` and `oracle --finite-pairs` compute them for one setting). So `optimize` searches R and N_F there, with the bias predicted, and shows beside it the small-sphere model's choice of q, N_F, N_B at the scene's R (its Var L exact only as R → 0, the bias from the finite-sphere mean) ({:.1} s):\n", t0.elapsed().as_secs_f64()).unwrap();
     writeln!(s, "```text\n{}```\n", super::optimum::text(&format!("scenes/{name}.toml"), &o)).unwrap();
     trace_the_sets(s, &scene, &o)?;
     Ok(())

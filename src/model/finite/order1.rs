@@ -210,7 +210,7 @@ impl<T: CheckRule> FiniteField<T> {
     /// `None`): all that Var L needs when q = 1 and N_B = 1, where (7)–(9)
     /// weigh the correlations of two spheres 0 (one sphere per camera ray,
     /// one camera ray: Var L = M₂/N_F + (1 − 1/N_F)P − μ²). Seconds at
-    /// 10⁻⁶ where [`FiniteField::order1_integrals`] takes minutes at 10⁻³
+    /// 10⁻⁶ where [`FiniteField::order1_integrals`] takes about a minute at 10⁻³
     /// (`docs/model.md` §9.6–§9.8). Isotropic media, point lights and beams.
     pub fn order1_unpaired(&self, opts: &Options) -> Result<FiniteIntegrals<T>, OracleError> {
         let Order1Parts { mean, m2, p } = self.order1_unpaired_parts(opts)?;
