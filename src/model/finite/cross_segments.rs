@@ -84,7 +84,14 @@ impl<T: CheckRule> PointLight<T> {
             self.around_line(ff, pair, at, &each)
         };
         let o = Options { abs_tol: (opts.abs_tol / kappa.to_f64()).min(f64::MAX), ..opts.clone() };
-        let e = self.over_half_plane(ff, &node, &o).map_err(|f| f.scaled(&kappa))?;
+        // The m-integral at each outer angle γ gets a floor too, a hundredth
+        // of the goal of the scale spread evenly over γ ∈ [0, 2π): the
+        // nested integral's scale pass asks its inner levels for a relative
+        // goal only, which an m-integral far from where the mass lies (a
+        // light 300/σ from the camera line: ~e^{−300} of the total, its
+        // nodes carrying errors at their own floors) could not meet.
+        let m_floor = opts.rel_tol * scale / 100.0 / (2.0 * std::f64::consts::PI);
+        let e = self.over_half_plane(ff, &node, &o, m_floor).map_err(|f| f.scaled(&kappa))?;
         Ok(e.scaled(&kappa))
     }
 

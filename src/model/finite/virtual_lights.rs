@@ -175,6 +175,7 @@ impl<T: CheckRule> PointLight<T> {
             ff,
             &node,
             &Options { abs_tol: (opts.abs_tol / ff.albedo.to_f64()).min(f64::MAX), ..opts.clone() },
+            0.0,
         )?;
         Ok(e.scaled(&ff.albedo))
     }
@@ -185,12 +186,15 @@ impl<T: CheckRule> PointLight<T> {
     /// carries the Jacobian m). Declared: the axes, the rays from the light
     /// tangent to the camera's circle z² + b² = R² and its crossings, the
     /// line b = R, gradings about m = 0 on the scales R and b_y, the edge
-    /// b = 0 and the decay rate σ.
+    /// b = 0 and the decay rate σ. Each m-integral's absolute goal is at
+    /// least `m_floor` (0: none), in the pass's as in the scale pass, which
+    /// asks inner levels for a relative goal only.
     pub(super) fn over_half_plane(
         &self,
         ff: &FiniteField<T>,
         node: &(dyn Fn(&Offset<T>, &Options) -> Outcome<T> + Sync),
         opts: &Options,
+        m_floor: f64,
     ) -> Outcome<T> {
         let like = &self.z;
         let (r, sigma) = (&ff.radius, &ff.sigma);
@@ -254,7 +258,7 @@ impl<T: CheckRule> PointLight<T> {
                         node(&at, o2)
                     },
                     &domain,
-                    o,
+                    &Options { abs_tol: o.abs_tol.max(m_floor), ..o.clone() },
                 )
             },
             &Domain::finite(zero.clone(), two_pi.clone()).with_breakpoints(gamma_cuts),
