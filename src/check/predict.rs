@@ -3,8 +3,8 @@
 use crate::model::OracleError;
 use crate::oracle::{self, Precision, Report, ValueWithBar};
 use crate::prec::{
-    model_error_scale, FINITE_PAIRS_PREDICTION_EVALUATIONS, FINITE_PAIRS_PREDICTION_TOL, MODEL_ERROR_RADIUS,
-    SMALL_SPHERE_SCATTERED_ALLOWANCE, SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS,
+    model_error_scale, FINITE_PAIRS_PREDICTION_TOL, MODEL_ERROR_RADIUS, SMALL_SPHERE_SCATTERED_ALLOWANCE,
+    SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS,
 };
 use crate::quad::Budget;
 use mcrt_scene::{ScatteringOrders, Scene, SceneError};
@@ -193,8 +193,7 @@ pub fn predict(scene: &Scene) -> Result<Prediction, PredictError> {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -> Result<Prediction, PredictError> {
-    let pairs = precision == Precision::F64 && oracle::finite_pairs_cover(scene);
-    let evaluations = if pairs { FINITE_PAIRS_PREDICTION_EVALUATIONS } else { precision.default_evaluations() };
+    let (_, evaluations) = oracle::prediction_scope(scene, precision);
     predict_within(scene, precision, rel_tol, &Budget::new(evaluations))
 }
 
@@ -241,7 +240,8 @@ pub fn predict_within(
     // With a beam, what the finite-sphere model does not cover the oracle
     // refuses at any R, naming the fields (a smaller R would not help).
     let scattered_beam = scattered && scene.lights.iter().any(|l| matches!(l, mcrt_scene::Light::Beam { .. }));
-    let with_pairs = precision == Precision::F64 && oracle::finite_pairs_cover(&scene);
+    let (scope, _) = oracle::prediction_scope(&scene, precision);
+    let with_pairs = scope == oracle::Scope::ExactPrediction;
     let covered = oracle::finite_sphere_covers(&scene) || with_pairs;
     if scattered && !scattered_beam && radius > MODEL_ERROR_RADIUS && !covered {
         let why = if oracle::finite_pairs_cover(&scene) {
@@ -251,7 +251,6 @@ pub fn predict_within(
         };
         return Err(small_sphere_too_large(why));
     }
-    let scope = if with_pairs { oracle::Scope::ExactPrediction } else { oracle::Scope::Prediction };
     let report = oracle::run_within_scoped(&scene, precision, rel_tol, budget, scope)?;
     let p = &report.prediction;
     let (model, (mean_rel, var_rel), basis) = match &report.finite {

@@ -222,15 +222,9 @@ pub fn compare_cmd(scene: &Scene, trials: &str, seed: u64, threads: Option<usize
     // The comparison reads the prediction, mean and Var L alone: the
     // library's, the finite-sphere correlations of single-scattered light
     // included where they cover the scene (about a minute).
-    use mcrt_noise::oracle::{finite_pairs_cover, run_within_scoped, Scope};
-    use mcrt_noise::prec::FINITE_PAIRS_PREDICTION_EVALUATIONS;
-    let (scope, evaluations) = if finite_pairs_cover(scene) {
-        (Scope::ExactPrediction, FINITE_PAIRS_PREDICTION_EVALUATIONS)
-    } else {
-        (Scope::Prediction, Precision::F64.default_evaluations())
-    };
+    let (scope, evaluations) = mcrt_noise::oracle::prediction_scope(scene, Precision::F64);
     let budget = mcrt_noise::quad::Budget::new(evaluations);
-    let oracle = run_within_scoped(scene, Precision::F64, None, &budget, scope)?;
+    let oracle = mcrt_noise::oracle::run_within_scoped(scene, Precision::F64, None, &budget, scope)?;
     let (run, _) = traced(&tracer, seed, range, threads)?;
     let cmp = Comparison::new(&oracle, &run.estimates(), run.counters.trials, seed);
     if json {

@@ -258,13 +258,11 @@ pub fn run_with_scoped<T: CheckRule>(
     // The finite-sphere pairs when asked for, after everything else, so that
     // if they spend the budget the rest of the report stands.
     let scattered = match (scattered, &scattered_field) {
-        (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if scope == Scope::FinitePairs => {
-            Ok(Some(with_finite_pairs(ff, mean, &opts, Weighed::of(scene.estimator.q, scene.estimator.camera_rays))))
-        }
-        (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if exact => {
-            let loose = Options { rel_tol: opts.rel_tol.max(FINITE_PAIRS_PREDICTION_TOL), ..opts.clone() };
+        (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if scope == Scope::FinitePairs || exact => {
+            // The prediction's goal for them is no tighter than 1e-3.
+            let goal = if exact { opts.rel_tol.max(FINITE_PAIRS_PREDICTION_TOL) } else { opts.rel_tol };
             let weighed = Weighed::of(scene.estimator.q, scene.estimator.camera_rays);
-            Ok(Some(with_finite_pairs(ff, mean, &loose, weighed)))
+            Ok(Some(with_finite_pairs(ff, mean, &Options { rel_tol: goal, ..opts.clone() }, weighed)))
         }
         (other, _) => other,
     };
@@ -531,6 +529,38 @@ fn finite_report<T: CheckRule>(
         covers,
         attenuation_shift: ff.shift.to_f64(),
         evaluations: f.evaluations(),
+    }
+}
+
+/// The scope and evaluation budget of the library's prediction of `scene`
+/// at `precision`: [`Scope::ExactPrediction`] with
+/// [`crate::prec::FINITE_PAIRS_PREDICTION_EVALUATIONS`] where the
+/// finite-sphere correlations of single-scattered light cover it in f64
+/// ([`finite_pairs_cover`]), else [`Scope::Prediction`] with
+/// [`Precision::default_evaluations`]. `check::predict` and
+/// `mcrt-noise compare` both use it.
+///
+/// ```
+/// use mcrt_noise::oracle::{prediction_scope, Precision, Scope};
+/// use mcrt_noise::Scene;
+///
+/// let mut scene = Scene::builder()
+///     .medium(1.0, 0.8)
+///     .point_light([1.0, 0.0, 1.0], 1.0)
+///     .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+///     .estimator(0.2, 0.5, 20, 4)
+///     .build()?;
+/// assert_eq!(prediction_scope(&scene, Precision::F64), (Scope::Prediction, 1_000_000_000));
+/// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
+/// assert_eq!(prediction_scope(&scene, Precision::F64), (Scope::ExactPrediction, 3_000_000_000));
+/// assert_eq!(prediction_scope(&scene, Precision::Bits(128)).0, Scope::Prediction);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn prediction_scope(scene: &Scene, precision: Precision) -> (Scope, u64) {
+    if precision == Precision::F64 && finite_pairs_cover(scene) {
+        (Scope::ExactPrediction, crate::prec::FINITE_PAIRS_PREDICTION_EVALUATIONS)
+    } else {
+        (Scope::Prediction, precision.default_evaluations())
     }
 }
 
