@@ -49,10 +49,12 @@ pub(crate) fn next_to_refine<T: Real, P: Panel<T>>(
         return Ok(None);
     }
     if panels.len() >= MAX_PANELS {
-        return Err(f.fail(
-            format!("{rule} bisected into {} panels without meeting the goal (limit {MAX_PANELS})", panels.len()),
-            Some((value, error)),
-        ));
+        let reason = format!(
+            "{rule} bisected into {} panels without meeting the goal (limit {MAX_PANELS}): {}",
+            panels.len(),
+            error_split(panels, &error, &goal(&value, opts))
+        );
+        return Err(f.fail(reason, Some((value, error))));
     }
     if let Some(reason) = opts.budget.exhausted() {
         return Err(f.fail(format!("{reason}; stopped in {rule}"), Some((value, error))));
@@ -61,6 +63,30 @@ pub(crate) fn next_to_refine<T: Real, P: Panel<T>>(
         return Err(f.fail(format!("evaluation budget {} exhausted by {rule}", opts.max_evals), Some((value, error))));
     }
     Ok(Some(worst))
+}
+
+/// Where a stuck rule's error lies: its total against the goal, split into
+/// the truncation estimates (what refining shrinks) and the bars the
+/// samples carried in (inner integrals', tables'), which refining does
+/// not shrink; when those alone fill half the goal, the reason says so,
+/// since the inner goals are then what must change, not this level.
+fn error_split<T: Real, P: Panel<T>>(panels: &[P], error: &T, goal: &T) -> String {
+    let zero = error.lit(0.0);
+    let truncation = panels.iter().fold(zero.clone(), |a, p| a + p.quad_err());
+    let rounding = panels.iter().fold(zero.clone(), |a, p| a + p.floor());
+    let carried = (error.clone() - truncation.clone() - rounding).max_of(zero);
+    let hint = if carried.clone() * error.lit(2.0) >= *goal {
+        "; the samples' own bars fill what it aims at, and refining does not shrink them"
+    } else {
+        ""
+    };
+    format!(
+        "error {:.3e} against the {:.3e} it aims at, of which truncation {:.3e} and the samples' own bars {:.3e}{hint}",
+        error.to_f64(),
+        goal.to_f64(),
+        truncation.to_f64(),
+        carried.to_f64()
+    )
 }
 
 /// The panel's midpoint, or a failure when it cannot be bisected further.

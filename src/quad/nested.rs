@@ -158,7 +158,7 @@ fn as_sample<T: Real>(x: &T, inner: Outcome<T>) -> Result<Sample<T>, Failure<T>>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::quad::Estimate;
+    use crate::quad::{Estimate, Rule};
 
     /// Goals of 10⁻⁴ and tighter keep the scale pass they always had;
     /// looser ones loosen its outer level only, at most to 0.1.
@@ -173,6 +173,13 @@ mod tests {
         }
     }
 
+    /// A deterministic wobble in [−1, 1) from the abscissa's bits: an inner
+    /// integral's value moving within its bar from one abscissa to the next.
+    fn wobble(x: f64) -> f64 {
+        let h = x.to_bits().wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        (h >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+
     /// Inner integrals whose values wobble within bars as large as their
     /// absolute goal (the most the contract lets them report, as an
     /// adaptive inner integral's value moves within its bar from one
@@ -185,11 +192,6 @@ mod tests {
     #[test]
     fn inner_bars_at_their_allowance_leave_the_rule_room() {
         let opts = Options { abs_tol: 1e-6, ..Options::rel(1e-14) };
-        // A deterministic wobble in [−1, 1) from the abscissa's bits.
-        let wobble = |x: f64| {
-            let h = x.to_bits().wrapping_mul(0x9E37_79B9_7F4A_7C15);
-            (h >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        };
         for domain in [Domain::finite(0.0, 3.0), Domain::semi_infinite(0.0).with_breakpoints([3.0])] {
             let e = integrate_within_pass(
                 |x: &f64, o: &Options| {
@@ -204,6 +206,24 @@ mod tests {
             assert!(e.error <= opts.abs_tol, "{domain:?}: bar {} above the goal", e.error);
             assert!((e.value - exact).abs() <= e.error, "{domain:?}: {} ± {} against {exact}", e.value, e.error);
         }
+    }
+
+    /// A level whose samples carry bars larger than its goal (inner
+    /// integrals that report more than they were asked for, their values
+    /// wobbling within those bars) cannot meet it by
+    /// refining: it fails at its panel limit, and the reason says that the
+    /// samples' own bars, not the truncation, fill the goal.
+    #[test]
+    fn a_level_filled_by_its_samples_bars_says_so() {
+        let opts = Options { abs_tol: 1e-6, rule: Rule::Kronrod, ..Options::rel(1e-14) };
+        let f = |x: &f64, o: &Options| {
+            let bar = 100.0 * o.abs_tol;
+            Ok(Estimate::known((-x).exp() + 0.5 * bar * wobble(*x), bar, 1, o.rule))
+        };
+        let failure = integrate_within_pass(f, &Domain::finite(0.0, 3.0), &opts).unwrap_err();
+        println!("{}", failure.reason);
+        assert!(failure.reason.contains("panels without meeting the goal"), "{}", failure.reason);
+        assert!(failure.reason.contains("the samples' own bars fill what it aims at"), "{}", failure.reason);
     }
 
     /// At loose goals, where the scale pass is coarser than the goal, a
