@@ -120,9 +120,10 @@ fn scattered_covered(scene: &Scene) -> bool {
 }
 
 /// Whether (7)–(9) weigh Q, C₂₃ and C₂₄ 0: q = 1 (one sphere per camera
-/// ray) and N_B = 1 (one camera ray).
+/// ray) and N_B = 1 (one camera ray), where [`Weighed::of`] weighs neither
+/// correlation (Q's weight has the factor 1 − q of C₂₃'s).
 pub(crate) fn pairs_weigh_nothing(scene: &Scene) -> bool {
-    scene.estimator.q == 1.0 && scene.estimator.camera_rays == 1
+    Weighed::of(scene.estimator.q, scene.estimator.camera_rays) == Weighed::NONE
 }
 
 /// What the finite-sphere model gives of an order-1 scene.

@@ -348,6 +348,7 @@ impl<T: CheckRule> FiniteField<T> {
 ///
 /// assert_eq!(Weighed::of(0.5, 1), Weighed { c23: true, c24: false });
 /// assert_eq!(Weighed::of(1.0, 8), Weighed { c23: false, c24: true });
+/// assert_eq!(Weighed::of(1.0, 1), Weighed::NONE);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Weighed {
@@ -360,6 +361,10 @@ pub struct Weighed {
 impl Weighed {
     /// Both correlations.
     pub const ALL: Weighed = Weighed { c23: true, c24: true };
+
+    /// Neither (q = 1 and N_B = 1: one sphere per camera ray, one camera
+    /// ray).
+    pub const NONE: Weighed = Weighed { c23: false, c24: false };
 
     /// The correlations with a non-zero weight at `q` and `camera_rays`
     /// (N_B).
