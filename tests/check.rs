@@ -148,8 +148,9 @@ fn scattered_light_with_point_lights_is_predicted_exactly_at_any_q() {
 
 /// When the finite-sphere correlations spend the budget (they run last),
 /// `predict` falls back to the small-sphere model with its allowance for
-/// R ≤ 0.1 — here with the cross-segment terms of E10 in it — and returns
-/// the failure beyond (~30 s).
+/// R ≤ 0.1 — here with the cross-segment terms of E10 in it, and the bias
+/// of the exact mean computed before them — and returns the failure beyond
+/// (~30 s).
 #[test]
 fn a_prediction_whose_finite_correlations_fail_falls_back_or_fails_loudly() {
     use mcrt_noise::check::{predict_within, PredictError};
@@ -176,6 +177,9 @@ fn a_prediction_whose_finite_correlations_fail_falls_back_or_fails_loudly() {
     let basis = &p.model_bar_basis;
     assert!(basis.contains("with the cross-segment terms") && basis.contains("its computation failed"), "{basis}");
     assert!(basis.contains("budget"), "{basis}");
+    // The exact mean was computed before the correlations: its bias stays.
+    let exact = p.report.finite_mean.as_ref().and_then(|m| m.bias).expect("the finite-sphere mean and its bias");
+    assert_eq!(p.bias.map(|b| (b.value, b.error)), Some((exact.value, exact.error)));
     scene.estimator.radius = 0.2;
     let err = predict_within(&scene, Precision::F64, tol, &all_but_the_pairs(&scene)).unwrap_err();
     assert!(matches!(err, PredictError::Oracle(_)), "{err}");

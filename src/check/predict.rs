@@ -83,8 +83,10 @@ pub struct Prediction {
     pub mean: Predicted,
     /// Var L of one iteration with the scene's N_F, N_B, q, R.
     pub variance: Predicted,
-    /// The estimator's bias b(R) = μ(R) − μ(0) with its quadrature bar
-    /// (finite-sphere model only).
+    /// The estimator's bias b(R) = μ(R) − μ(0) with its quadrature bar,
+    /// wherever the finite-sphere mean μ(R) was computed: with the
+    /// finite-sphere model, and on the small-sphere fallback of a scene
+    /// whose finite-sphere correlations failed (`report.finite_mean`).
     pub bias: Option<ValueWithBar>,
     /// Where the model bar comes from, in words.
     pub model_bar_basis: String,
@@ -300,7 +302,8 @@ pub fn predict_within(
         model,
         mean: predicted(p.mean, mean_rel),
         variance: predicted(p.variance, var_rel),
-        bias: report.finite.as_ref().map(|f| f.bias),
+        // On the small-sphere fallback the exact mean may still be there.
+        bias: report.finite.as_ref().map(|f| f.bias).or_else(|| report.finite_mean.as_ref().and_then(|m| m.bias)),
         model_bar_basis: basis,
         report,
     })
