@@ -267,6 +267,59 @@ fn correlation_of_two_spheres_matches_the_corrected_model() {
     assert!((first.tracer.value - paper) / first.tracer.se > 20.0, "the paper's (21) at t = 0 is not rejected");
 }
 
+/// What `predict` gives an order-1 scene in a Henyey–Greenstein medium,
+/// which the finite-sphere model does not cover yet: the small-sphere model
+/// with the allowance measured on an isotropic scene without the
+/// cross-segment terms (which are not derived for these media). Checked
+/// against the tracer where it can be resolved, g = −0.5 at R = 0.1 (the
+/// allowance's own radius), q 0.5, N_F 200, N_B 8, 7·10⁶ trials (Var L to
+/// 0.3 %): measured 5 December 2026, the small-sphere mean 0.52 % and Var L
+/// 3.67 % below the tracer (each ± 2 se: 0.63 %, 4.30 %), within the
+/// allowance (1.1 %, 4.9 %). At g = 0.9 the tracer cannot resolve Var L
+/// there (22 % with 10⁶ trials: a rare photon running along the camera
+/// ray hits every sphere on it near the phase function's peak), so the
+/// allowance is unchecked in forward-peaked media. ~5 minutes on two
+/// cores (`cargo test --release --test tracer_vs_oracle -- --ignored
+/// --nocapture`).
+#[test]
+#[ignore = "the small-sphere allowance in a Henyey–Greenstein medium, ~5 min in release mode"]
+fn the_small_sphere_allowance_holds_in_a_backward_peaked_medium() {
+    let p = Point {
+        scene: "point-isotropic-order1",
+        q: 0.5,
+        radius: MODEL_ERROR_RADIUS,
+        forward_rays: 200,
+        camera_rays: 8,
+        hg: Some(-0.5),
+        trials: 7_000_000,
+        resolution: (0.001, 0.004),
+        model_at_r0: None,
+    };
+    let scene = scene_of(&p);
+    let prediction = predict(&scene).unwrap();
+    assert_eq!(prediction.model, Model::SmallSphere, "{}", prediction.model_bar_basis);
+    let (m, v) = mcrt_noise::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS;
+    assert_eq!(prediction.mean.model_bar, m * prediction.mean.value);
+    assert_eq!(prediction.variance.model_bar, v * prediction.variance.value);
+    let s = trace(&Tracer::new(&scene).unwrap(), 11, 0..p.trials, HitMethod::Sorted, &|_| {}).summary().unwrap();
+    let (mean, var) = sides(&prediction.report, &s);
+    for (name, side, model) in
+        [("mean", &mean, prediction.mean.model_bar), ("Var L", &var, prediction.variance.model_bar)]
+    {
+        let allowed = 4.0 * (side.tracer_se.powi(2) + side.oracle_error.powi(2)).sqrt() + model;
+        let diff = side.tracer - side.oracle;
+        println!(
+            "g −0.5, R 0.1: {name} ratio {:.5} z {:+.2}, |diff| {:.2e} allowed {allowed:.2e}",
+            side.ratio,
+            side.z,
+            diff.abs()
+        );
+        assert!(diff.abs() <= allowed, "{name} beyond the allowance: {side:?}");
+    }
+    let (rm, rv) = (mean.tracer_se / mean.tracer, var.tracer_se / var.tracer);
+    assert!(rm <= p.resolution.0 && rv <= p.resolution.1, "resolution {rm:.2e}, {rv:.2e} worse than stated");
+}
+
 /// The library's model bar for scattered light (`check::predict`) is the
 /// largest allowance measured here.
 #[test]
