@@ -163,7 +163,7 @@ fn order1_correlations_agree_with_the_tracer_next_to_the_line() {
 /// at and it bisected to its panel limit), and the model agrees with 10⁷
 /// trials (Var L to ~0.07 %), where the small-sphere model (the oracle's,
 /// §3a with E9; E10's R → 0 terms are not added at σR = 2) is rejected.
-/// ~3 minutes on two cores (`cargo test --release --test
+/// ~3–5 minutes on two cores (`cargo test --release --test
 /// finite_order1_pairs -- --ignored --nocapture`).
 #[test]
 #[ignore]

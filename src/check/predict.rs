@@ -85,8 +85,10 @@ pub struct Prediction {
     pub variance: Predicted,
     /// The estimator's bias b(R) = μ(R) − μ(0) with its quadrature bar,
     /// wherever the finite-sphere mean μ(R) was computed: with the
-    /// finite-sphere model, and on the small-sphere fallback of a scene
-    /// whose finite-sphere correlations failed (`report.finite_mean`).
+    /// finite-sphere model, and with the small-sphere model wherever
+    /// `report.finite_mean` has it (a scene whose finite-sphere
+    /// correlations or M₂, P failed, or in MPFR). There `mean` is the
+    /// small-sphere μ(0), so μ(R) = mean + bias.
     pub bias: Option<ValueWithBar>,
     /// Where the model bar comes from, in words.
     pub model_bar_basis: String,
@@ -173,7 +175,7 @@ impl From<OracleError> for PredictError {
 /// skipped), ~15 s with a beam (its single-scattered light is a 2-D
 /// quadrature at every table node, `docs/model.md` §9.8), about a minute
 /// with point lights at q < 1 or N_B > 1 (the finite-sphere correlations:
-/// 55 s on `point-isotropic-order1`, minutes with a light near the camera
+/// ~61 s on `point-isotropic-order1`, minutes with a light near the camera
 /// line) and ~10–15 s in Henyey–Greenstein media (`docs/library.md` gives the profile
 /// settings a dependent crate needs for its debug tests).
 pub fn predict(scene: &Scene) -> Result<Prediction, PredictError> {

@@ -80,7 +80,9 @@ pub enum Scope {
     /// is the exact finite-sphere model at any R (`mcrt-noise oracle
     /// --finite-pairs`). A minute or more where [`Scope::Everything`] takes
     /// seconds: ~7·10⁸ evaluations at 10⁻³ on `point-isotropic-order1` at
-    /// R = 0.05 (51 s on two cores with the Gauss–Kronrod pair of rules),
+    /// R = 0.05 (51 s on two cores with the Gauss–Kronrod pair of rules;
+    /// 5 % more evaluations since the nested engine's inner share,
+    /// `docs/quadrature.md`),
     /// 1.4·10⁹ with a light 0.1 from the camera line at R = 0.2 (141 s),
     /// beyond the default budget of 10⁹, and more at tighter goals: give
     /// it a goal and a budget. Their failure (the budget spent among them) is
@@ -94,7 +96,7 @@ pub enum Scope {
     /// (`model::finite::Weighed`) at a goal no tighter than
     /// [`crate::prec::FINITE_PAIRS_PREDICTION_TOL`]: the library's
     /// `predict`, exact at any R (model bar 0). About a minute on two cores
-    /// (`point-isotropic-order1`: 55 s); their failure is reported as with
+    /// (`point-isotropic-order1`: ~61 s); their failure is reported as with
     /// [`Scope::FinitePairs`], and a failure of the finite-sphere mean in
     /// [`Report::finite_error`] too. In MPFR it is [`Scope::Prediction`]:
     /// the correlations would take hours there.

@@ -76,7 +76,7 @@ fn error_split<T: Real, P: Panel<T>>(panels: &[P], error: &T, goal: &T) -> Strin
     let rounding = panels.iter().fold(zero.clone(), |a, p| a + p.floor());
     let carried = (error.clone() - truncation.clone() - rounding).max_of(zero);
     let hint = if carried.clone() * error.lit(2.0) >= *goal {
-        "; the samples' own bars fill what it aims at, and refining does not shrink them"
+        "; the samples' own bars fill at least half of what it aims at, and refining does not shrink them"
     } else {
         ""
     };
