@@ -148,8 +148,8 @@ fn scattered_light_with_point_lights_is_predicted_exactly_at_any_q() {
 
 /// When the finite-sphere correlations spend the budget (they run last),
 /// `predict` falls back to the small-sphere model with its allowance for
-/// R ≤ 0.1 — here with the cross-segment terms of E10 in it, and the bias
-/// of the exact mean computed before them — and returns the failure beyond
+/// R ≤ 0.1 — here with the cross-segment terms of E10 in it, for Var L; the
+/// mean is the exact one computed before them, with its bias — and returns the failure beyond
 /// (~30 s).
 #[test]
 fn a_prediction_whose_finite_correlations_fail_falls_back_or_fails_loudly() {
@@ -170,15 +170,18 @@ fn a_prediction_whose_finite_correlations_fail_falls_back_or_fails_loudly() {
     scene.estimator.radius = 0.1;
     let p = predict_within(&scene, Precision::F64, tol, &all_but_the_pairs(&scene)).unwrap();
     assert_eq!(p.model, Model::SmallSphere, "{}", p.model_bar_basis);
-    let (m, v) = mcrt_noise::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE;
+    let (_, v) = mcrt_noise::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE;
     let scale = mcrt_noise::prec::model_error_scale(0.1);
-    assert_eq!(p.mean.model_bar, m * scale * p.mean.value);
     assert_eq!(p.variance.model_bar, v * scale * p.variance.value);
     let basis = &p.model_bar_basis;
     assert!(basis.contains("with the cross-segment terms") && basis.contains("its computation failed"), "{basis}");
     assert!(basis.contains("budget"), "{basis}");
-    // The exact mean was computed before the correlations: its bias stays.
-    let exact = p.report.finite_mean.as_ref().and_then(|m| m.bias).expect("the finite-sphere mean and its bias");
+    // The exact mean was computed before the correlations: it is the
+    // prediction's mean (model bar 0), and its bias stays.
+    let finite = p.report.finite_mean.as_ref().expect("the finite-sphere mean");
+    let (mean, exact) = (finite.mean.expect("its value"), finite.bias.expect("its bias"));
+    assert_eq!((p.mean.value, p.mean.quadrature_bar, p.mean.model_bar), (mean.value, mean.error, 0.0));
+    assert!(basis.contains("exact μ(R)"), "{basis}");
     assert_eq!(p.bias.map(|b| (b.value, b.error)), Some((exact.value, exact.error)));
     scene.estimator.radius = 0.2;
     let err = predict_within(&scene, Precision::F64, tol, &all_but_the_pairs(&scene)).unwrap_err();
@@ -186,15 +189,16 @@ fn a_prediction_whose_finite_correlations_fail_falls_back_or_fails_loudly() {
     assert!(err.to_string().contains("budget"), "{err}");
 }
 
-/// What the finite-sphere model does not cover yet (Henyey–Greenstein
-/// media at order 1) is predicted by the small-sphere model with its
-/// measured allowance as the model bar.
+/// What the finite-sphere model does not cover yet (Var L in
+/// Henyey–Greenstein media at order 1) is predicted by the small-sphere
+/// model with its measured allowance as the model bar; the mean is the
+/// finite-sphere model's exact one (`docs/model.md` §9.9), model bar 0.
 #[test]
 fn scattered_light_is_predicted_with_the_measured_model_bar() {
     let text =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic-order1.toml")).unwrap();
     let scene = Scene::from_toml_str(&text).unwrap();
-    let (m, v) = mcrt_noise::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE;
+    let (_, v) = mcrt_noise::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE;
     let scale = mcrt_noise::prec::model_error_scale(scene.estimator.radius);
     // In a Henyey–Greenstein medium the cross-segment terms are not derived:
     // the bar measured without them serves.
@@ -204,23 +208,37 @@ fn scattered_light_is_predicted_with_the_measured_model_bar() {
     assert_eq!(p.model, Model::SmallSphere);
     let (m0, v0) = mcrt_noise::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS;
     assert!(v0 > v);
-    assert_eq!(p.mean.model_bar, m0 * scale * p.mean.value);
+    let exact = p.report.finite_mean.as_ref().and_then(|f| f.mean).expect("the exact mean");
+    assert_eq!((p.mean.value, p.mean.quadrature_bar, p.mean.model_bar), (exact.value, exact.error, 0.0));
     assert_eq!(p.variance.model_bar, v0 * scale * p.variance.value);
     assert!(p.model_bar_basis.contains("measured with the reference tracer"));
     assert!(p.model_bar_basis.contains("not added"), "{}", p.model_bar_basis);
+    assert!(p.model_bar_basis.contains("exact μ(R)"), "{}", p.model_bar_basis);
+    // μ(0) = mean − bias is the small-sphere mean.
+    let bias = p.bias.expect("the bias");
+    let small = p.report.prediction.mean;
+    assert!((p.mean.value - bias.value - small.value).abs() <= bias.error + exact.error + small.error, "{bias:?}");
     // With q = 1 and N_B = 1, (7)–(9) weigh (23), (24) 0, so the model is
     // the same with or without them: the bar measured with them serves.
     let mut unpaired = hg.clone();
     (unpaired.estimator.q, unpaired.estimator.camera_rays) = (1.0, 1);
     let p_un = mcrt_noise::check::predict_with(&unpaired, mcrt_noise::oracle::Precision::F64, Some(1e-4)).unwrap();
     assert_eq!(p_un.model, Model::SmallSphere);
-    assert_eq!(p_un.mean.model_bar, m * scale * p_un.mean.value);
+    assert_eq!(p_un.mean.model_bar, 0.0);
     assert_eq!(p_un.variance.model_bar, v * scale * p_un.variance.value);
     assert!(p_un.model_bar_basis.contains("here q = 1 and N_B = 1, where (7)–(9)"), "{}", p_un.model_bar_basis);
     // The bars are subtracted before z: two-point samples 0 and 2a (mean a)
     // with a inside the model bar give z = 0; outside it, z counts the
     // excess only, in units of the null-scaled standard error
-    // √((Var L + its bar)/M).
+    // √((Var L + its bar)/M). A mean with the small-sphere allowance as its
+    // model bar (what a prediction without the exact mean has: in MPFR, or
+    // where its computation failed) stands in for one.
+    let mut p = p;
+    p.mean = mcrt_noise::check::Predicted {
+        value: p.report.prediction.mean.value,
+        quadrature_bar: p.report.prediction.mean.error,
+        model_bar: m0 * scale * p.report.prediction.mean.value,
+    };
     let two_point = |mean: f64| samples((0..1000).map(|i| if i % 2 == 0 { 0.0 } else { 2.0 * mean }));
     let bar = p.mean.total_bar();
     let inside = check(&p, &two_point(p.mean.value + 0.9 * bar), &CheckOptions::default());

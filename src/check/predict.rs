@@ -22,7 +22,8 @@ pub enum Model {
     FiniteSphere,
     /// The paper's small-sphere model (§4.3), exact only as R → 0; used for
     /// the other scenes with single-scattered light, with a measured model
-    /// bar.
+    /// bar (for Var L, and for the mean where the finite-sphere mean is not
+    /// computed: where it is, the mean is that exact μ(R), model bar 0).
     SmallSphere,
 }
 
@@ -87,8 +88,10 @@ pub struct Prediction {
     /// wherever the finite-sphere mean μ(R) was computed: with the
     /// finite-sphere model, and with the small-sphere model wherever
     /// `report.finite_mean` has it (a scene whose finite-sphere
-    /// correlations or M₂, P failed, or in MPFR). There `mean` is the
-    /// small-sphere μ(0), so μ(R) = mean + bias.
+    /// correlations or M₂, P failed, or in MPFR; point lights in a
+    /// Henyey–Greenstein medium). There `mean` is that exact μ(R), model
+    /// bar 0 (since 5 December 2026; it was the small-sphere μ(0) with its
+    /// allowance), so μ(0) = mean − bias.
     pub bias: Option<ValueWithBar>,
     /// Where the model bar comes from, in words.
     pub model_bar_basis: String,
@@ -257,6 +260,7 @@ pub fn predict_within(
     }
     let report = oracle::run_within_scoped(&scene, precision, rel_tol, budget, scope)?;
     let p = &report.prediction;
+    let mut mean = p.mean;
     let (model, (mean_rel, var_rel), basis) = match &report.finite {
         Some(f) if f.covers == "uncollided" => (Model::FiniteSphere, (0.0, 0.0), FINITE_BASIS.to_string()),
         Some(_) if with_pairs => (Model::FiniteSphere, (0.0, 0.0), finite_pairs_basis()),
@@ -292,7 +296,17 @@ pub fn predict_within(
             if let Some(why) = &report.finite_not_used {
                 basis.push_str(&format!(". Not the finite-sphere model: {why}"));
             }
-            (Model::SmallSphere, (m * scale, v * scale), basis)
+            // The exact mean, where the oracle has it, replaces the
+            // small-sphere μ(0) and its allowance: the renderer's mean at R
+            // is μ(R).
+            match report.finite_mean.as_ref().and_then(|f| f.mean) {
+                Some(exact) => {
+                    mean = exact;
+                    basis.push_str(EXACT_MEAN_BASIS);
+                    (Model::SmallSphere, (0.0, v * scale), basis)
+                }
+                None => (Model::SmallSphere, (m * scale, v * scale), basis),
+            }
         }
     };
     let predicted = |v: ValueWithBar, rel: f64| Predicted {
@@ -302,7 +316,7 @@ pub fn predict_within(
     };
     Ok(Prediction {
         model,
-        mean: predicted(p.mean, mean_rel),
+        mean: predicted(mean, mean_rel),
         variance: predicted(p.variance, var_rel),
         // On the small-sphere fallback the exact mean may still be there.
         bias: report.finite.as_ref().map(|f| f.bias).or_else(|| report.finite_mean.as_ref().and_then(|m| m.bias)),
@@ -310,6 +324,11 @@ pub fn predict_within(
         report,
     })
 }
+
+/// What the basis adds where the small-sphere prediction takes the
+/// finite-sphere model's exact mean.
+const EXACT_MEAN_BASIS: &str = ". The mean is not the small-sphere one: it is the finite-sphere model's \
+     exact μ(R) (`finite_mean`; docs/model.md §9.5, §9.9), model bar 0; the bar above is Var L's";
 
 const FINITE_BASIS: &str = "none needed: the finite-sphere model is exact at this R for uncollided light";
 

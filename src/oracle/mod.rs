@@ -30,7 +30,8 @@ mod order_one;
 mod report;
 pub(crate) use order_one::pairs_weigh_nothing;
 use order_one::{
-    finite_mean_report, finite_not_used, not_weighed, order_one, scattered_mean_field, with_finite_pairs, OrderOne,
+    finite_mean_report, finite_not_used, not_weighed, order_one, scattered_covered, scattered_mean_field,
+    with_finite_pairs, OrderOne,
 };
 pub use order_one::{finite_pairs_cover, finite_sphere_covers, finite_sphere_covers_the_standard_method};
 use report::{correlation, reported, scaled};
@@ -224,7 +225,10 @@ pub fn run_with_scoped<T: CheckRule>(
         return Err(no_light_on_the_camera_ray(scene, finite_field.as_ref(), &opts));
     }
     let scattered_field = scattered_mean_field(scene, &field);
-    let unpaired = scattered_field.is_some() && pairs_weigh_nothing(scene);
+    // The whole order-1 model (μ, M₂, P) where the pairs weigh nothing; in a
+    // Henyey–Greenstein medium the mean alone.
+    let whole_model = scattered_field.is_some() && scattered_covered(scene);
+    let unpaired = whole_model && pairs_weigh_nothing(scene);
     // A beam's single-scattered light has no small-sphere pair integrals:
     // covered only where (7)–(9) weigh them 0.
     let beam_scattered = !field.scattered_beams.is_empty();
@@ -260,7 +264,7 @@ pub fn run_with_scoped<T: CheckRule>(
     // The finite-sphere pairs when asked for, after everything else, so that
     // if they spend the budget the rest of the report stands.
     let scattered = match (scattered, &scattered_field) {
-        (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if scope == Scope::FinitePairs || exact => {
+        (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if whole_model && (scope == Scope::FinitePairs || exact) => {
             // The prediction's goal for them is no tighter than 1e-3.
             let goal = if exact { opts.rel_tol.max(FINITE_PAIRS_PREDICTION_TOL) } else { opts.rel_tol };
             let weighed = Weighed::of(scene.estimator.q, scene.estimator.camera_rays);

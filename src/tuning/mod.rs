@@ -159,7 +159,10 @@ pub struct Optimum {
     pub model: &'static str,
     /// Which parameters were searched.
     pub searched: Searched,
-    /// Whether the bias b(R) is predicted (finite-sphere model).
+    /// Whether the bias b(R) is predicted at every R searched (finite-sphere
+    /// model). Where R is held it may still be known at the scene's R
+    /// (`best.rmse.relative_bias`: the exact mean of single-scattered light
+    /// in a Henyey–Greenstein medium, `docs/model.md` §9.9).
     pub bias_predicted: bool,
     /// The constraints searched under.
     pub budget: f64,

@@ -29,7 +29,8 @@ pub struct ModelAtRadius {
     pub radius: f64,
     /// `"finite-sphere"` (exact at R, bias predicted) or `"small-sphere"`
     /// (R → 0 model; the bias predicted only where the oracle has the
-    /// finite-sphere mean, isotropic single scattering).
+    /// finite-sphere mean: single scattering in an isotropic medium, or
+    /// from point lights in a Henyey–Greenstein one).
     pub model: &'static str,
     /// μ(R) = ⟨⟨L⟩⟩ at R.
     pub mean: ValueWithBar,
@@ -58,7 +59,8 @@ impl ModelAtRadius {
     /// the pair integrals Q, C₂₃, C₂₄ for single-scattered light, which it
     /// gives at q = 1, N_B = 1 only, where (7)–(9) weigh them 0), else the
     /// small-sphere model's, with the bias b(R) where the report has the
-    /// finite-sphere mean (`finite_mean`: isotropic single scattering). A
+    /// finite-sphere mean (`finite_mean`: single scattering in an isotropic
+    /// medium, or from point lights in a Henyey–Greenstein one). A
     /// small-sphere report without its pair integrals (run with
     /// `Scope::Prediction` at q = 1, N_B = 1, or with a beam's
     /// single-scattered light) cannot predict other settings: that is an

@@ -33,6 +33,7 @@ pub mod point;
 pub mod ray;
 pub mod scattered;
 mod scattered_beam;
+mod scattered_hg;
 mod scattered_table;
 mod second_hit;
 mod tables;

@@ -100,6 +100,21 @@ impl<T: CheckRule> FiniteField<T> {
         Ok(())
     }
 
+    /// Refuses what the order-1 mean does not cover yet: a beam in a
+    /// Henyey–Greenstein medium (isotropic media with any lights, and
+    /// point lights in a Henyey–Greenstein one, `scattered_hg`, are
+    /// covered).
+    pub(super) fn order1_mean_covered(&self) -> Result<(), OracleError> {
+        if self.phase != Phase::Isotropic && self.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
+            return Err(OracleError::Unsupported(
+                "the finite-sphere mean of single-scattered light covers a beam in an isotropic medium only \
+                 (medium.phase = \"isotropic\"); point lights in a Henyey–Greenstein medium are covered"
+                    .into(),
+            ));
+        }
+        Ok(())
+    }
+
     /// Refuses what the order-1 correlations of two spheres do not cover
     /// yet: beams (§9.7 is derived for point lights).
     fn order1_pairs_covered(&self) -> Result<(), OracleError> {
@@ -385,7 +400,7 @@ impl Weighed {
 /// at both, the same values within their bars (`docs/model.md` §9.7,
 /// **Cost**). Above 53 bits (`like`'s precision) the pair's f64 nodes
 /// would not serve: tanh–sinh stays.
-fn pair_rule<T: CheckRule>(like: &T, opts: &Options) -> Rule {
+pub(super) fn pair_rule<T: CheckRule>(like: &T, opts: &Options) -> Rule {
     if opts.rule == Rule::TanhSinh && opts.rel_tol >= KRONROD_TIGHTEST && like.prec() <= 53 {
         Rule::Kronrod
     } else {

@@ -374,7 +374,7 @@ impl<T: CheckRule> PointLight<T> {
 
     /// Distance d from the light and (cos γ, sin γ) of w = (x(s) − y)/d
     /// against u, at s = center + x.
-    fn seen_from(&self, ff: &FiniteField<T>, x: &T) -> (T, T, T) {
+    pub(super) fn seen_from(&self, ff: &FiniteField<T>, x: &T) -> (T, T, T) {
         let (d, dz) = self.distance_to(ff, x);
         (d.clone(), dz / d.clone(), self.b.clone() / d)
     }
@@ -539,7 +539,7 @@ fn outer_level<T: CheckRule>(
 
 /// The structure of f(−μ)^k on the sphere of directions: the phase
 /// function's peaks at ±u (width 1 − |g|), for `angular::Frame`.
-fn phase_features<T: CheckRule>(ff: &FiniteField<T>) -> Features<T> {
+pub(super) fn phase_features<T: CheckRule>(ff: &FiniteField<T>) -> Features<T> {
     let (plus, minus) = ff.phase_floors();
     Features {
         plus: Pole { floor: plus, marks: Vec::new() },

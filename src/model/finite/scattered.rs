@@ -33,6 +33,7 @@ use crate::model::OracleError;
 use crate::quad::{integrate, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
 use crate::real::Real;
 use crate::special::{exp_int_e1_scaled, exp_segment};
+use mcrt_scene::Phase;
 
 /// H(d): the chance that an isotropic ray from distance d, with a free
 /// path ~ Exp(σ), hits a sphere of radius R (its closest point ahead,
@@ -142,6 +143,9 @@ impl<T: CheckRule> PointLight<T> {
         power: i32,
         opts: &Options,
     ) -> Outcome<T> {
+        if ff.phase != Phase::Isotropic {
+            return self.scattered_moment_hg(ff, x, power, opts);
+        }
         let (big_d, _) = self.distance_to(ff, x);
         let f = x.lit(1.0) / (x.pi() * x.lit(4.0));
         let front =
@@ -173,7 +177,13 @@ impl<T: CheckRule> FiniteField<T> {
         tables: &ScatteredTables<T>,
         opts: &Options,
     ) -> Result<Estimate<T>, OracleError> {
-        self.order1_covered()?;
+        self.order1_mean_covered()?;
+        // A Henyey–Greenstein medium nests three levels per camera-ray
+        // point (`scattered_hg`): the Gauss–Kronrod pair's floor per piece
+        // (15 and 21) is what makes it affordable at loose goals, as for
+        // the pairs (`order1::pair_rule`).
+        let hg = Options { rule: super::order1::pair_rule(&self.radius, opts), ..opts.clone() };
+        let opts = if self.phase == Phase::Isotropic { opts } else { &hg };
         self.with_line(|line| {
             line.integral_nested("finite-sphere ∫⟨𝒞⟩₁, single-scattered", opts, |x, o| {
                 let share = Options { abs_tol: o.abs_tol / self.lights.len() as f64, ..o.clone() };
