@@ -214,7 +214,7 @@ fn scattered_light_is_predicted_with_the_measured_model_bar() {
     assert!(p.model_bar_basis.contains("measured with the reference tracer"));
     assert!(p.model_bar_basis.contains("not added"), "{}", p.model_bar_basis);
     assert!(p.model_bar_basis.contains("exact μ(R)"), "{}", p.model_bar_basis);
-    // μ(0) = mean − bias is the small-sphere mean.
+    // The sign convention: μ(0) = mean − bias is the small-sphere mean.
     let bias = p.bias.expect("the bias");
     let small = p.report.prediction.mean;
     assert!((p.mean.value - bias.value - small.value).abs() <= bias.error + exact.error + small.error, "{bias:?}");

@@ -337,9 +337,11 @@ fn with_scattered_light_it_does_not_cover_the_radius_is_held_and_the_bias_not_pr
     let relative = o.best.rmse.relative_bias.expect("the bias at the held R");
     let want = exact.value.abs() / model.mean_at_zero.value;
     assert!((relative - want).abs() <= 1e-12 * want, "{relative} vs {want}");
-    // Resolved, if coarsely: at R = 0.01 b(R) is 5·10⁻⁵ of the mean, and
-    // the Henyey–Greenstein mean is computed to 10⁻³ (its bar ~10⁻⁵).
-    assert!(exact.error < 0.5 * exact.value.abs(), "{exact:?}");
+    // Its bar is carried (at R = 0.01 b(R) is 5·10⁻⁵ of the mean, and the
+    // Henyey–Greenstein mean is computed to 10⁻³: the bar may be a sizeable
+    // part of it).
+    let bar = o.best.rmse.relative_bias_error.expect("the bias's bar");
+    assert!(bar >= exact.error / model.mean_at_zero.value, "{bar:e} vs {exact:?}");
     let text = mcrt_noise::reports::optimum::text("hg", &o);
     assert!(text.contains("the bias at its R") && !text.contains("NOT predicted"), "{text}");
     assert!(o.sensitivity.radius.is_none() && o.sensitivity.q.is_some());

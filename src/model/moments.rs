@@ -271,7 +271,7 @@ fn table_range<T: Real>(field: &Field<T>) -> (T, T) {
 
 /// albedo ∫ f(−μ) L₁ dω at x: the point lights' scattered part of ⟨𝒞⟩
 /// (no table; the beams' is [`beams_fluence_tabled`]).
-fn scattered_mean<T: CheckRule>(field: &Field<T>, x: &T, opts: &Options) -> Outcome<T> {
+pub(crate) fn scattered_mean<T: CheckRule>(field: &Field<T>, x: &T, opts: &Options) -> Outcome<T> {
     let g = |d: &Direction<T>, o: &Options| Ok(Estimate::known(field.phase_at(&d.mu), d.mu.lit(0.0), 1, o.rule));
     let e = smooth_part(field, x, &phase_only(field), &g, opts)?;
     let albedo = field.albedo.clone();

@@ -174,8 +174,11 @@ pub(super) fn order_one<T: CheckRule>(
     }
     let o = opts.clone().declared();
     // A Henyey–Greenstein medium's mean at a goal no tighter than
-    // `FINITE_HG_MEAN_TOL` (its cost), with the bars it reaches.
-    let hg = Options { rel_tol: o.rel_tol.max(FINITE_HG_MEAN_TOL), ..o.clone() };
+    // `FINITE_HG_MEAN_TOL` (its cost), with the bars it reaches, and with a
+    // budget of its own (the run's size): it runs beside the small-sphere
+    // integrals, and spending theirs would fail the run, where its own
+    // failure is only reported (`finite_mean.missing`).
+    let hg = Options { rel_tol: o.rel_tol.max(FINITE_HG_MEAN_TOL), budget: o.budget.renewed(), ..o.clone() };
     let so = if ff.phase == mcrt_scene::Phase::Isotropic { &o } else { &hg };
     let (uncollided, scattered) = rayon::join(|| ff.ray_total(Functional::Mean, &o), || ff.scattered_mean(so));
     Ok(OrderOne::Mean(uncollided?.plus(scattered?), None))

@@ -78,7 +78,7 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
         if o.best.rmse.relative_bias.is_some() {
             writeln!(s, "model: small-sphere for Var L (the finite-sphere model gives this scene's exact mean, hence the bias at its R, the same for every q, N_F, N_B, but not yet its Var L: docs/model.md §9.9): R is held at the scene's {}{within} and only q, N_F, N_B are chosen", o.radius_range.0).unwrap();
         } else {
-            writeln!(s, "model: small-sphere (the scene has scattered light, which the finite-sphere model does not cover): the bias is NOT predicted, so R is held at the scene's {}{within} and only q, N_F, N_B are chosen, for the noise alone", o.radius_range.0).unwrap();
+            writeln!(s, "model: small-sphere (the scene has scattered light whose Var L the finite-sphere model does not cover, and its exact mean is not computed here: a beam in a Henyey–Greenstein medium, or its computation failed): the bias is NOT predicted, so R is held at the scene's {}{within} and only q, N_F, N_B are chosen, for the noise alone", o.radius_range.0).unwrap();
         }
     }
     writeln!(s, "RMSE = √(bias² + Var L/M)/μ(0), M = ⌊T/τ⌋; the bars are the quadrature's and the time's standard errors (the cost fit's and the rates'; the cost model's own accuracy: docs/choosing-parameters.md)").unwrap();

@@ -228,7 +228,7 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
     if let Some(f) = &r.finite_mean {
         match (&f.mean, &f.bias, &f.missing) {
             (Some(m), Some(b), _) => {
-                writeln!(s, "{:<24} {} (finite-sphere, exact at R: docs/model.md §9.5; Var L above is the small-sphere model's)", "mean luminance μ(R)", pm(m.value, m.error)).unwrap();
+                writeln!(s, "{:<24} {} (finite-sphere, exact at R: docs/model.md §9.5, §9.9; Var L above is the small-sphere model's)", "mean luminance μ(R)", pm(m.value, m.error)).unwrap();
                 writeln!(s, "{:<24} {}", "bias μ(R) − μ(0)", pm(b.value, b.error)).unwrap();
             }
             (_, _, Some(why)) => writeln!(s, "{:<24} not computed: {why}", "mean luminance μ(R)").unwrap(),

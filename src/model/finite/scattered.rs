@@ -133,7 +133,8 @@ impl<T: CheckRule> PointLight<T> {
     /// ([`super::scattered_table`], its relative bar in the value's; the
     /// caller charges the tables' evaluations once, at its end) where it
     /// reaches, else from the quadrature, with the pass's rule either way.
-    /// Isotropic media only. Not in the paper: exact at R where its §3a
+    /// In a Henyey–Greenstein medium it is [`PointLight::scattered_moment_hg`]
+    /// (§9.9; `tables` unused). Not in the paper: exact at R where its §3a
     /// takes the field at the centre.
     pub(super) fn scattered_moment(
         &self,
@@ -162,9 +163,10 @@ impl<T: CheckRule> PointLight<T> {
 
 impl<T: CheckRule> FiniteField<T> {
     /// μ₁(R)·e^{c₀} = ∫σe^{−σs}⟨𝒞⟩₁ ds: the single-scattered part of the
-    /// mean luminance at the field's R, for an isotropic medium (point
-    /// lights and beams; refused otherwise). The uncollided part is
-    /// [`FiniteField::ray_total`] of the mean.
+    /// mean luminance at the field's R: an isotropic medium (point lights
+    /// and beams), or point lights in a Henyey–Greenstein one (§9.9, with
+    /// the Gauss–Kronrod pair of rules where the goal allows; a beam there
+    /// is refused). The uncollided part is [`FiniteField::ray_total`] of the mean.
     pub fn scattered_mean(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
         let tables = ScatteredTables::default();
         tables.charge(self.scattered_mean_with(&tables, opts))
