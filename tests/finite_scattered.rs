@@ -32,12 +32,16 @@ fn scene(radius: f64) -> Scene {
 
 /// μ(R) = μ₀(R) + μ₁(R) of the finite-sphere model, absolute, with its bar.
 fn finite_mean(s: &Scene) -> (f64, f64) {
+    finite_mean_within(s, &Options::rel(1e-9).declared())
+}
+
+/// [`finite_mean`] with the options `o`.
+fn finite_mean_within(s: &Scene, o: &Options) -> (f64, f64) {
     let field = Field::from_scene(s, &1.0f64).unwrap();
     let ff = FiniteField::of_first_segments(s, &field);
-    let o = Options::rel(1e-9).declared();
     let k = (-ff.shift).exp();
-    let m0 = ff.ray_total(Functional::Mean, &o).unwrap();
-    let m1 = ff.scattered_mean(&o).unwrap();
+    let m0 = ff.ray_total(Functional::Mean, o).unwrap();
+    let m1 = ff.scattered_mean(o).unwrap();
     ((m0.value + m1.value) * k, (m0.error + m1.error) * k)
 }
 
@@ -51,15 +55,9 @@ fn small_sphere_mean(s: &Scene) -> (f64, f64) {
 }
 
 /// μ(R) of the finite-sphere model in a Henyey–Greenstein medium at the
-/// goal `tol`, absolute, with its bar.
+/// goal `tol` (with a budget that lets it finish), absolute, with its bar.
 fn finite_mean_hg(s: &Scene, tol: f64) -> (f64, f64) {
-    let field = Field::from_scene(s, &1.0f64).unwrap();
-    let ff = FiniteField::of_first_segments(s, &field);
-    let o = Options::rel(tol).declared().with_budget(mcrt_noise::quad::Budget::new(20_000_000_000));
-    let k = (-ff.shift).exp();
-    let m0 = ff.ray_total(Functional::Mean, &o).unwrap();
-    let m1 = ff.scattered_mean(&o).unwrap();
-    ((m0.value + m1.value) * k, (m0.error + m1.error) * k)
+    finite_mean_within(s, &Options::rel(tol).declared().with_budget(mcrt_noise::quad::Budget::new(20_000_000_000)))
 }
 
 /// The Henyey–Greenstein route (three nested levels per camera-ray point)

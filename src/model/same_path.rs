@@ -62,7 +62,7 @@ pub fn kernel<T: CheckRule>(phase: &Phase, mu: &T, sin: &T, opts: &Options) -> O
 
 /// The angle in [0, π] with cosine `cos` and sine `sin` ≥ 0, from the
 /// arctangent of the smaller ratio (accurate at both poles).
-fn angle<T: Real>(cos: &T, sin: &T) -> T {
+pub(crate) fn angle<T: Real>(cos: &T, sin: &T) -> T {
     let half_pi = cos.pi() / cos.lit(2.0);
     if cos.abs() >= *sin {
         let a = (sin.clone() / cos.abs()).atan();
@@ -78,7 +78,7 @@ fn angle<T: Real>(cos: &T, sin: &T) -> T {
 
 /// The medium's Henyey–Greenstein p at the scattering cosine v₁·v₂ = −cos θ,
 /// from 1 ± cos θ so that a peak of width 1 − |g| keeps its digits.
-fn scattering_phase<T: Real>(g: f64, one_plus: &T, one_minus: &T) -> T {
+pub(crate) fn scattering_phase<T: Real>(g: f64, one_plus: &T, one_minus: &T) -> T {
     let (gl, one) = (one_plus.lit(g), one_plus.lit(1.0));
     // 1 + g² − 2g(−cos θ) = (1 − g)² + 2g(1 + cos θ) = (1 + g)² − 2g(1 − cos θ).
     let denom = if g >= 0.0 {

@@ -42,8 +42,9 @@
 use super::point::PointLight;
 use super::FiniteField;
 use crate::model::angular::Frame;
+use crate::model::field::graded_by;
+use crate::model::same_path::{angle, scattering_phase};
 use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
-use crate::real::Real;
 use crate::special::{arc_in_disc, hg_ring};
 use mcrt_scene::Phase;
 
@@ -77,11 +78,8 @@ impl<T: CheckRule> PointLight<T> {
         // The peak of p: forward photons arrive about θ = 0 (g > 0),
         // backward ones about π (g < 0).
         if let Some(w) = peak_width(g) {
-            let mut step = x.lit(w);
-            while step < half_pi {
-                cuts.push(if g > 0.0 { step.clone() } else { pi.clone() - step.clone() });
-                step = step * x.lit(4.0);
-            }
+            let pole = if g > 0.0 { x.lit(0.0) } else { pi.clone() };
+            cuts.extend(graded_by(&pole, &x.lit(w), &half_pi, 4.0, 32));
         }
         cuts.retain(|c| *c > x.lit(0.0) && *c < pi);
         let level = Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
@@ -124,14 +122,7 @@ fn disk_flux<T: CheckRule>(ff: &FiniteField<T>, g: f64, d: &T, theta: &T, opts: 
     let hi = delta.clone() + r.clone();
     let mut cuts = vec![(r.clone() - delta.clone()).abs()];
     if let Some(w) = peak_width(g) {
-        let mut step = t.abs() * d.lit(w);
-        for _ in 0..12 {
-            if step.is_zero() || !(step < hi) {
-                break;
-            }
-            cuts.push(step.clone());
-            step = step * d.lit(4.0);
-        }
+        cuts.extend(graded_by(&d.lit(0.0), &(t.abs() * d.lit(w)), &hi, 4.0, 12));
     }
     cuts.retain(|c| *c > lo && *c < hi);
     integrate_within_pass(
@@ -163,18 +154,16 @@ fn line_flux<T: CheckRule>(ff: &FiniteField<T>, g: f64, t: &T, p: &T, opts: &Opt
     let r_z = (t.clone() * t.clone() + p.clone() * p.clone()).sqrt();
     let base = ff.shift.clone() - ff.sigma.clone() * r_z.clone();
     let sp = ff.sigma.clone() * p.clone();
+    // The peak of p, graded by fours from its width (below π/2).
     let widths = |scale: Option<f64>| -> Vec<T> {
-        let mut v = Vec::new();
-        if let Some(w) = scale {
-            for k in 0..8 {
-                v.push(p.lit(w * 4f64.powi(k)));
-            }
-        }
-        v
+        scale.map_or_else(Vec::new, |w| graded_by(&zero, &p.lit(w), &half_pi, 4.0, 8))
     };
+    // p(cos α) from 1 − cos α = 2 sin²(α/2) and 1 + cos α = 2 cos²(α/2).
     let leaf = |sh: &T, ch: &T, rise: T, o: &Options| {
         let attenuation = if p.is_zero() { base.clone().exp() } else { (base.clone() - sp.clone() * rise).exp() };
-        Ok(Estimate::known(attenuation * hg_at(g, sh, ch), zero.clone(), 1, o.rule))
+        let phase =
+            scattering_phase(g, &(two.clone() * sh.clone() * sh.clone()), &(two.clone() * ch.clone() * ch.clone()));
+        Ok(Estimate::known(attenuation * phase, zero.clone(), 1, o.rule))
     };
     let half = Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() };
     // β ∈ [0, β_hi]: the backward half (all of it when t < 0).
@@ -184,11 +173,7 @@ fn line_flux<T: CheckRule>(ff: &FiniteField<T>, g: f64, t: &T, p: &T, opts: &Opt
         // On the line through the light with t ≤ 0: the range [α_z, π] is empty.
         return Ok(Estimate::known(zero.clone(), zero, 0, opts.rule));
     } else {
-        let beta_z = if p.clone() > t.abs() {
-            half_pi.clone() - (t.abs() / p.clone()).atan()
-        } else {
-            (p.clone() / t.abs()).atan()
-        };
+        let beta_z = angle(&t.abs(), p);
         (beta_z.clone(), Some(beta_z))
     };
     if !(beta_hi > zero) {
@@ -199,14 +184,7 @@ fn line_flux<T: CheckRule>(ff: &FiniteField<T>, g: f64, t: &T, p: &T, opts: &Opt
     let mut cuts = widths(if g < 0.0 { peak_width(g) } else { None });
     // e^{−σp cot(β/2)} rises from 0 at β ~ 2σp: sharp only when σp is
     // small (graded by fours from there, at most 12 cuts).
-    let mut rise = sp.clone() * p.lit(2.0);
-    for _ in 0..12 {
-        if rise.is_zero() || !(rise < p.lit(0.25)) {
-            break;
-        }
-        cuts.push(rise.clone());
-        rise = rise * p.lit(4.0);
-    }
+    cuts.extend(graded_by(&zero, &(sp.clone() * two.clone()), &p.lit(0.25), 4.0, 12));
     cuts.retain(|c| *c > zero && *c < beta_hi);
     let back = integrate_within_pass(
         |beta: &T, o: &Options| {
@@ -227,11 +205,7 @@ fn line_flux<T: CheckRule>(ff: &FiniteField<T>, g: f64, t: &T, p: &T, opts: &Opt
         return Ok(back);
     }
     // α ∈ [α_z, π/2]: the forward half (t > 0).
-    let alpha_z = if p.clone() > t.clone() {
-        half_pi.clone() - (t.clone() / p.clone()).atan()
-    } else {
-        (p.clone() / t.clone()).atan()
-    };
+    let alpha_z = angle(t, p);
     if !(alpha_z < half_pi) {
         return Ok(back);
     }
@@ -249,26 +223,6 @@ fn line_flux<T: CheckRule>(ff: &FiniteField<T>, g: f64, t: &T, p: &T, opts: &Opt
         &half,
     )?;
     Ok(back.plus(front))
-}
-
-/// p(cos α) of a Henyey–Greenstein phase function (normalised to 1 over the
-/// sphere) from sin(α/2) and cos(α/2): 1 + g² − 2g cos α as
-/// (1 − g)² + 4g sin²(α/2) for g ≥ 0 and (1 + g)² + 4|g| cos²(α/2) for g < 0,
-/// so that either peak keeps its relative accuracy; 1/4π for g = 0.
-fn hg_at<T: Real>(g: f64, sin_half: &T, cos_half: &T) -> T {
-    let like = sin_half;
-    let four_pi = like.pi() * like.lit(4.0);
-    if g == 0.0 {
-        return like.lit(1.0) / four_pi;
-    }
-    let (gt, one, four) = (like.lit(g), like.lit(1.0), like.lit(4.0));
-    let (minus, plus) = (one.clone() - gt.clone(), one + gt.clone());
-    let denom = if g > 0.0 {
-        minus.clone() * minus.clone() + four * gt * sin_half.clone() * sin_half.clone()
-    } else {
-        plus.clone() * plus.clone() - four * gt * cos_half.clone() * cos_half.clone()
-    };
-    minus * plus / (four_pi * denom.clone() * denom.sqrt())
 }
 
 #[cfg(test)]
