@@ -42,7 +42,7 @@ mod kronrod;
 mod mapped;
 mod nested;
 mod nodes;
-pub(crate) use nodes::cached;
+pub(crate) use nodes::{cached, gauss_legendre};
 mod scan;
 mod tanh_sinh;
 

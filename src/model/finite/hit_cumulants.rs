@@ -23,8 +23,12 @@
 //! largest sample, else bisected (at most [`MAX_PIECES`]). The absolute
 //! error bar of each cumulant is Σ 2·tail·length over the pieces plus a
 //! bound of the integral beyond s_end, e^{−σ(s_end − z − R)}/(2σ²(s_end − z)).
+//! Increments over a short [s₀, s₁] (`HitCumulants::between`) bear only
+//! the bars of the pieces they overlap, in proportion, and are summed by
+//! Gauss–Legendre over the interpolants where the part is short, so that
+//! their bars shrink with s₁ − s₀.
 
-use crate::quad::Failure;
+use crate::quad::{gauss_legendre, Failure};
 use crate::real::Real;
 
 use super::scattered::{hit_chance, hit_chance_parts};
@@ -38,7 +42,7 @@ const NODES: usize = 32;
 
 /// A converged piece while the pieces are built: [lo, hi], its three
 /// series and their tail estimates.
-type DonePiece<T> = (T, T, [Vec<T>; 3], [T; 3]);
+type DonePiece<T> = (T, T, [Vec<T>; 3], [Vec<T>; 3], [T; 3]);
 
 /// One piece [lo, hi] of the three antiderivatives, as Chebyshev series
 /// (plain sums Σ C_k T_k on the piece mapped to [−1, 1]), each 0 at lo.
@@ -49,6 +53,12 @@ struct Piece<T> {
     series: [Vec<T>; 3],
     /// A, B, C at lo (the sums over the pieces before).
     start: [T; 3],
+    /// The three integrands' interpolants as plain sums Σ c_k T_k (c₀
+    /// halved), for the integrals over a short part of the piece.
+    integrands: [Vec<T>; 3],
+    /// The piece's own absolute bars of its three integrals (2·tail·length
+    /// plus rounding): a part [a, b] of it bears (b − a)/(hi − lo) of them.
+    bar: [T; 3],
 }
 
 /// A(s), B(s), C(s) of one start x₁ (module docs).
@@ -61,6 +71,9 @@ pub struct HitCumulants<T> {
     pub t0: T,
     /// Absolute error bars of A, e^{σt₀}B, e^{σt₀}C.
     pub error: [T; 3],
+    /// The bounds of the three integrals beyond the last piece (part of
+    /// `error`).
+    beyond: [T; 3],
     /// Evaluations of H.
     pub evaluations: u64,
 }
@@ -100,10 +113,10 @@ impl<T: Real> HitCumulants<T> {
             if done.len() + todo.len() > MAX_PIECES {
                 return Err(failure(format!("the cumulative hits needed more than {MAX_PIECES} pieces"), evaluations));
             }
-            let (series, tails, evals) = piece_series(&lo, &hi, &h, &floors);
+            let (series, integrands, tails, evals) = piece_series(&lo, &hi, &h, &floors);
             evaluations += evals;
             match tails {
-                Some(tails) => done.push((lo, hi, series, tails)),
+                Some(tails) => done.push((lo, hi, series, integrands, tails)),
                 None => {
                     let mid = (lo.clone() + hi.clone()) / z.lit(2.0);
                     if !(mid > lo && mid < hi) {
@@ -121,13 +134,13 @@ impl<T: Real> HitCumulants<T> {
         let mut running = [zero.clone(), zero.clone(), zero.clone()];
         let mut error = [zero.clone(), zero.clone(), zero.clone()];
         let mut pieces = Vec::with_capacity(done.len());
-        for (lo, hi, series, tails) in done {
+        for (lo, hi, series, integrands, tails) in done {
             let start = running.clone();
             for i in 0..3 {
                 running[i] = running[i].clone() + clenshaw(&series[i], &z.lit(1.0));
                 error[i] = error[i].clone() + tails[i].clone();
             }
-            pieces.push(Piece { lo, hi, series, start });
+            pieces.push(Piece { lo, hi, series, start, integrands, bar: tails });
         }
         // Beyond s_end: H ≤ e^{−σ(d − R)}/(2σd) (F₁ ≤ 1/(σd)) and d ≥ t − z
         // ≥ s_end − z, so ∫ H ≤ e^{−σ(s_end − z − R)}/(2σ²(s_end − z)).
@@ -136,10 +149,11 @@ impl<T: Real> HitCumulants<T> {
             (-(sigma.clone() * (past.clone() - r.clone()))).exp() / (z.lit(2.0) * sigma.clone() * sigma.clone() * past);
         let rest_b = rest.clone() * (-(sigma.clone() * (end.clone() - t0.clone()))).exp();
         let rest_c = rest_b.clone() * (end.clone() + z.lit(1.0) / sigma.clone());
-        error[0] = error[0].clone() + rest;
-        error[1] = error[1].clone() + rest_b;
-        error[2] = error[2].clone() + rest_c;
-        Ok(HitCumulants { pieces, total: running, t0, error, evaluations })
+        error[0] = error[0].clone() + rest.clone();
+        error[1] = error[1].clone() + rest_b.clone();
+        error[2] = error[2].clone() + rest_c.clone();
+        let beyond = [rest, rest_b, rest_c];
+        Ok(HitCumulants { pieces, total: running, t0, error, beyond, evaluations })
     }
 
     /// (A(s), e^{σt₀}B(s), e^{σt₀}C(s)); beyond the last piece the totals,
@@ -164,6 +178,61 @@ impl<T: Real> HitCumulants<T> {
             *o = o.clone() + clenshaw(c, &x);
         }
         out
+    }
+
+    /// The increments (A, e^{σt₀}B, e^{σt₀}C)(s₁) − (…)(s₀) over
+    /// 0 ≤ s₀ ≤ s₁ < ∞, and their absolute bars: each piece's own bar in
+    /// proportion to its overlap with [s₀, s₁], the rounding of the
+    /// Chebyshev sums evaluated, and the bound beyond the last piece where
+    /// s₁ lies past it. Unlike the difference of two [`HitCumulants::at`]
+    /// (whose bar is the whole `error`), the bar shrinks with s₁ − s₀: the
+    /// cross-segment weight of a chord that reaches the spheres over 10⁻⁶
+    /// needs it (`docs/model.md` §9.7).
+    pub fn between(&self, s0: &T, s1: &T) -> ([T; 3], [T; 3]) {
+        let zero = s0.lit(0.0);
+        let mut delta = [zero.clone(), zero.clone(), zero.clone()];
+        let mut bar = [zero.clone(), zero.clone(), zero.clone()];
+        let Some(last) = self.pieces.last() else { return (delta, self.error.clone()) };
+        // Clenshaw's sum of n terms errs by at most ~2n ulps of Σ|c_k|.
+        let rounding = s0.eps() * s0.lit((4 * (NODES + 1)) as f64);
+        let first = self.pieces.partition_point(|p| p.hi <= *s0);
+        for p in self.pieces[first..].iter().take_while(|p| p.lo < *s1) {
+            let a = s0.clone().max_of(p.lo.clone());
+            let b = s1.clone().min_of(p.hi.clone());
+            if !(b > a) {
+                continue;
+            }
+            let width = p.hi.clone() - p.lo.clone();
+            let part = b.clone() - a.clone();
+            let share = part.clone() / width.clone();
+            let mapped = |x: &T| (s0.lit(2.0) * x.clone() - p.lo.clone() - p.hi.clone()) / width.clone();
+            let (values, roundings) = if share > s0.lit(0.5) {
+                // A long part: the antiderivative's difference (0 at lo).
+                let ends = |i: usize| {
+                    let from = if a == p.lo { zero.clone() } else { clenshaw(&p.series[i], &mapped(&a)) };
+                    let size = p.series[i].iter().fold(zero.clone(), |m, c| m + c.abs());
+                    (clenshaw(&p.series[i], &mapped(&b)) - from, rounding.clone() * size * s0.lit(2.0))
+                };
+                let [x, y, z] = [ends(0), ends(1), ends(2)];
+                ([x.0, y.0, z.0], [x.1, y.1, z.1])
+            } else {
+                // A short part: the interpolant integrated over it by
+                // Gauss–Legendre, exact for its degree, whose rounding is
+                // relative to the part (the antiderivative's difference
+                // would bear ulps of the whole piece's integral).
+                short_part(&p.integrands, &mapped(&a), &mapped(&b), &part, &rounding)
+            };
+            for i in 0..3 {
+                delta[i] = delta[i].clone() + values[i].clone();
+                bar[i] = bar[i].clone() + p.bar[i].clone() * share.clone() + roundings[i].clone();
+            }
+        }
+        if *s1 > last.hi {
+            for (b, rest) in bar.iter_mut().zip(&self.beyond) {
+                *b = b.clone() + rest.clone();
+            }
+        }
+        (delta, bar)
     }
 
     /// e^{σt₀}B(∞) = ∫₀^∞ e^{−σ(t − t₀)} H dt (within the bar `error[1]`).
@@ -219,7 +288,7 @@ fn piece_series<T: Real>(
     hi: &T,
     h: &impl Fn(&T) -> (T, T),
     floors: &[T; 3],
-) -> ([Vec<T>; 3], Option<[T; 3]>, u64) {
+) -> ([Vec<T>; 3], [Vec<T>; 3], Option<[T; 3]>, u64) {
     let two = lo.lit(2.0);
     let half_len = (hi.clone() - lo.clone()) / two.clone();
     let mid = (hi.clone() + lo.clone()) / two;
@@ -236,8 +305,11 @@ fn piece_series<T: Real>(
     let goal = lo.lit(1e-12);
     let mut tails = [lo.lit(0.0), lo.lit(0.0), lo.lit(0.0)];
     let mut ok = true;
+    let mut integrands: [Vec<T>; 3] = [Vec::new(), Vec::new(), Vec::new()];
     let series = std::array::from_fn(|i| {
         let c = coefficients(&values[i], &cosines);
+        integrands[i] = c.clone();
+        integrands[i][0] = c[0].clone() / lo.lit(2.0);
         let tail = c[NODES - 2].abs() + c[NODES - 1].abs();
         let big = values[i].iter().fold(lo.lit(0.0), |m, v| m.max_of(v.abs()));
         let len = half_len.clone() * lo.lit(2.0);
@@ -253,7 +325,7 @@ fn piece_series<T: Real>(
             if negligible { big * len } else { (tail * lo.lit(2.0) + lo.eps() * lo.lit(64.0) * c[0].abs()) * len };
         antiderivative(&c, &half_len)
     });
-    (series, ok.then_some(tails), NODES as u64)
+    (series, integrands, ok.then_some(tails), NODES as u64)
 }
 
 /// cos(mπ/2n) for m = 0 … 4n − 1 (n = [`NODES`]): every angle the
@@ -297,6 +369,36 @@ fn antiderivative<T: Real>(c: &[T], half_len: &T) -> Vec<T> {
     }
     out[0] = c0;
     out
+}
+
+/// ∫ of the three interpolants (plain sums Σ c_k T_k on the piece mapped
+/// to [−1, 1]) over the part [x̂_a, x̂_b] of length `part`, by the
+/// Gauss–Legendre rule of NODES/2 points (exact for degree NODES − 1), and
+/// each sum's rounding bar, `rounding`·Σ|c_k| per unit length.
+#[allow(clippy::type_complexity)]
+fn short_part<T: Real + 'static>(integrands: &[Vec<T>; 3], xa: &T, xb: &T, part: &T, rounding: &T) -> ([T; 3], [T; 3]) {
+    let like = part;
+    let zero = like.lit(0.0);
+    let half = (xb.clone() - xa.clone()) / like.lit(2.0);
+    let mid = (xb.clone() + xa.clone()) / like.lit(2.0);
+    let rule = gauss_legendre(like, NODES / 2);
+    let mut sums = [zero.clone(), zero.clone(), zero.clone()];
+    for (x, w) in rule.iter() {
+        let signs: &[f64] = if x.is_zero() { &[1.0] } else { &[1.0, -1.0] };
+        for sign in signs {
+            let at = mid.clone() + half.clone() * x.clone() * like.lit(*sign);
+            for i in 0..3 {
+                sums[i] = sums[i].clone() + w.clone() * clenshaw(&integrands[i], &at);
+            }
+        }
+    }
+    let half_part = part.clone() / like.lit(2.0);
+    let values = sums.map(|v| v * half_part.clone());
+    let bars = std::array::from_fn(|i| {
+        let size = integrands[i].iter().fold(zero.clone(), |m, c| m + c.abs());
+        rounding.clone() * size * part.clone()
+    });
+    (values, bars)
 }
 
 /// Σ C_k T_k(x), by Clenshaw's recurrence.
@@ -371,5 +473,56 @@ mod tests {
         assert!(far.pieces.len() < MAX_PIECES / 4, "{} pieces", far.pieces.len());
         let ratio = far.b_total() / near.b_total();
         assert!(ratio.is_finite() && (0.5..2.0).contains(&ratio), "scaled B(∞) ratio {ratio}");
+    }
+
+    /// The increments over [s₀, s₁] against adaptive quadrature, within
+    /// their own bars, for intervals short (inside one piece, by
+    /// Gauss–Legendre), long (across pieces), at the √-kink and past the
+    /// last piece; and the bars of short ones far below the whole ones.
+    #[test]
+    fn increments_match_quadrature_within_their_own_bars() {
+        let (sigma, r) = (1.3f64, 0.2f64);
+        for (z, b) in [(1.0, 0.05), (0.7, 0.2), (2.0, 0.9), (1.0, 1e-6)] {
+            let c = HitCumulants::new(&sigma, &r, &z, &b).unwrap();
+            let kink = if b < r { z + (r * r - b * b).sqrt() } else { z + 0.3 };
+            let spans = [(1.0, 1.0 + 1e-6), (0.93, 0.93 + 1e-4), (kink - 1e-5, kink + 1e-5), (0.2, 3.0), (0.5, 150.0)];
+            for (s0, s1) in spans {
+                let (delta, bars) = c.between(&s0, &s1);
+                let k = (-sigma * c.t0).exp();
+                for i in 0..3 {
+                    let f = |t: &f64| {
+                        let d = ((t - z) * (t - z) + b * b).sqrt();
+                        let w = match i {
+                            0 => 1.0,
+                            1 => (-sigma * t).exp(),
+                            _ => t * (-sigma * t).exp(),
+                        };
+                        w * hit_chance(&sigma, &r, &d)
+                    };
+                    let mut bps = vec![z];
+                    if b < r {
+                        let h = (r * r - b * b).sqrt();
+                        bps.extend([z - h, z + h]);
+                    }
+                    let bps: Vec<f64> = bps.into_iter().filter(|x| *x > s0 && *x < s1).collect();
+                    let q = integrate(f, &Domain::finite(s0, s1).with_breakpoints(bps), &Options::rel(1e-13)).unwrap();
+                    let scale = if i == 0 { 1.0 } else { k };
+                    let (got, bar) = (delta[i] * scale, bars[i] * scale + q.error + 1e-15 * q.value.abs());
+                    assert!(
+                        (got - q.value).abs() <= bar,
+                        "z {z} b {b} [{s0}, {s1}] increment {i}: {got:e} vs {:e} (bar {bar:e})",
+                        q.value
+                    );
+                    if s1 - s0 <= 1e-4 {
+                        assert!(
+                            bars[i] <= 1e-2 * c.error[i],
+                            "[{s0}, {s1}] {i}: {:e} vs whole {:e}",
+                            bars[i],
+                            c.error[i]
+                        );
+                    }
+                }
+            }
+        }
     }
 }

@@ -69,8 +69,9 @@ impl<T: CheckRule> PointLight<T> {
         let front =
             ff.per_hit_power(power, &self.flux) * ff.albedo.clone() * ff.sigma.clone() / (pi.clone() * x.lit(4.0));
         let mut cuts = frame.psi_breakpoints(&super::point::phase_features(ff));
-        // G bends where the light's foot crosses the disk's rim (δ = R) and
-        // varies near the poles on the scale of that angle and of the peak.
+        // G bends where the light's foot crosses the disk's rim (δ = R, at
+        // θ_R and π − θ_R: cut there, not graded); near the poles it varies
+        // on the scale of the phase function's peak (graded below).
         let theta_r = super::point::cap_half_angle(&d, &ff.radius);
         let half_pi = pi.clone() / x.lit(2.0);
         cuts.push(theta_r.clone());
