@@ -50,6 +50,19 @@ fn a_smooth_nested_integral_over_its_budget_fails_naming_it() {
     assert!(fail.reason.contains("evaluation budget"), "{}", fail.reason);
 }
 
+/// A rule stopped by its level's evaluation budget while still refining
+/// says where its error lay, as at the panel limit: here its truncation
+/// (refining was paying), not bars carried in from inner levels.
+#[test]
+fn a_rule_stopped_by_its_budget_splits_its_error() {
+    let kinked = |x: &f64| (x - std::f64::consts::FRAC_1_PI).abs().powf(0.3);
+    let fail = integrate(kinked, &Domain::finite(0.0, 1.0), &Options::rel(1e-14).with_max_evals(3_000))
+        .expect_err("a kink to 1e-14 in 3000 evaluations");
+    assert!(fail.reason.contains("exhausted by"), "{}", fail.reason);
+    assert!(fail.reason.contains("of which truncation"), "{}", fail.reason);
+    assert!(!fail.reason.contains("refining does not shrink them"), "{}", fail.reason);
+}
+
 #[test]
 fn a_deadline_ends_a_computation() {
     let budget = Budget::with_deadline(u64::MAX, std::time::Duration::from_millis(1));

@@ -56,16 +56,21 @@ pub(crate) fn next_to_refine<T: Real, P: Panel<T>>(
         );
         return Err(f.fail(reason, Some((value, error))));
     }
+    // Where the error of the level that stops lies, as for the panel limit:
+    // whether refining was still paying or inner bars had filled its goal.
+    let split = || error_split(panels, &error, &goal(&value, opts));
     if let Some(reason) = opts.budget.exhausted() {
-        return Err(f.fail(format!("{reason}; stopped in {rule}"), Some((value, error))));
+        return Err(f.fail(format!("{reason}; stopped in {rule} ({})", split()), Some((value, error))));
     }
     if f.tally.calls >= opts.max_evals {
-        return Err(f.fail(format!("evaluation budget {} exhausted by {rule}", opts.max_evals), Some((value, error))));
+        let reason = format!("evaluation budget {} exhausted by {rule} ({})", opts.max_evals, split());
+        return Err(f.fail(reason, Some((value, error))));
     }
     Ok(Some(worst))
 }
 
-/// Where a stuck rule's error lies: its total against the goal, split into
+/// Where a stuck rule's error lies (at the panel limit, or where the
+/// budget ran out): its total against the goal, split into
 /// the truncation estimates (what refining shrinks) and the bars the
 /// samples carried in (inner integrals', tables'), which refining does
 /// not shrink; when those alone fill half the goal, the reason says so,
