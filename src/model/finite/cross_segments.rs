@@ -347,8 +347,10 @@ fn k_between<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s0: &T, s1: &T, lambd
     let [_, b1, _] = c.at(s1);
     let decay = (-(sigma.clone() * len.clone())).exp();
     let rise = -(-(sigma.clone() * len.clone())).exp_m1();
-    // e^{λ − σ(s₀ − t₀)}, in one exponent (as big_k).
-    let near = (lambda.clone() - sigma.clone() * (s0.clone() - c.t0.clone())).exp();
+    // e^{λ − σ(s₀ − t₀)} in one exponent, so that neither factor overflows
+    // alone (big_k also folds ln A into its own).
+    let argument = lambda.clone() - sigma.clone() * (s0.clone() - c.t0.clone());
+    let near = argument.clone().exp();
     let front = lambda.clone().exp();
     let e1 = sigma.clone() * (c.b_total() - b1);
     let first = sigma.clone() * near.clone() * (a0.max_of(zero.clone()) * rise.clone() - decay.clone() * da);
@@ -362,7 +364,11 @@ fn k_between<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s0: &T, s1: &T, lambd
             + sigma.clone() * len * sigma.clone() * eb.clone() * s0.lit(2.0)
             + sigma2 * (ec_local + s0.clone() * eb_local))
             * front.clone()
-        + (first.abs() + (second.abs() + third.abs() + fourth.abs()) * front) * s0.eps() * s0.lit(8.0);
+        // Rounding: of the sums, and of each exponent's argument (a relative
+        // error ε·|argument| in its exponential).
+        + (first.abs() * (s0.lit(8.0) + argument.abs())
+            + (second.abs() + third.abs() + fourth.abs()) * front * (s0.lit(8.0) + lambda.abs()))
+            * s0.eps();
     (value, error)
 }
 
