@@ -32,7 +32,7 @@
 //! the poles ±u (angular distance from the pole graded by decades), its
 //! jump across μ = 0, and the circles of ψ tangent to them.
 
-use super::periodic::{periodic_trapezoid, CircleMap, MIN_STRIP};
+use super::periodic::{near_pole_trapezoid, periodic_trapezoid, CircleMap, MIN_STRIP};
 use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome, Rule};
 use crate::real::Real;
 
@@ -464,7 +464,11 @@ impl<T: CheckRule> Frame<T> {
 
     /// Λ(ϑ) = 2∫₀^π L₁ dφ, in φ up to π/2 and in φ′ = π − φ beyond; graded
     /// by decades near φ = 0, where L₁ ~ 1/ψ peaks when ϑ is near ψ_u, and
-    /// near φ = π for a source feature near ψ = π.
+    /// near φ = π for a source feature near ψ = π. In the check pass (no
+    /// source feature) by the trapezoidal rule after a Möbius map of the
+    /// circle (`periodic::periodic_trapezoid`), or next to w₀ after the
+    /// substitution tan(φ/2) = a sinh v (`periodic::near_pole_trapezoid`),
+    /// the graded adaptive rule where neither converges.
     pub fn azimuthal(
         &self,
         theta: &T,
@@ -513,6 +517,13 @@ impl<T: CheckRule> Frame<T> {
                     at(&phi, &phi_c) * jac
                 };
                 if let Some(e) = periodic_trapezoid(theta, &mapped, opts) {
+                    return Ok(e);
+                }
+            }
+            // Next to w₀ (a small; the balanced strip too thin, or the rule
+            // not converged by N = 512): the sinh substitution about it.
+            if cross > zero {
+                if let Some(e) = near_pole_trapezoid(&a, &at, opts) {
                     return Ok(e);
                 }
             }

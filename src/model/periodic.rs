@@ -101,6 +101,84 @@ pub(crate) fn periodic_trapezoid<T: Real>(like: &T, f: &dyn Fn(&T, &T) -> T, opt
     None
 }
 
+/// ∫₀^{2π} f dφ of an even periodic f given on [0, π] as f(φ, π − φ), whose
+/// singularities near the real axis sit at tan(φ/2) = ±i·a, 0 < a ≤ 1 (a
+/// small: the circle passes next to w₀, where the Möbius map's balanced
+/// strip 2 artanh(√(ab)) is too thin for [`periodic_trapezoid`]), and any
+/// other singularity on the imaginary t-axis, t = tan(φ/2), no nearer to 0
+/// (cot(φ/2) = ∓i·b with b ≤ 1, and t = ±i, where φ runs off to i∞, qualify).
+/// The substitution t = a·sinh v (dφ = 2a cosh v/(1 + a² sinh² v) dv)
+/// moves ±i·a to v = ±iπ/2 and every t = ±iy with y ≥ a onto the lines
+/// |Im v| = π/2 (sinh v = iy/a with y/a ≥ 1 lies on them), so the integrand,
+/// even in v, is analytic in the strip |Im v| < π/2 whatever a is, and the
+/// trapezoidal rule on [0, V] converges like e^{−π²/h} (step h = 1, ½, …,
+/// 1/16, nested); its bar is |T_h − T_{2h}| (the coarser one's error, as in
+/// [`periodic_trapezoid`]) plus the tail beyond V. For v ≥ asinh(1/a) + 3
+/// (φ within 2e^{−3} of π) the weight is 4e^{−v}/a to 1 %, times f near
+/// φ = π, which varies little there, so ∫_V^∞ is g(V) (g the integrand in v)
+/// to a few per cent: the tail is taken as (2 + h)|g(V)| (also covering the
+/// full weight the last node gets), with V = asinh(1/a) + ln(8/rel_tol) + 3,
+/// so that it is ~rel_tol/8 of the integral or less. Accepted when the bar
+/// is below a quarter of the goal; `None` otherwise (the caller then uses
+/// the adaptive rule). The value is twice the one over [0, π].
+pub(crate) fn near_pole_trapezoid<T: Real>(a: &T, f: &dyn Fn(&T, &T) -> T, opts: &Options) -> Option<Estimate<T>> {
+    let zero = a.lit(0.0);
+    let one = a.lit(1.0);
+    let two = a.lit(2.0);
+    if !(*a > zero && *a <= one && opts.rel_tol > 0.0) {
+        return None;
+    }
+    let pi = a.pi();
+    let g = |v: &T| {
+        let (sh, ch) = (v.sinh(), v.cosh());
+        let t = a.clone() * sh;
+        // φ = 2 atan t, π − φ = 2 atan(1/t), each from the smaller argument.
+        let (phi, phi_c) = if t <= one {
+            let p = two.clone() * t.clone().atan();
+            (p.clone(), pi.clone() - p)
+        } else {
+            let pc = two.clone() * (one.clone() / t.clone()).atan();
+            (pi.clone() - pc.clone(), pc)
+        };
+        f(&phi, &phi_c) * two.clone() * a.clone() * ch / (one.clone() + t.clone() * t)
+    };
+    let inv = one.clone() / a.clone();
+    // asinh(1/a) + ln(8/rel_tol) + 3.
+    let reach = (inv.clone() + (inv.clone() * inv + one.clone()).sqrt()).ln() + a.lit((8.0 / opts.rel_tol).ln() + 3.0);
+    // h = 1: nodes 0, 1, …, K with K ≥ V.
+    let k_max = reach.to_f64().ceil() as usize;
+    if k_max > 4096 {
+        return None;
+    }
+    let end = a.lit(k_max as f64);
+    let g_end = g(&end);
+    let mut sum = g(&zero) / two.clone() + g_end.clone();
+    for k in 1..k_max {
+        sum = sum + g(&a.lit(k as f64));
+    }
+    let mut evaluations = (k_max + 1) as u64;
+    let mut steps = 1usize; // nodes per unit of v
+    let mut value = sum.clone();
+    while steps < 16 {
+        let fine = 2 * steps;
+        for j in (1..fine * k_max).step_by(2) {
+            sum = sum + g(&(a.lit(j as f64) / a.lit(fine as f64)));
+        }
+        evaluations += (steps * k_max) as u64;
+        steps = fine;
+        let h = a.lit(1.0 / steps as f64);
+        let next = sum.clone() * h.clone();
+        let tail = g_end.abs() * (two.clone() + h);
+        let bar = (next.clone() - value.clone()).abs() + tail;
+        value = next;
+        let goal = (value.abs() * a.lit(opts.rel_tol)).max_of(a.lit(opts.abs_tol)) / a.lit(4.0);
+        if bar <= goal && bar.is_finite() {
+            return Some(Estimate::known(value * two.clone(), bar * two, evaluations, Rule::Check));
+        }
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -145,11 +223,55 @@ mod tests {
         assert!(periodic_trapezoid(&1.0, &f, &opts).is_none());
     }
 
+    /// Poles 7·10⁻⁵ and 10⁻⁸ from the axis (strips of the balanced map
+    /// 0.005 and 5·10⁻⁵, far too thin for it), the far pole at b = 0.58:
+    /// the sinh substitution converges, within its bar of the closed form.
+    #[test]
+    fn the_sinh_substitution_takes_a_pole_next_to_the_circle() {
+        for r in [1.0 - 1e-8, 1.0 - 2e-16] {
+            let (exact, a, b, f) = two_poles(r, 0.5);
+            assert!(CircleMap::balanced(&a, &b).strip < MIN_STRIP);
+            for tol in [1e-6, 1e-12] {
+                let e = near_pole_trapezoid(&a, &f, &Options::rel(tol)).expect("converges");
+                assert!((e.value - exact).abs() <= e.error + 1e-14 * exact, "{} vs {exact} ± {}", e.value, e.error);
+                assert!(e.error <= tol * exact / 4.0, "{e:?}");
+                assert!(e.evaluations <= 600, "{e:?}");
+            }
+        }
+    }
+
     #[test]
     fn circle_map_is_the_identity_when_the_poles_are_equally_far() {
         let map = CircleMap::balanced(&0.3, &0.3);
         let (phi, phi_c, jac) = map.at(&1.0, &(std::f64::consts::PI - 1.0));
         assert!((phi - 1.0).abs() <= 4.0 * f64::EPSILON && (jac - 1.0).abs() <= 4.0 * f64::EPSILON);
         assert!((phi_c - (std::f64::consts::PI - 1.0)).abs() <= 4.0 * f64::EPSILON);
+    }
+
+    /// Next to w₀ (ϑ − ψ_u from 10⁻³ down to 10⁻¹², where the check pass
+    /// takes Λ by the sinh substitution, `periodic::near_pole_trapezoid`)
+    /// the two passes' rules agree within their bars, with L₁ = 1/sin ψ.
+    #[test]
+    fn next_to_w0_the_check_rule_agrees_with_tanh_sinh() {
+        use super::super::angular::{Features, Pole};
+        let features = Features {
+            plus: Pole { floor: None, marks: Vec::new() },
+            minus: Pole { floor: None, marks: Vec::new() },
+            equator_jump: false,
+            source_near_0: None,
+            source_near_pi: None,
+        };
+        let l1 = |_: &f64, _: &f64, sin_psi: &f64| 1.0 / sin_psi;
+        let frame = super::super::angular::Frame::new(0.6f64, 0.8f64);
+        for gap in [1e-3, -1e-5, 1e-8, -1e-12] {
+            let theta = frame.psi_u + gap;
+            let theta_c = std::f64::consts::PI - theta;
+            let o = |rule| Options { rule, abs_tol: 0.0, ..Options::rel(1e-9) };
+            let check = frame.azimuthal(&theta, &theta_c, &features, &l1, &o(Rule::Check)).unwrap();
+            let primary = frame.azimuthal(&theta, &theta_c, &features, &l1, &o(Rule::TanhSinh)).unwrap();
+            let diff = (check.value - primary.value).abs();
+            assert!(diff <= check.error + primary.error, "gap {gap}: {check:?} against {primary:?}");
+            assert!(check.evaluations <= 600, "gap {gap}: {check:?}");
+        }
     }
 }

@@ -7,6 +7,7 @@
 //! | [`overlap_a_integral`] | ∫₀ˣ A(y) dy | appendix, I₁ |
 //! | [`overlap_a_moment`] | ∫₀ˣ A(y) y dy | appendix, bound on I₂ₐ |
 //! | [`exp_int_e1`] | E₁(x) = ∫₁^∞ e^{−xt}/t dt | appendix, "Ei(1, X)" |
+//! | [`isotropic_arc`] | 2∫_{tan(ψ/2)}^∞ e^{−a(u − u₀)}/(1 + u²) du = 2 Im[e^{z}E₁(z)] | single-scattered source (isotropic) |
 //! | [`exp_int_tail2`] | X⁻¹(e^{−X} − X E₁(X)) = ∫_X^∞ u⁻² e^{−u} du | appendix, bound on I₂ |
 //! | [`overlap_a_gap`] | A(1 − u), the unit disc's segment of height u | finite spheres |
 //! | [`complete_elliptic_e`] | E(m) = ∫₀^{π/2} √(1 − m sin²θ) dθ, from k′ = √(1 − m) | finite spheres (HG azimuth) |
@@ -18,6 +19,7 @@
 //!
 //! Accuracy in f64 (measured against MPFR at ≥ 256 bits): `docs/accuracy.md`.
 
+mod complex_e1;
 mod elliptic;
 mod expint;
 mod exponential;
@@ -26,6 +28,7 @@ mod lens;
 mod overlap;
 mod series;
 
+pub use complex_e1::isotropic_arc;
 pub use elliptic::complete_elliptic_e;
 pub use expint::{exp_int_e1, exp_int_e1_scaled, exp_int_tail2};
 pub use exponential::{exp_segment, exp_triangle};
