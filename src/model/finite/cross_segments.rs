@@ -336,7 +336,7 @@ fn big_k<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s: &T, lambda: &T) -> (T,
 /// E(s₁) times σℓ-sized weights, the increments' own ones. At a chord
 /// reaching the spheres over ℓ = 10⁻⁶ next to a light 10⁻⁶ from the camera
 /// line the bar fell from 2·10⁻⁷ of the value ([`big_k`] and [`short_k`],
-/// whose Taylor rest is ℓ²) to 10⁻¹¹, and the azimuthal integral that
+/// whose Taylor rest is ℓ²) to ~10⁻¹², and the azimuthal integral that
 /// could not meet 5·10⁻⁸ at 10⁻⁵ converges.
 fn k_between<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s0: &T, s1: &T, lambda: &T) -> (T, T) {
     let zero = s0.lit(0.0);
