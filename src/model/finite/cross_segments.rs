@@ -336,7 +336,7 @@ fn big_k<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s: &T, lambda: &T) -> (T,
 /// E(s₁) times σℓ-sized weights, the increments' own ones. At a chord
 /// reaching the spheres over ℓ = 10⁻⁶ next to a light 10⁻⁶ from the camera
 /// line the bar fell from 2·10⁻⁷ of the value ([`big_k`] and [`short_k`],
-/// whose Taylor rest is ℓ²) to ~10⁻¹², and the azimuthal integral that
+/// whose rest is ℓ²K′/2) to ~10⁻¹², and the azimuthal integral that
 /// could not meet 5·10⁻⁸ at 10⁻⁵ converges.
 fn k_between<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s0: &T, s1: &T, lambda: &T) -> (T, T) {
     let zero = s0.lit(0.0);
@@ -483,7 +483,7 @@ mod tests {
                 // The increments' form, within its own bar, which shrinks
                 // with the interval where the difference's does not.
                 let (local, local_error) = k_between(&sigma, &c, &s0, &s1, &lambda);
-                let bar = local_error + q.error + 1e-14 * q.value.abs();
+                let bar = local_error + q.error;
                 assert!(
                     (local - q.value).abs() <= bar,
                     "z {z} b {b} [{s0}, {s1}], increments: {local:e} vs {:e} (bar {bar:e})",
@@ -573,8 +573,8 @@ mod near_the_light {
         }
     }
 
-    /// The light 10⁻⁶ from the camera line (R = 0.2; `/work`'s hard case of
-    /// issue 20) at the node where C₂₃'s run at 10⁻⁵ failed: the samples'
+    /// The light 10⁻⁶ from the camera line (R = 0.2; a hard case of issue
+    /// 20, `docs/model.md` §9.7, "At bars ≤ 10⁻⁶") at the node where C₂₃'s run at 10⁻⁵ failed: the samples'
     /// bars (the cumulants' whole bars in the difference, ℓ²K′/2 in the
     /// slice, 2·10⁻⁷ of the value for chords reaching the spheres over
     /// ℓ ≈ 10⁻⁶) filled the azimuthal integral's goal of 5·10⁻⁸, which 2000
