@@ -54,7 +54,7 @@ enum Command {
         /// One JSON object instead of the table.
         #[arg(long)]
         json: bool,
-        /// Also compute the finite-sphere Q and the correlations Var L weighs (C₂₃ where q < 1, C₂₄ where camera_rays > 1) of single-scattered light (scattering_orders = 1, isotropic medium, point lights), so that the prediction is the exact finite-sphere model (the library's `predict` does so at a goal of 1e-3): about a minute on two cores at --rel-tol 1e-3 (~7e8 evaluations; minutes with a light near the camera line), so it needs --rel-tol, and --max-evals to match (e.g. 1e-3 and 3e9).
+        /// Also compute the finite-sphere Q and the correlations Var L weighs (C₂₃ where q < 1, C₂₄ where camera_rays > 1) of single-scattered light (scattering_orders = 1, isotropic medium, point lights), so that the prediction is the exact finite-sphere model (the library's `predict` does so at a goal of 1e-3): about a minute on two cores at --rel-tol 1e-3 (~7e8 evaluations; minutes with a light near the camera line), so it needs --rel-tol, and --max-evals to match (e.g. 1e-3 and 3e9). For point lights in a Henyey–Greenstein medium at q = 1 and camera_rays = 1 it computes Var L itself (M₂ with the same-path term, docs/model.md §9.10): ~4e9 evaluations and minutes at 1e-3 (give --max-evals 3e10).
         #[arg(long, requires = "rel_tol")]
         finite_pairs: bool,
     },

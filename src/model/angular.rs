@@ -132,26 +132,44 @@ impl<T: Real> Frame<T> {
     /// The law is symmetric in the two frames: with ψ ↔ ϑ it gives the
     /// azimuth about u at which the circle ϑ is at angle ψ from w₀.
     fn chi_at(&self, psi: &T, psi_pole: &T, theta: &T) -> Option<T> {
-        self.chi_at_gap(&psi.sin(), &(psi.clone() - psi_pole.clone()), psi_pole, theta)
+        azimuth_at_distance(psi, psi_pole, theta)
     }
 
     /// [`Frame::chi_at`] from sin ψ and Δ = ψ − ψ_pole given (each formed
     /// where it is exact, [`Frame::pole_gaps`]).
     fn chi_at_gap(&self, sin_psi: &T, delta: &T, psi_pole: &T, theta: &T) -> Option<T> {
-        let two = theta.lit(2.0);
-        let num = ((theta.clone() + delta.clone()) / two.clone()).sin()
-            * ((theta.clone() - delta.clone()) / two.clone()).sin();
-        let den = sin_psi.clone() * psi_pole.sin();
-        if !(den > theta.lit(0.0)) {
-            return None;
-        }
-        let s2 = num / den;
-        if !(s2 > theta.lit(0.0) && s2 < theta.lit(1.0)) {
-            return None;
-        }
-        Some(two * s2.sqrt().asin())
+        azimuth_at_gap(sin_psi, delta, psi_pole, theta)
     }
 }
+
+/// The azimuth χ ∈ [0, π] (from the pole's half-plane) at which the circle
+/// of polar angle ψ, about any axis, comes within angular distance `theta`
+/// of a pole at polar angle ψ_pole about that axis, if it gets there:
+/// sin²(χ/2) = sin((ϑ + Δ)/2) sin((ϑ − Δ)/2)/(sin ψ sin ψ_pole), Δ = ψ − ψ_pole
+/// (the spherical law of cosines in half angles). Where a narrow peak at the
+/// pole crosses an azimuthal integral.
+pub(crate) fn azimuth_at_distance<T: Real>(psi: &T, psi_pole: &T, theta: &T) -> Option<T> {
+    azimuth_at_gap(&psi.sin(), &(psi.clone() - psi_pole.clone()), psi_pole, theta)
+}
+
+/// [`azimuth_at_distance`] from sin ψ and Δ = ψ − ψ_pole given.
+fn azimuth_at_gap<T: Real>(sin_psi: &T, delta: &T, psi_pole: &T, theta: &T) -> Option<T> {
+    let two = theta.lit(2.0);
+    let num =
+        ((theta.clone() + delta.clone()) / two.clone()).sin() * ((theta.clone() - delta.clone()) / two.clone()).sin();
+    let den = sin_psi.clone() * psi_pole.sin();
+    if !(den > theta.lit(0.0)) {
+        return None;
+    }
+    let s2 = num / den;
+    if !(s2 > theta.lit(0.0) && s2 < theta.lit(1.0)) {
+        return None;
+    }
+    Some(two * s2.sqrt().asin())
+}
+
+/// An integrand of [`Frame::around_at`]: g(v, χ, π − χ, options).
+pub(crate) type AzimuthAware<'a, T> = dyn Fn(&Direction<T>, &T, &T, &Options) -> Outcome<T> + Sync + 'a;
 
 /// Angular distances graded by decades from `start` up to π/2.
 fn decades<T: Real>(start: &T) -> Vec<T> {
@@ -237,6 +255,19 @@ impl<T: CheckRule> Frame<T> {
         g: &(dyn Fn(&Direction<T>, &Options) -> Outcome<T> + Sync),
         opts: &Options,
     ) -> Outcome<T> {
+        self.around_at(psi, features, &|dir: &Direction<T>, _: &T, _: &T, o: &Options| g(dir, o), opts)
+    }
+
+    /// [`Frame::around`] for a g that needs the azimuth too: g(v, χ, π − χ),
+    /// each of χ and π − χ exact where it is small. The integrand must be
+    /// even in χ (the frame's mirror symmetry about the plane of w₀ and u).
+    pub(crate) fn around_at(
+        &self,
+        psi: &T,
+        features: &Features<T>,
+        g: &AzimuthAware<'_, T>,
+        opts: &Options,
+    ) -> Outcome<T> {
         let zero = psi.lit(0.0);
         // Cuts measured from χ = 0 and from χ = π, each kept in the variable
         // that is exact where it is small.
@@ -275,7 +306,7 @@ impl<T: CheckRule> Frame<T> {
                 halves.cut_before_pi(c);
             }
         }
-        let f = |chi: &T, chi_c: &T, o: &Options| g(&self.direction(psi, chi, chi_c), o);
+        let f = |chi: &T, chi_c: &T, o: &Options| g(&self.direction(psi, chi, chi_c), chi, chi_c, o);
         let e = halves.integrate(&f, &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() })?;
         let two = psi.lit(2.0);
         Ok(Estimate { value: e.value * two.clone(), error: e.error * two, ..e })

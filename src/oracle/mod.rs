@@ -37,8 +37,8 @@ pub use order_one::{finite_pairs_cover, finite_sphere_covers, finite_sphere_cove
 use report::{correlation, reported, scaled};
 pub use report::{
     Asymptotic, Correlation, FiniteMean, FiniteReport, Integral, Report, ReportPrediction, ValueWithBar, Variance,
-    FINITE_NOTE, FINITE_ORDER1_NOTE, PAIRS_NOT_NEEDED, SMALL_SPHERE_NOTE, SMALL_SPHERE_PAIRS_FAILED,
-    SMALL_SPHERE_PAIRS_NOT_NEEDED,
+    FINITE_NOTE, FINITE_ORDER1_HG_NOTE, FINITE_ORDER1_NOTE, PAIRS_NOT_NEEDED, SMALL_SPHERE_NOTE,
+    SMALL_SPHERE_PAIRS_FAILED, SMALL_SPHERE_PAIRS_NOT_NEEDED,
 };
 
 /// How much of the small-sphere model a run computes.
@@ -89,7 +89,11 @@ pub enum Scope {
     /// it a goal and a budget. Their failure (the budget spent among them) is
     /// reported, and the prediction is then the small-sphere one; they are
     /// computed after everything else, so that the rest of the report
-    /// stands when they spend the budget.
+    /// stands when they spend the budget. For point lights in a
+    /// Henyey–Greenstein medium at q = 1 and N_B = 1 it computes μ, M₂ and
+    /// P of the order-1 model (M₂ with the same-path term of
+    /// `docs/model.md` §9.10, 4·10⁹ evaluations and ~5 minutes at 10⁻³ at
+    /// g = −0.5), so that the prediction is exact there too.
     FinitePairs,
     /// [`Scope::Prediction`] and, for single-scattered light (isotropic
     /// media, point lights) with q < 1 or N_B > 1 in f64, the finite-sphere
@@ -228,7 +232,11 @@ pub fn run_with_scoped<T: CheckRule>(
     // The whole order-1 model (μ, M₂, P) where the pairs weigh nothing; in a
     // Henyey–Greenstein medium the mean alone.
     let whole_model = scattered_field.is_some() && scattered_covered(scene);
-    let unpaired = whole_model && pairs_weigh_nothing(scene);
+    // Point lights in a Henyey–Greenstein medium at q = 1 and N_B = 1: μ, M₂
+    // and P with the same-path term's four-level nest (`docs/model.md`
+    // §9.10), minutes at 10⁻³: with `--finite-pairs` only.
+    let hg_unpaired = scope == Scope::FinitePairs && scattered_field.is_some() && pairs_weigh_nothing(scene);
+    let unpaired = (whole_model || hg_unpaired) && pairs_weigh_nothing(scene);
     // A beam's single-scattered light has no small-sphere pair integrals:
     // covered only where (7)–(9) weigh them 0.
     let beam_scattered = !field.scattered_beams.is_empty();
@@ -361,7 +369,12 @@ pub fn run_with_scoped<T: CheckRule>(
             mean: f.mean,
             variance: f.variance,
             relative_noise: f.relative_noise,
-            note: if order1_finite.is_some() { FINITE_ORDER1_NOTE } else { FINITE_NOTE }.into(),
+            note: match &order1_finite {
+                None => FINITE_NOTE,
+                Some(_) if scene.medium.phase == mcrt_scene::Phase::Isotropic => FINITE_ORDER1_NOTE,
+                Some(_) => FINITE_ORDER1_HG_NOTE,
+            }
+            .into(),
         },
         None => ReportPrediction {
             model: "small-sphere",
@@ -531,7 +544,13 @@ fn finite_report<T: CheckRule>(
         integral_q: f.q.as_ref().map(|e| scaled(e, &k)),
         corr23: f.c23.as_ref().map(|e| scaled(e, &k)),
         corr24: f.c24.as_ref().map(|e| scaled(e, &k)),
-        not_computed: not_weighed(f, counts),
+        not_computed: not_weighed(f, counts).map(|why| {
+            if ff.phase == mcrt_scene::Phase::Isotropic {
+                why
+            } else {
+                format!("{why}; in a Henyey–Greenstein medium they are not derived yet (docs/model.md §9.10)")
+            }
+        }),
         covers,
         attenuation_shift: ff.shift.to_f64(),
         evaluations: f.evaluations(),

@@ -27,8 +27,9 @@ pub(super) fn scattered_mean_field<T: CheckRule>(scene: &Scene, field: &Field<T>
 
 /// An order-1 scene whose exact mean the finite-sphere model covers: an
 /// isotropic medium (point lights and beams), or point lights only in a
-/// Henyey–Greenstein medium (its Var L there is not derived yet: the
-/// same-path term and the correlations of two spheres).
+/// Henyey–Greenstein medium (its Var L there at q = 1 and N_B = 1 with
+/// [`Scope::FinitePairs`](super::Scope::FinitePairs) only, `docs/model.md`
+/// §9.10; the correlations of two spheres are not derived there).
 fn scattered_mean_covered(scene: &Scene) -> bool {
     scene.effects.scattering_orders == mcrt_scene::ScatteringOrders::Limited(1)
         && (scene.medium.phase == mcrt_scene::Phase::Isotropic
@@ -233,12 +234,22 @@ pub(super) fn finite_not_used<T>(scene: &Scene, run: &Result<Option<OrderOne<T>>
         // The mean itself failed (before any pairs were tried): that is
         // the reason, whatever the scene's q and N_B.
         Err(err) => Some(format!("its computation failed: {err}")),
-        Ok(Some(OrderOne::Mean(_, None))) if scene.medium.phase != mcrt_scene::Phase::Isotropic => Some(
-            "in a Henyey–Greenstein medium it gives the exact mean (`finite_mean`, docs/model.md §9.9) but not \
-             yet Var L: the same-path term ⟨𝒞₀𝒞₁⟩ and the correlations of two spheres are derived for isotropic \
-             media only"
-                .into(),
-        ),
+        Ok(Some(OrderOne::Mean(_, None))) if scene.medium.phase != mcrt_scene::Phase::Isotropic => {
+            Some(if pairs_weigh_nothing(scene) {
+                "in a Henyey–Greenstein medium it gives the exact mean (`finite_mean`, docs/model.md §9.9); its Var L \
+                 (here q = 1 and N_B = 1: μ, M₂ and P, with the same-path term ⟨𝒞₀𝒞₁⟩ of §9.10) takes 10⁹–10¹⁰ \
+                 evaluations at 10⁻³, so only `mcrt-noise oracle --finite-pairs` computes it (give it --rel-tol and \
+                 --max-evals)"
+                    .into()
+            } else {
+                format!(
+                    "in a Henyey–Greenstein medium it gives the exact mean (`finite_mean`, docs/model.md §9.9) but not \
+                     Var L at q = {}, N_B = {}: the correlations of two spheres ({needed}) are derived for isotropic \
+                     media only (at q = 1 and N_B = 1 `mcrt-noise oracle --finite-pairs` computes Var L, §9.10)",
+                    e.q, e.camera_rays
+                )
+            })
+        }
         Ok(Some(OrderOne::Mean(_, None))) => Some(format!(
             "with single-scattered light it covers q = 1 and N_B = 1 only (here q = {}, N_B = {}), where (7)–(9) \
              weigh the correlations of two spheres 0; this scene needs {needed}, which take about a minute at \

@@ -208,6 +208,12 @@ pub const FINITE_NOTE: &str = "exact at this R for uncollided light; the bars ar
 pub const FINITE_ORDER1_NOTE: &str = "exact at this R for uncollided and single-scattered light (isotropic medium); \
      the bars are the quadrature's (the model approximates nothing)";
 
+/// The note of a finite-sphere prediction with single-scattered light in a
+/// Henyey–Greenstein medium (`oracle --finite-pairs`, q = 1 and N_B = 1).
+pub const FINITE_ORDER1_HG_NOTE: &str = "exact at this R for uncollided and single-scattered light (point lights \
+     in a Henyey–Greenstein medium at q = 1 and N_B = 1, docs/model.md §9.10); the bars are the quadrature's (the \
+     model approximates nothing)";
+
 /// Everything the oracle says about one scene.
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {

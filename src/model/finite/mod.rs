@@ -31,6 +31,7 @@ mod hit_cumulants;
 pub mod order1;
 pub mod point;
 pub mod ray;
+mod same_path_hg;
 pub mod scattered;
 mod scattered_beam;
 mod scattered_hg;

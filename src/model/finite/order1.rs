@@ -89,15 +89,30 @@ impl<T: CheckRule> PointLight<T> {
 }
 
 impl<T: CheckRule> FiniteField<T> {
-    /// Refuses what the order-1 moments do not cover yet.
+    /// Refuses what the order-1 moments μ, M₂ and P do not cover yet: a
+    /// beam in a Henyey–Greenstein medium (isotropic media with any
+    /// lights, point lights in a Henyey–Greenstein one: `scattered_hg`,
+    /// `same_path_hg`).
     pub(super) fn order1_covered(&self) -> Result<(), OracleError> {
-        if self.phase != Phase::Isotropic {
+        if self.phase != Phase::Isotropic && self.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
             return Err(OracleError::Unsupported(
-                "the finite-sphere model of single-scattered light covers isotropic media (medium.phase = \"isotropic\")"
+                "the finite-sphere model of single-scattered light covers a beam in an isotropic medium only \
+                 (medium.phase = \"isotropic\"); point lights in a Henyey–Greenstein medium are covered"
                     .into(),
             ));
         }
         Ok(())
+    }
+
+    /// The options of an order-1 integral: in a Henyey–Greenstein medium
+    /// the Gauss–Kronrod pair where the goal allows (its nests are three
+    /// and four levels deep per camera-ray point, `order1::pair_rule`).
+    fn order1_options(&self, opts: &Options) -> Options {
+        if self.phase == Phase::Isotropic {
+            opts.clone()
+        } else {
+            Options { rule: pair_rule(&self.radius, opts), ..opts.clone() }
+        }
     }
 
     /// Refuses what the order-1 mean does not cover yet: a beam in a
@@ -118,7 +133,14 @@ impl<T: CheckRule> FiniteField<T> {
     /// Refuses what the order-1 correlations of two spheres do not cover
     /// yet: beams (§9.7 is derived for point lights).
     fn order1_pairs_covered(&self) -> Result<(), OracleError> {
-        self.order1_covered()?;
+        if self.phase != Phase::Isotropic {
+            return Err(OracleError::Unsupported(
+                "the finite-sphere correlations of two spheres (C₂₃, C₂₄) with single-scattered light cover \
+                 isotropic media (medium.phase = \"isotropic\"); a Henyey–Greenstein medium is covered at q = 1 and \
+                 N_B = 1, where they weigh nothing"
+                    .into(),
+            ));
+        }
         if self.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
             return Err(OracleError::Unsupported(
                 "the finite-sphere correlations of two spheres (C₂₃, C₂₄) with single-scattered light cover point \
@@ -159,9 +181,13 @@ impl<T: CheckRule> FiniteField<T> {
     pub(super) fn order1_mean_with_bar(&self, x: &T, tables: &ScatteredTables<T>, opts: &Options) -> Outcome<T> {
         let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, ..opts.clone() };
         self.sum_over_lights(x, opts, |i, light| match light {
-            FiniteLight::Point(p) => {
+            FiniteLight::Point(p) if self.phase == Phase::Isotropic => {
                 let e = p.scattered_moment(self, tables, x, 1, &share)?;
                 Ok(Estimate::known(e.value + p.moment_isotropic(self, x, 1), e.error, e.evaluations, opts.rule))
+            }
+            FiniteLight::Point(p) => {
+                let half = Options { abs_tol: share.abs_tol / 2.0, ..share.clone() };
+                Ok(p.scattered_moment(self, tables, x, 1, &half)?.plus(p.moment_cap(self, x, 1, &half)?))
             }
             FiniteLight::Beam(b) => {
                 let e = b.scattered_moment(self, tables, i, x, 1, &share)?;
@@ -180,12 +206,18 @@ impl<T: CheckRule> FiniteField<T> {
         opts: &Options,
     ) -> Outcome<T> {
         let share = Options { abs_tol: opts.abs_tol / (2.0 * self.lights.len() as f64), ..opts.clone() };
-        let table = second_hit.for_pass(&self.sigma, &self.radius, opts);
+        // K(w) serves isotropic media only.
+        let table =
+            (self.phase == Phase::Isotropic).then(|| second_hit.for_pass(&self.sigma, &self.radius, opts)).flatten();
         self.sum_over_lights(x, opts, |i, light| match light {
             FiniteLight::Point(p) => {
                 let own = p.scattered_moment(self, scattered, x, 2, &share)?;
                 let half = Options { abs_tol: share.abs_tol / 2.0, ..share.clone() };
-                let both = p.same_path_moment(self, x, table.as_deref(), &half)?;
+                let both = if self.phase == Phase::Isotropic {
+                    p.same_path_moment(self, x, table.as_deref(), &half)?
+                } else {
+                    p.same_path_moment_hg(self, x, &half)?
+                };
                 Ok(own.plus(both.scaled(&x.lit(2.0))))
             }
             FiniteLight::Beam(b) => {
@@ -213,6 +245,7 @@ impl<T: CheckRule> FiniteField<T> {
         opts: &Options,
     ) -> Result<Estimate<T>, OracleError> {
         self.order1_covered()?;
+        let opts = &self.order1_options(opts);
         let second_hit = SecondHitTables::default();
         second_hit.charge(self.with_line(|line| {
             line.integral_nested("finite-sphere ∫⟨𝒞²⟩, single-scattered part", opts, |x, o| {
@@ -267,6 +300,7 @@ impl<T: CheckRule> FiniteField<T> {
     /// evaluations the caller charges.
     fn order1_p_with(&self, tables: &ScatteredTables<T>, opts: &Options) -> Result<Estimate<T>, OracleError> {
         self.order1_covered()?;
+        let opts = &self.order1_options(opts);
         let with_bar = |x: &T, _tol: f64, o: &Options| self.order1_mean_with_bar(x, tables, o);
         let source = crate::model::along::MeanSource::WithBar(&with_bar);
         self.with_line(|line| line.p_single(&source, opts))

@@ -101,7 +101,7 @@ impl<T: CheckRule> PointLight<T> {
 }
 
 /// g of the medium's phase function (0 when isotropic).
-fn asymmetry(phase: &Phase) -> f64 {
+pub(super) fn asymmetry(phase: &Phase) -> f64 {
     match *phase {
         Phase::HenyeyGreenstein { g } => g,
         Phase::Isotropic => 0.0,
@@ -110,7 +110,7 @@ fn asymmetry(phase: &Phase) -> f64 {
 
 /// The angular width of the phase function's peak, (1 − |g|)/√|g| (the
 /// half-width of 1/(1 + g² − 2g cos α)^{3/2}), or `None` for g = 0.
-fn peak_width(g: f64) -> Option<f64> {
+pub(super) fn peak_width(g: f64) -> Option<f64> {
     (g != 0.0).then(|| (1.0 - g.abs()) / g.abs().sqrt())
 }
 
