@@ -31,7 +31,7 @@ mod report;
 pub(crate) use order_one::pairs_weigh_nothing;
 use order_one::{
     finite_mean_report, finite_not_used, not_weighed, order_one, scattered_covered, scattered_mean_field,
-    with_finite_pairs, OrderOne,
+    with_finite_pairs, with_hg_moments, OrderOne,
 };
 pub use order_one::{finite_pairs_cover, finite_sphere_covers, finite_sphere_covers_the_standard_method};
 use report::{correlation, reported, scaled};
@@ -232,11 +232,13 @@ pub fn run_with_scoped<T: CheckRule>(
     // The whole order-1 model (μ, M₂, P) where the pairs weigh nothing; in a
     // Henyey–Greenstein medium the mean alone.
     let whole_model = scattered_field.is_some() && scattered_covered(scene);
+    let unpaired = whole_model && pairs_weigh_nothing(scene);
     // Point lights in a Henyey–Greenstein medium at q = 1 and N_B = 1: μ, M₂
     // and P with the same-path term's four-level nest (`docs/model.md`
-    // §9.10), minutes at 10⁻³: with `--finite-pairs` only.
-    let hg_unpaired = scope == Scope::FinitePairs && scattered_field.is_some() && pairs_weigh_nothing(scene);
-    let unpaired = (whole_model || hg_unpaired) && pairs_weigh_nothing(scene);
+    // §9.10), minutes at 10⁻³: with `--finite-pairs` only, after everything
+    // else (as the pairs), so that a spent budget leaves the report.
+    let hg_unpaired =
+        scope == Scope::FinitePairs && scattered_field.is_some() && !whole_model && pairs_weigh_nothing(scene);
     // A beam's single-scattered light has no small-sphere pair integrals:
     // covered only where (7)–(9) weigh them 0.
     let beam_scattered = !field.scattered_beams.is_empty();
@@ -278,6 +280,7 @@ pub fn run_with_scoped<T: CheckRule>(
             let weighed = Weighed::of(scene.estimator.q, scene.estimator.camera_rays);
             Ok(Some(with_finite_pairs(ff, mean, &Options { rel_tol: goal, ..opts.clone() }, weighed)))
         }
+        (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if hg_unpaired => Ok(Some(with_hg_moments(ff, mean, &opts))),
         (other, _) => other,
     };
     // A failure's best guess carries its field's e^{c₀}: in the report's units.

@@ -213,6 +213,28 @@ pub(super) fn with_finite_pairs<T: CheckRule>(
     }
 }
 
+/// μ, M₂ and P of an order-1 scene with point lights in a Henyey–Greenstein
+/// medium at q = 1 and N_B = 1 (`docs/model.md` §9.10; [`Scope::FinitePairs`](super::Scope::FinitePairs)
+/// only: 10⁹–10¹⁰ evaluations at 10⁻³), computed after everything else with
+/// the run's goal and budget, or, where they fail, the exact mean `mean`
+/// computed before (at its own goal and budget) with the failure. Of the two
+/// means the one with the smaller bar is kept, as in [`with_finite_pairs`].
+pub(super) fn with_hg_moments<T: CheckRule>(ff: &FiniteField<T>, mean: Estimate<T>, opts: &Options) -> OrderOne<T> {
+    let parts = match ff.order1_unpaired_parts(opts) {
+        Ok(parts) => parts,
+        Err(failed) => return OrderOne::Mean(mean, Some(failed)),
+    };
+    match (parts.mean, parts.m2, parts.p) {
+        (Ok(own), Ok(m2), Ok(p)) => {
+            let evaluations = own.evaluations + mean.evaluations;
+            let mut kept = if mean.error < own.error { mean } else { own };
+            kept.evaluations = evaluations;
+            OrderOne::Integrals(FiniteIntegrals { mean: kept, m2, p, q: None, c23: None, c24: None })
+        }
+        (Err(e), _, _) | (_, Err(e), _) | (_, _, Err(e)) => OrderOne::Mean(mean, Some(e)),
+    }
+}
+
 /// Why an order-1 scene's prediction is not the finite-sphere model: what
 /// the model does not cover yet, or its failure (`None` for order 0, or
 /// when it is the prediction).
