@@ -67,3 +67,30 @@ fn tracer_agrees_with_the_henyey_greenstein_order1_variance() {
     assert!(z_mean.abs() <= 4.0 && z_var.abs() <= 4.0, "mean z {z_mean}, Var L z {z_var}");
     assert!(z_small.abs() > 6.0, "the small-sphere Var L is not rejected: z {z_small}");
 }
+
+/// `Scope::FinitePairs` computes M₂ and P of a Henyey–Greenstein order-1
+/// scene after everything else, with the run's budget (the exact mean
+/// keeps its own goal and budget): when they spend it, the report stands
+/// with the small-sphere prediction, the exact mean, and their failure in
+/// `finite_not_used` — the same prediction and mean as `Scope::Everything`
+/// gives (the run is given what `Everything` used plus 3·10⁸ evaluations,
+/// far below M₂'s billions; the mean's own budget is one of the run's size,
+/// and it needs ~2·10⁸).
+#[test]
+fn henyey_greenstein_moments_that_spend_the_budget_leave_the_rest_of_the_report() {
+    let s = scene(0.5, -0.5);
+    let first = Budget::new(1_000_000_000);
+    let everything = run_within_scoped(&s, Precision::F64, Some(1e-3), &first, Scope::Everything).unwrap();
+    let used = first.used();
+    let asked = run_within_scoped(&s, Precision::F64, Some(1e-3), &Budget::new(used + 300_000_000), Scope::FinitePairs)
+        .unwrap();
+    assert_eq!(asked.prediction.model, "small-sphere");
+    let why = asked.finite_not_used.clone().unwrap();
+    assert!(why.contains("its computation failed") && why.contains("budget"), "{why}");
+    assert!(asked.finite_error.is_some());
+    assert_eq!(asked.prediction.variance.value, everything.prediction.variance.value);
+    assert_eq!(asked.prediction.mean.value, everything.prediction.mean.value);
+    let (a, e) = (asked.finite_mean.unwrap().mean.unwrap(), everything.finite_mean.unwrap().mean.unwrap());
+    assert_eq!((a.value, a.error), (e.value, e.error));
+    println!("Everything used {used} evaluations; M₂ and P's failure: {why}");
+}

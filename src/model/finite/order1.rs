@@ -1,7 +1,9 @@
 //! The finite-sphere model's variance for single-scattered light
-//! (`scattering_orders = 1`), isotropic media (`docs/model.md` §9.6; a
+//! (`scattering_orders = 1`): isotropic media (`docs/model.md` §9.6; a
 //! beam's single-scattered light is `scattered_beam`, §9.8, and its
-//! correlations of two spheres are not derived).
+//! correlations of two spheres are not derived), and μ, M₂ and P of point
+//! lights in a Henyey–Greenstein medium (§9.9, §9.10: `scattered_hg`,
+//! `same_path_hg`; their correlations of two spheres are not derived).
 //!
 //! A forward path now has two segments, the uncollided one (𝒞₀ at the
 //! spheres it hits) and, with probability albedo, the scattered one (𝒞₁),
@@ -9,7 +11,8 @@
 //!
 //! - ⟨𝒞⟩ = ⟨𝒞₀⟩ + ⟨𝒞₁⟩ (P and Q from it, `FiniteField::order1_mean_with_bar`);
 //! - ⟨𝒞²⟩ = ⟨𝒞₀²⟩ + ⟨𝒞₁²⟩ + 2⟨𝒞₀𝒞₁⟩: the last, one path hitting the
-//!   same sphere with both segments, is `PointLight::same_path_moment`;
+//!   same sphere with both segments, is `PointLight::same_path_moment`
+//!   (`PointLight::same_path_moment_hg` in a Henyey–Greenstein medium);
 //! - ⟨𝒞(s)𝒞(s′)⟩ = ⟨𝒞₀𝒞₀⟩ + ⟨𝒞₁𝒞₁⟩ + ⟨𝒞₀(s)𝒞₁(s′)⟩ + ⟨𝒞₁(s)𝒞₀(s′)⟩:
 //!   one scattered segment meeting two spheres, and the two segments of
 //!   one path meeting one sphere each (to come, §9.6).
@@ -113,21 +116,6 @@ impl<T: CheckRule> FiniteField<T> {
         } else {
             Options { rule: pair_rule(&self.radius, opts), ..opts.clone() }
         }
-    }
-
-    /// Refuses what the order-1 mean does not cover yet: a beam in a
-    /// Henyey–Greenstein medium (isotropic media with any lights, and
-    /// point lights in a Henyey–Greenstein one, `scattered_hg`, are
-    /// covered).
-    pub(super) fn order1_mean_covered(&self) -> Result<(), OracleError> {
-        if self.phase != Phase::Isotropic && self.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
-            return Err(OracleError::Unsupported(
-                "the finite-sphere mean of single-scattered light covers a beam in an isotropic medium only \
-                 (medium.phase = \"isotropic\"); point lights in a Henyey–Greenstein medium are covered"
-                    .into(),
-            ));
-        }
-        Ok(())
     }
 
     /// Refuses what the order-1 correlations of two spheres do not cover
@@ -259,7 +247,9 @@ impl<T: CheckRule> FiniteField<T> {
     /// weigh the correlations of two spheres 0 (one sphere per camera ray,
     /// one camera ray: Var L = M₂/N_F + (1 − 1/N_F)P − μ²). Seconds at
     /// 10⁻⁶ where [`FiniteField::order1_integrals`] takes about a minute at 10⁻³
-    /// (`docs/model.md` §9.6–§9.8). Isotropic media, point lights and beams.
+    /// (`docs/model.md` §9.6–§9.8). Isotropic media, point lights and beams;
+    /// point lights in a Henyey–Greenstein medium, 10⁹–10¹⁰ evaluations at
+    /// 10⁻³ (§9.10).
     pub fn order1_unpaired(&self, opts: &Options) -> Result<FiniteIntegrals<T>, OracleError> {
         let Order1Parts { mean, m2, p } = self.order1_unpaired_parts(opts)?;
         Ok(FiniteIntegrals { mean: mean?, m2: m2?, p: p?, q: None, c23: None, c24: None })

@@ -107,8 +107,7 @@ impl<T: CheckRule> PointLight<T> {
                     one_minus_u0: dir.one_minus_mu.clone(),
                 };
                 let f0 = scattering_phase(ff_g(ff), &first.one_plus_u0, &first.one_minus_u0);
-                let each = Options { abs_tol: (o.abs_tol / f0.to_f64()).min(f64::MAX), ..o.clone() };
-                Ok(second_segment(ff, &first, &each)?.scaled(&f0))
+                weighted(&f0, o, |each| second_segment(ff, &first, each))
             };
             frame.around_at(psi, &features, &f, o)
         };
@@ -131,11 +130,7 @@ impl<T: CheckRule> PointLight<T> {
                     let p0 = ((r.clone() - w.clone()) * (r.clone() + w.clone())).sqrt();
                     let weight = w.clone() / (d.clone() * reach.clone())
                         * (ff.shift.clone() - sigma.clone() * reach.clone()).exp();
-                    if weight.is_zero() {
-                        return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule));
-                    }
-                    let each = Options { abs_tol: (o.abs_tol / weight.to_f64()).min(f64::MAX), ..o.clone() };
-                    Ok(around(&angle(&reach, &p0), p0, w.clone(), &each)?.scaled(&weight))
+                    weighted(&weight, o, |each| around(&angle(&reach, &p0), p0.clone(), w.clone(), each))
                 },
                 &Domain::finite(x.lit(0.0), r.clone()).with_breakpoints(cuts),
                 &level,
@@ -146,11 +141,7 @@ impl<T: CheckRule> PointLight<T> {
                     let p0 = d.clone() * psi.sin();
                     let w = ((r.clone() - p0.clone()) * (r.clone() + p0.clone())).sqrt();
                     let weight = psi.sin() * (ff.shift.clone() - sigma.clone() * d.clone() * psi.cos()).exp();
-                    if weight.is_zero() {
-                        return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule));
-                    }
-                    let each = Options { abs_tol: (o.abs_tol / weight.to_f64()).min(f64::MAX), ..o.clone() };
-                    Ok(around(psi, p0, w, &each)?.scaled(&weight))
+                    weighted(&weight, o, |each| around(psi, p0, w, each))
                 },
                 &Domain::finite(x.lit(0.0), psi_r).with_breakpoints(psi_cuts.clone()),
                 &level,
@@ -163,6 +154,16 @@ impl<T: CheckRule> PointLight<T> {
 /// g of the field's medium.
 fn ff_g<T>(ff: &FiniteField<T>) -> f64 {
     asymmetry(&ff.phase)
+}
+
+/// weight × inner(its options), the inner integral aiming at the level's
+/// absolute goal over the weight (an exact 0 where the weight is 0).
+fn weighted<T: CheckRule>(weight: &T, o: &Options, inner: impl FnOnce(&Options) -> Outcome<T>) -> Outcome<T> {
+    if weight.is_zero() {
+        return Ok(Estimate::known(weight.lit(0.0), weight.lit(0.0), 0, o.rule));
+    }
+    let each = Options { abs_tol: (o.abs_tol / weight.to_f64()).min(f64::MAX), ..o.clone() };
+    Ok(inner(&each)?.scaled(weight))
 }
 
 /// ∫_{S²} p(ω₀·ω) f(−u·ω) V dω for one first segment: θ ∈ [0, π] about ω₀
@@ -206,13 +207,9 @@ fn second_segment<T: CheckRule>(ff: &FiniteField<T>, first: &FirstSegment<T>, op
             if *theta < half_pi { (theta.cos(), theta.sin()) } else { (-theta_c.cos(), theta_c.sin()) };
         // p(cos θ): the scattering cosine is cos θ itself.
         let weight = sin_t.clone() * scattering_phase(g, &one_minus, &one_plus);
-        if weight.is_zero() {
-            return Ok(Estimate::known(zero.clone(), zero.clone(), 0, o.rule));
-        }
         let polar =
             Polar { theta: theta.clone(), cos: cos_t, sin: sin_t, one_minus_cos: one_minus, one_plus_cos: one_plus };
-        let each = Options { abs_tol: (o.abs_tol / weight.to_f64()).min(f64::MAX), ..o.clone() };
-        Ok(azimuthal(ff, g, first, &polar, peak.as_ref(), &each)?.scaled(&weight))
+        weighted(&weight, o, |each| azimuthal(ff, g, first, &polar, peak.as_ref(), each))
     };
     halves.integrate(&f, &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() })
 }

@@ -179,7 +179,7 @@ impl<T: CheckRule> FiniteField<T> {
         tables: &ScatteredTables<T>,
         opts: &Options,
     ) -> Result<Estimate<T>, OracleError> {
-        self.order1_mean_covered()?;
+        self.order1_covered()?;
         // A Henyey–Greenstein medium nests three levels per camera-ray
         // point (`scattered_hg`): the Gauss–Kronrod pair's floor per piece
         // (15 and 21) is what makes it affordable at loose goals, as for
