@@ -4,6 +4,8 @@
 
 #![allow(dead_code)]
 
+pub mod order1;
+
 use mcrt_scene::{DVec3, Light, Scene};
 use std::path::Path;
 

@@ -29,7 +29,7 @@ use super::hit_cumulants::HitCumulants;
 use super::point::PointLight;
 use super::ray::Functional;
 use super::virtual_lights::Offset;
-use super::FiniteField;
+use super::{FiniteField, FiniteLight};
 use crate::model::angular::Direction;
 use crate::model::field::graded_by;
 use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Failure, Options, Outcome};
@@ -130,57 +130,7 @@ impl<T: CheckRule> PointLight<T> {
             let r1 = &chord.r1;
             let density = (m.clone() / r1.clone()).min_of(like.lit(1.0)) / r1.clone() * sigma.clone() * b.clone()
                 / (like.pi() * like.lit(4.0));
-            let (value, error) = match pair {
-                CrossPair::C24 => {
-                    let finite_len = if len.is_finite() { Some(len.clone()) } else { None };
-                    // e^{−σt₀} of B's scaling in the same exponent.
-                    let u = sigma.clone()
-                        * (ff.shift.clone() - sigma.clone() * (chord.r1.clone() + s0.clone() + c.t0.clone())).exp()
-                        * exp_segment(sigma, finite_len.as_ref());
-                    let v = sigma.clone() * c.b_total();
-                    let k = like.lit(2.0) * u * density.clone();
-                    (k.clone() * v, k * sigma.clone() * c.error[1].clone())
-                }
-                CrossPair::C23 => {
-                    let lambda = ff.shift.clone() - sigma.clone() * (chord.r1.clone() + c.t0.clone());
-                    let (k1, e1) = big_k(sigma, c, &s1, &lambda);
-                    let (k0, e0) = big_k(sigma, c, &s0, &lambda);
-                    // The difference carries both cumulants' whole bars;
-                    // a short interval (a chord from near the light) is
-                    // taken as one slice instead, whichever bar is smaller.
-                    let (mut k, mut e) = (k1 - k0, e1 + e0);
-                    if len.is_finite() {
-                        let (short, short_error) = short_k(sigma, c, &s0, &len, &lambda);
-                        // The differences span s₁ − s₀ as rounded, not ℓ:
-                        // K(s₀) ≈ short/ℓ times the gap joins their bars.
-                        let gap = ((s1.clone() - s0.clone()) - len.clone()).abs();
-                        let slip = gap * (short.abs() + short_error.clone()) / len.clone();
-                        e = e + slip.clone();
-                        // The increments' form (a Gauss–Legendre sum of the
-                        // cumulants' interpolants: dearer) where the cheaper
-                        // bars are not far below this integral's relative aim.
-                        let fine = short_error.clone().min_of(e.clone());
-                        if fine > k.abs() * like.lit(o.rel_tol / 64.0) {
-                            let (local, local_error) = k_between(sigma, c, &s0, &s1, &lambda);
-                            if local_error.clone() + slip.clone() < e {
-                                (k, e) = (local, local_error + slip);
-                            }
-                        }
-                        if short_error < e {
-                            (k, e) = (short, short_error);
-                        }
-                    }
-                    (k * density.clone(), e * density.clone())
-                }
-            };
-            if !value.is_finite() || !error.is_finite() {
-                return Err(Failure {
-                    reason: format!("cross-segment weight not finite at z {:e}, b {:e}", z.to_f64(), b.to_f64()),
-                    best_guess: None,
-                    error_estimate: None,
-                    evaluations: 1,
-                });
-            }
+            let (value, error) = cross_weight(ff, pair, c, [&s0, &s1, &len], r1, &density, o.rel_tol, [z, b])?;
             Ok(Estimate::known(value, error, evaluations, o.rule))
         };
         let mut cuts = self.window_edges(r, b);
@@ -263,6 +213,81 @@ impl<T: CheckRule> PointLight<T> {
             .map(|c| c.acos())
             .collect()
     }
+}
+
+/// The weight W of one path (module docs) times `density`, times e^{c₀},
+/// and its bar: the first segment reaches x₁ over `path` (e^{−σ·path}) and
+/// hits the spheres [s₀, s₁] = [s₀, s₀ + ℓ] on the way (`reach`, ℓ formed
+/// without cancellation, ∞ allowed), the second starts at x₁ with the
+/// cumulants `c`. Shared by point lights (path r₁, the chord from the
+/// light) and beams (path t, the depth of x₁ in the beam,
+/// `beam_pairs`). Fails where the weight is not finite (`at`: x₁'s foot
+/// and distance, for the message).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn cross_weight<T: CheckRule>(
+    ff: &FiniteField<T>,
+    pair: CrossPair,
+    c: &HitCumulants<T>,
+    [s0, s1, len]: [&T; 3],
+    path: &T,
+    density: &T,
+    rel_tol: f64,
+    [z, b]: [&T; 2],
+) -> Result<(T, T), Failure<T>> {
+    let like = path;
+    let sigma = &ff.sigma;
+    let (value, error) = match pair {
+        CrossPair::C24 => {
+            let finite_len = if len.is_finite() { Some(len.clone()) } else { None };
+            // e^{−σt₀} of B's scaling in the same exponent.
+            let u = sigma.clone()
+                * (ff.shift.clone() - sigma.clone() * (path.clone() + s0.clone() + c.t0.clone())).exp()
+                * exp_segment(sigma, finite_len.as_ref());
+            let v = sigma.clone() * c.b_total();
+            let k = like.lit(2.0) * u * density.clone();
+            (k.clone() * v, k * sigma.clone() * c.error[1].clone())
+        }
+        CrossPair::C23 => {
+            let lambda = ff.shift.clone() - sigma.clone() * (path.clone() + c.t0.clone());
+            let (k1, e1) = big_k(sigma, c, s1, &lambda);
+            let (k0, e0) = big_k(sigma, c, s0, &lambda);
+            // The difference carries both cumulants' whole bars;
+            // a short interval (a chord from near the light) is
+            // taken as one slice instead, whichever bar is smaller.
+            let (mut k, mut e) = (k1 - k0, e1 + e0);
+            if len.is_finite() {
+                let (short, short_error) = short_k(sigma, c, s0, len, &lambda);
+                // The differences span s₁ − s₀ as rounded, not ℓ:
+                // K(s₀) ≈ short/ℓ times the gap joins their bars.
+                let gap = ((s1.clone() - s0.clone()) - len.clone()).abs();
+                let slip = gap * (short.abs() + short_error.clone()) / len.clone();
+                e = e + slip.clone();
+                // The increments' form (a Gauss–Legendre sum of the
+                // cumulants' interpolants: dearer) where the cheaper
+                // bars are not far below this integral's relative aim.
+                let fine = short_error.clone().min_of(e.clone());
+                if fine > k.abs() * like.lit(rel_tol / 64.0) {
+                    let (local, local_error) = k_between(sigma, c, s0, s1, &lambda);
+                    if local_error.clone() + slip.clone() < e {
+                        (k, e) = (local, local_error + slip);
+                    }
+                }
+                if short_error < e {
+                    (k, e) = (short, short_error);
+                }
+            }
+            (k * density.clone(), e * density.clone())
+        }
+    };
+    if !value.is_finite() || !error.is_finite() {
+        return Err(Failure {
+            reason: format!("cross-segment weight not finite at z {:e}, b {:e}", z.to_f64(), b.to_f64()),
+            best_guess: None,
+            error_estimate: None,
+            evaluations: 1,
+        });
+    }
+    Ok((value, error))
 }
 
 /// The spheres [s₀, s₀ + ℓ] of J whose closest points a chord of length
@@ -400,7 +425,10 @@ fn short_k<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s0: &T, len: &T, lambda
 impl<T: CheckRule> FiniteField<T> {
     /// Σ over the lights of X₂₃ or X₂₄ (`cross_segments`), times e^{c₀}.
     pub fn order1_cross(&self, pair: CrossPair, opts: &Options) -> Result<Estimate<T>, crate::model::OracleError> {
-        self.order1_light_sum("finite-sphere cross-segment pairs", opts, |p, o| p.cross_segments(self, pair, o))
+        self.order1_light_sum("finite-sphere cross-segment pairs", opts, |light, o| match light {
+            FiniteLight::Point(p) => p.cross_segments(self, pair, o),
+            FiniteLight::Beam(b) => b.cross_segments(self, pair, o),
+        })
     }
 }
 

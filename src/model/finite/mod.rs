@@ -26,6 +26,8 @@
 
 pub mod angles;
 pub mod beam;
+mod beam_pairs;
+mod beam_ring;
 pub mod cross_segments;
 mod hit_cumulants;
 pub mod order1;

@@ -119,7 +119,8 @@ impl<T: CheckRule> FiniteField<T> {
     }
 
     /// Refuses what the order-1 correlations of two spheres do not cover
-    /// yet: beams (§9.7 is derived for point lights).
+    /// yet: Henyey–Greenstein media (§9.7 and §9.11 are derived for
+    /// isotropic scattering).
     fn order1_pairs_covered(&self) -> Result<(), OracleError> {
         if self.phase != Phase::Isotropic {
             return Err(OracleError::Unsupported(
@@ -129,17 +130,10 @@ impl<T: CheckRule> FiniteField<T> {
                     .into(),
             ));
         }
-        if self.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
-            return Err(OracleError::Unsupported(
-                "the finite-sphere correlations of two spheres (C₂₃, C₂₄) with single-scattered light cover point \
-                 lights only; a scene with a beam is covered at q = 1 and N_B = 1, where they weigh nothing"
-                    .into(),
-            ));
-        }
         Ok(())
     }
 
-    /// Σ over the (point) lights of `each` (light, its share of the absolute
+    /// Σ over the lights (point lights and beams) of `each` (light, its share of the absolute
     /// goal), failures named `what`: the order-1 totals that are sums of
     /// per-light integrals ([`FiniteField::order1_virtual`],
     /// [`FiniteField::order1_cross`]).
@@ -147,14 +141,13 @@ impl<T: CheckRule> FiniteField<T> {
         &self,
         what: &'static str,
         opts: &Options,
-        each: impl Fn(&PointLight<T>, &Options) -> Outcome<T>,
+        each: impl Fn(&FiniteLight<T>, &Options) -> Outcome<T>,
     ) -> Result<Estimate<T>, OracleError> {
         self.order1_pairs_covered()?;
         let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, ..opts.clone() };
         let mut total: Option<Estimate<T>> = None;
         for light in &self.lights {
-            let FiniteLight::Point(p) = light else { unreachable!("order1_pairs_covered refuses beams") };
-            let e = each(p, &share).map_err(OracleError::quad(what))?;
+            let e = each(light, &share).map_err(OracleError::quad(what))?;
             total = Some(match total {
                 None => e,
                 Some(t) => t.plus(e),

@@ -25,7 +25,7 @@
 
 use super::point::{power_of, PointLight};
 use super::ray::Functional;
-use super::FiniteField;
+use super::{FiniteField, FiniteLight};
 use crate::model::field::graded_about;
 use crate::quad::{integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
 use mcrt_scene::Phase;
@@ -273,7 +273,10 @@ impl<T: CheckRule> FiniteField<T> {
     /// and of the ⟨𝒞₁²⟩ in [`FiniteField::order1_second_added`] that shares
     /// no geometry with them.
     pub fn order1_virtual(&self, which: Functional, opts: &Options) -> Result<Estimate<T>, crate::model::OracleError> {
-        self.order1_light_sum(which.name(), opts, |p, o| p.virtual_average(self, which, o))
+        self.order1_light_sum(which.name(), opts, |light, o| match light {
+            FiniteLight::Point(p) => p.virtual_average(self, which, o),
+            FiniteLight::Beam(b) => b.virtual_average(self, which, o),
+        })
     }
 }
 
