@@ -82,7 +82,7 @@ fn check(p: &Point) -> (f64, f64) {
     // faster than at its default 10⁻⁶; the bar enters z all the same.
     let (small_var, z_small) = match run(&p.scene, Precision::F64, Some(1e-4)) {
         Ok(small) => {
-            let v = Barred(small.variance.exact.value, small.variance.exact.error);
+            let v = Barred(small.variance.as_ref().unwrap().exact.value, small.variance.as_ref().unwrap().exact.error);
             (v, z(t_var, v))
         }
         Err(e) => panic!("{}: small-sphere model: {e}", p.name),
@@ -329,7 +329,7 @@ fn library_predicts_order1_exactly_at_one_sphere_per_camera_ray() {
     println!("{verdict}");
     verdict.assert_pass();
     let var = samples.variance().unwrap();
-    let small = prediction.report.variance.exact;
+    let small = prediction.report.variance.as_ref().unwrap().exact;
     let se = var.standard_error;
     let z_small = (var.value - small.value) / (se * se + small.error * small.error).sqrt();
     println!("small-sphere Var L {:.6e}: z {z_small:+.1} against the tracer", small.value);

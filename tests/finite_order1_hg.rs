@@ -42,7 +42,7 @@ fn tracer_agrees(s: &Scene, trials: u64) {
     let p = &report.prediction;
     let z_mean = z((t.mean.value, t.mean.se), (p.mean.value, p.mean.error));
     let z_var = z((t.variance.value, t.variance.se), (p.variance.value, p.variance.error));
-    let small = &report.variance.exact;
+    let small = &report.variance.as_ref().unwrap().exact;
     let z_small = z((t.variance.value, t.variance.se), (small.value, small.error));
     println!(
         "mean {:.6e} ± {:.1e} vs {:.6e}: z {z_mean:+.2}; Var L {:.6e} ± {:.1e} ({:.3} %) vs {:.6e}: z {z_var:+.2}; \

@@ -75,7 +75,7 @@ fn check(p: Point, seed: u64) {
     let tracer = Tracer::new(&s).unwrap();
     let summary = trace(&tracer, seed, 0..p.trials, HitMethod::Sorted, &|_| {}).summary().unwrap();
     let (mean, var) = sides(&oracle, &summary);
-    let (small_mean, small_var) = small_sphere_sides(&oracle, &summary);
+    let (small_mean, small_var) = small_sphere_sides(&oracle, &summary).unwrap();
     let label = format!(
         "{}{} R={} q={} NF={} NB={} ({} trials)",
         p.scene,

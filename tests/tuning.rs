@@ -109,9 +109,10 @@ fn the_objectives_variance_is_the_oracles() {
         let report = run(&s, Precision::F64, None).unwrap();
         let mut small = report.clone();
         small.finite = None;
-        for (r, model, want) in
-            [(&report, "finite-sphere", report.prediction.variance), (&small, "small-sphere", report.variance.exact)]
-        {
+        for (r, model, want) in [
+            (&report, "finite-sphere", report.prediction.variance),
+            (&small, "small-sphere", report.variance.as_ref().unwrap().exact),
+        ] {
             let m = ModelAtRadius::from_report(r).unwrap();
             let e = s.estimator;
             let v = m.variance(e.q, e.forward_rays as f64, e.camera_rays as f64).unwrap();

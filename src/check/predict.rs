@@ -17,8 +17,8 @@ use std::fmt;
 pub enum Model {
     /// The finite-sphere model (`docs/model.md` §9): the estimator's exact
     /// moments at the scene's R, for uncollided light, and for
-    /// single-scattered light in isotropic media (point lights at any q and
-    /// N_B, in f64; beams with q = 1, N_B = 1). Its model bar is 0.
+    /// single-scattered light in isotropic media (point lights and beams at
+    /// any q and N_B, in f64). Its model bar is 0.
     FiniteSphere,
     /// The paper's small-sphere model (§4.3), exact only as R → 0; used for
     /// the other scenes with single-scattered light, with a measured model
@@ -150,7 +150,7 @@ impl From<OracleError> for PredictError {
 /// Single-scattered light (order 1) in an isotropic medium is predicted by
 /// the finite-sphere model too, exact at any R (model bar 0): point lights
 /// and beams with q = 1 and N_B = 1 ([`oracle::finite_sphere_covers`]), and
-/// point lights at any q, N_B in f64 with the correlations of two spheres
+/// both at any q, N_B in f64 with the correlations of two spheres
 /// that the scene's Var L weighs ([`oracle::finite_pairs_cover`],
 /// [`oracle::Scope::ExactPrediction`], at a goal no tighter than
 /// [`crate::prec::FINITE_PAIRS_PREDICTION_TOL`] with the budget
@@ -162,6 +162,8 @@ impl From<OracleError> for PredictError {
 /// computation itself fails, the small-sphere model with its allowance
 /// serves for R ≤ 0.1 and the failure is returned beyond (and with a beam,
 /// whose small-sphere error was never measured).
+/// In MPFR a beam at q < 1 or N_B > 1 is refused (the small-sphere model
+/// has no pair integrals for its scattered light, `docs/model.md` §9.8).
 /// Other order-1 scenes (Henyey–Greenstein media; in MPFR, point lights
 /// with q < 1 or N_B > 1) are predicted by the small-sphere
 /// model with its
@@ -240,7 +242,7 @@ pub fn predict_within(
             "estimator.radius = {radius}: with scattered light (effects.scattering_orders ≥ 1) the prediction here \
              is the small-sphere model ({why}), whose own error is measured only for R ≤ {MODEL_ERROR_RADIUS}; use \
              R ≤ {MODEL_ERROR_RADIUS}, or scattering_orders = 1 in an isotropic medium (the finite-sphere model, \
-             exact at any R: point lights at any q and N_B in f64, beams with q = 1 and N_B = 1), or \
+             exact at any R: point lights and beams at any q and N_B in f64), or \
              scattering_orders = 0"
         ))
     };

@@ -196,10 +196,8 @@ impl<T: CheckRule> Integrals<T> {
 /// light ([`super::field::Field::scattered_beams`]).
 pub const BEAM_PAIRS_NOT_DERIVED: &str = "the small-sphere correlation integrals (23), (24) and their R → 0 forms are \
      not derived for a beam's single-scattered light (they need its angular distribution; its fluence serves the \
-     single-sphere moments only), and the oracle's report carries the small-sphere Var L beside the finite-sphere \
-     one; the finite-sphere C₂₃, C₂₄ are derived (docs/model.md §9.11) and the library's \
-     FiniteField::order1_integrals computes them; with a beam at scattering_orders = 1 the oracle covers q = 1 \
-     and N_B = 1, where (7)–(9) weigh them and Q 0";
+     single-sphere moments only), so the small-sphere Var L cannot be formed where (7)–(9) weigh them (q < 1 or \
+     N_B > 1); the finite-sphere model's C₂₃, C₂₄ (docs/model.md §9.11) predict it";
 
 impl<T: CheckRule> PairIntegrals<T> {
     /// Q, (23), (24), (25) and (26) side by side.

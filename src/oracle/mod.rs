@@ -74,10 +74,11 @@ pub enum Scope {
     /// spheres are not needed or not covered.
     Prediction,
     /// [`Scope::Everything`] and, for single-scattered light (isotropic
-    /// media, point lights) with q < 1 or N_B > 1, the finite-sphere
+    /// media, point lights and beams) with q < 1 or N_B > 1, the finite-sphere
     /// model's Q and the correlations Var L weighs — C₂₃ where q < 1, C₂₄
     /// where N_B > 1, the other named in `FiniteReport::not_computed`
-    /// (`docs/model.md` §9.7) — so that the prediction
+    /// (`docs/model.md` §9.7, §9.11; with a beam the small-sphere model
+    /// has no pair integrals, and [`Report::variance`] is `None`) — so that the prediction
     /// is the exact finite-sphere model at any R (`mcrt-noise oracle
     /// --finite-pairs`). A minute or more where [`Scope::Everything`] takes
     /// seconds: ~7·10⁸ evaluations at 10⁻³ on `point-isotropic-order1` at
@@ -96,7 +97,7 @@ pub enum Scope {
     /// g = −0.5), so that the prediction is exact there too.
     FinitePairs,
     /// [`Scope::Prediction`] and, for single-scattered light (isotropic
-    /// media, point lights) with q < 1 or N_B > 1 in f64, the finite-sphere
+    /// media, point lights and beams) with q < 1 or N_B > 1 in f64, the finite-sphere
     /// model with the correlations that the scene's Var L weighs
     /// (`model::finite::Weighed`) at a goal no tighter than
     /// [`crate::prec::FINITE_PAIRS_PREDICTION_TOL`]: the library's
@@ -239,25 +240,30 @@ pub fn run_with_scoped<T: CheckRule>(
     // else (as the pairs), so that a spent budget leaves the report.
     let hg_unpaired =
         scope == Scope::FinitePairs && scattered_field.is_some() && !whole_model && pairs_weigh_nothing(scene);
-    // A beam's single-scattered light has no small-sphere pair integrals:
-    // covered only where (7)–(9) weigh them 0.
-    let beam_scattered = !field.scattered_beams.is_empty();
-    if beam_scattered && !pairs_weigh_nothing(scene) {
-        return Err(OracleError::Unsupported(format!(
-            "{BEAM_PAIRS_NOT_DERIVED} (here estimator.q = {}, estimator.camera_rays = {}; allowed with a beam at \
-             order 1: q = 1 and camera_rays = 1)",
-            scene.estimator.q, scene.estimator.camera_rays
-        )));
-    }
     let predicting = matches!(scope, Scope::Prediction | Scope::ExactPrediction);
     // The finite-sphere correlations in the prediction: f64 only.
     let exact = scope == Scope::ExactPrediction && like.prec() <= 53;
+    // A beam's single-scattered light has no small-sphere pair integrals
+    // (`docs/model.md` §9.8): where (7)–(9) weigh them, the finite-sphere
+    // model alone predicts it (§9.11), when asked for its correlations
+    // (`--finite-pairs`, or `predict` in f64), and the report has no
+    // small-sphere Var L.
+    let beam_scattered = !field.scattered_beams.is_empty();
+    let beam_pairs = beam_scattered && !pairs_weigh_nothing(scene);
+    if beam_pairs && !((scope == Scope::FinitePairs || exact) && scattered_covered(scene)) {
+        return Err(OracleError::Unsupported(format!(
+            "{BEAM_PAIRS_NOT_DERIVED} (here estimator.q = {}, estimator.camera_rays = {}; allowed with a beam at \
+             order 1: q = 1 and camera_rays = 1, or any q and camera_rays in an isotropic medium with the \
+             finite-sphere model's correlations — `mcrt-noise oracle --finite-pairs`, the library's predict in f64)",
+            scene.estimator.q, scene.estimator.camera_rays
+        )));
+    }
     let small_unpaired = (predicting || beam_scattered) && pairs_weigh_nothing(scene);
     let ((ints, finite), scattered) = rayon::join(
         || {
             rayon::join(
                 || {
-                    if small_unpaired {
+                    if small_unpaired || beam_pairs {
                         Integrals::compute_single_sphere(&field, &r, &opts).map(|i| (i, None))
                     } else if pairs_weigh_nothing(scene) {
                         // Reported, not needed: their failure does not fail the run.
@@ -308,6 +314,8 @@ pub fn run_with_scoped<T: CheckRule>(
             "the mean luminance is exactly 0 (no light reaches the camera ray): Var L = 0 and the relative noise is undefined".into(),
         ));
     }
+    // The small-sphere Var L needs the pairs wherever (7)–(9) weigh them.
+    let small_formed = pairs_weigh_nothing(scene) || ints.pairs.is_some();
     let counts = Counts {
         q: like.lit(scene.estimator.q),
         n_f: like.lit(scene.estimator.forward_rays as f64),
@@ -360,12 +368,17 @@ pub fn run_with_scoped<T: CheckRule>(
     let small_mean = reported(&(ints.mean.value.clone() * k.clone()), &(ints.mean.error.clone() * k.clone()));
     let small_variance = reported(&(var.value.clone() * k.clone()), &(var.error.clone() * k.clone()));
     let small_relative = reported(&relative, &relative_error);
-    let small = (&mean, &var, &field.shift);
+    let small = (&mean, small_formed.then_some(&var), &field.shift);
     let finite_report = match (&finite, &finite_field, &order1_finite, &scattered_field) {
         (Some(f), Some(ff), _, _) => Some(finite_report(f, ff, &counts, small, "uncollided")),
         (_, _, Some(f), Some(ff)) => Some(finite_report(f, ff, &counts, small, "uncollided and single-scattered")),
         _ => None,
     };
+    if finite_report.is_none() && !small_formed {
+        // No model gives Var L: the finite-sphere one failed (or, above 53
+        // bits, was not run) and the small-sphere one cannot form it.
+        return Err(finite_error.clone().unwrap_or_else(|| OracleError::Unsupported(BEAM_PAIRS_NOT_DERIVED.into())));
+    }
     let prediction = match &finite_report {
         Some(f) => ReportPrediction {
             model: "finite-sphere",
@@ -402,7 +415,7 @@ pub fn run_with_scoped<T: CheckRule>(
         mean_luminance_log10_error: log10_bar(&ints.mean.value, &ints.mean.error),
         corr23: pairs.map(|p| correlation(&p.c23, p.c23_cross.as_ref(), &p.c23_asym, &k)),
         corr24: pairs.map(|p| correlation(&p.c24, p.c24_cross.as_ref(), &p.c24_asym, &k)),
-        variance: Variance {
+        variance: small_formed.then(|| Variance {
             exact: small_variance,
             log10: log10(&var.value) - shift_log10,
             log10_error: log10_bar(&var.value, &var.error),
@@ -410,7 +423,7 @@ pub fn run_with_scoped<T: CheckRule>(
             relative_error: small_relative.error,
             relative_asymptotic,
             relative_asymptotic_error,
-        },
+        }),
         integral_m2: scaled(&ints.m2, &k),
         integral_m2_same_path: field.is_smooth().then(|| scaled(&ints.m2_same_path, &k)),
         finite_mean: finite_mean_report(scattered, scattered_field.as_ref(), &ints.mean, &k),
@@ -497,7 +510,7 @@ fn finite_report<T: CheckRule>(
     f: &FiniteIntegrals<T>,
     ff: &FiniteField<T>,
     counts: &Counts<T>,
-    small: (&Valued<T>, &Valued<T>, &T),
+    small: (&Valued<T>, Option<&Valued<T>>, &T),
     covers: &'static str,
 ) -> FiniteReport {
     let k = (-ff.shift.clone()).exp();
@@ -541,7 +554,7 @@ fn finite_report<T: CheckRule>(
         bias: reported(&bias, &bias_error),
         relative_noise: reported(&rel, &rel_err),
         mean_ratio: ratio(&mean_t, small_mean),
-        variance_ratio: ratio(&var, small_var),
+        variance_ratio: small_var.map(|v| ratio(&var, v)),
         integral_m2: scaled(&f.m2, &k),
         integral_p: scaled(&f.p, &k),
         integral_q: f.q.as_ref().map(|e| scaled(e, &k)),

@@ -73,8 +73,9 @@ pub fn finite_sphere_covers(scene: &Scene) -> bool {
 /// Whether [`Scope::ExactPrediction`](super::Scope::ExactPrediction) (and [`Scope::FinitePairs`](super::Scope::FinitePairs)) give
 /// the finite-sphere model of `scene` with the correlations of two spheres
 /// (exact at any R, q, N_B; when their computation succeeds): single-scattered
-/// light in an isotropic medium, point lights only, q < 1 or N_B > 1 (at
-/// q = 1 and N_B = 1 [`finite_sphere_covers`] covers it without them).
+/// light in an isotropic medium, point lights and beams (`docs/model.md`
+/// §9.7, §9.11), q < 1 or N_B > 1 (at q = 1 and N_B = 1
+/// [`finite_sphere_covers`] covers it without them).
 ///
 /// ```
 /// use mcrt_noise::oracle::finite_pairs_cover;
@@ -94,9 +95,7 @@ pub fn finite_sphere_covers(scene: &Scene) -> bool {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn finite_pairs_cover(scene: &Scene) -> bool {
-    scattered_covered(scene)
-        && !pairs_weigh_nothing(scene)
-        && scene.lights.iter().all(|l| matches!(l, Light::Point { .. }))
+    scattered_covered(scene) && !pairs_weigh_nothing(scene)
 }
 
 /// Whether the finite-sphere model covers `scene` once q = 1 and N_B = 1

@@ -109,8 +109,9 @@ pub struct FiniteReport {
     pub relative_noise: ValueWithBar,
     /// finite/small-sphere ratio of the mean.
     pub mean_ratio: ValueWithBar,
-    /// finite/small-sphere ratio of Var L.
-    pub variance_ratio: ValueWithBar,
+    /// finite/small-sphere ratio of Var L; `None` (JSON `null`) where the
+    /// small-sphere Var L cannot be formed ([`Report::variance`]).
+    pub variance_ratio: Option<ValueWithBar>,
     /// M₂ = ∫σe^{−σs}⟨𝒞²⟩_R ds of (16).
     pub integral_m2: Integral,
     /// P = ∫σe^{−σs}⟨𝒞⟩_R² ds of (17).
@@ -242,8 +243,12 @@ pub struct Report {
     pub corr23: Option<Correlation>,
     /// Integral (24), likewise.
     pub corr24: Option<Correlation>,
-    /// Var L of the small-sphere model, and the §4.4 formula.
-    pub variance: Variance,
+    /// Var L of the small-sphere model, and the §4.4 formula; `None` (JSON
+    /// `null`) where that model cannot form it: a beam's single-scattered
+    /// light with q < 1 or N_B > 1, whose pair integrals (23), (24) are not
+    /// derived ([`Report::pairs_not_computed`] says so; `docs/model.md`
+    /// §9.8). The prediction is then the finite-sphere model's (§9.11).
+    pub variance: Option<Variance>,
     /// M₂ = ∫σe^{−σs}⟨𝒞²⟩ ds, the rest of (16) beside (23) (with the
     /// same-path double hits of scattered light, `integral_m2_same_path`).
     pub integral_m2: Integral,
@@ -376,7 +381,9 @@ impl Report {
             out.push((format!("{name} (bar)"), v.error));
         };
         bar("mean luminance (small-sphere)", &self.mean_luminance);
-        bar("Var L (small-sphere)", &self.variance.exact);
+        if let Some(v) = &self.variance {
+            bar("Var L (small-sphere)", &v.exact);
+        }
         bar("prediction: mean", &self.prediction.mean);
         bar("prediction: Var L", &self.prediction.variance);
         bar("prediction: relative noise", &self.prediction.relative_noise);
@@ -386,7 +393,9 @@ impl Report {
             bar("finite-sphere bias", &f.bias);
             bar("finite-sphere relative noise", &f.relative_noise);
             bar("finite/small mean ratio", &f.mean_ratio);
-            bar("finite/small Var L ratio", &f.variance_ratio);
+            if let Some(r) = &f.variance_ratio {
+                bar("finite/small Var L ratio", r);
+            }
         }
         if let Some(f) = &self.finite_mean {
             if let (Some(m), Some(b)) = (&f.mean, &f.bias) {
@@ -397,8 +406,10 @@ impl Report {
         if let Some(m) = &self.integral_m2_same_path {
             bar("M₂ same-path hits", &ValueWithBar { value: m.value, error: m.error });
         }
-        out.push(("relative noise (small-sphere)".into(), self.variance.relative));
-        out.push(("relative noise (small-sphere, bar)".into(), self.variance.relative_error));
+        if let Some(v) = &self.variance {
+            out.push(("relative noise (small-sphere)".into(), v.relative));
+            out.push(("relative noise (small-sphere, bar)".into(), v.relative_error));
+        }
         for (name, c) in [("(23)", &self.corr23), ("(24)", &self.corr24)] {
             let Some(c) = c else { continue };
             out.push((format!("{name} exact"), c.exact.value));
@@ -414,9 +425,10 @@ impl Report {
                 }
             }
         }
+        let small = self.variance.as_ref();
         for (what, v) in [
-            ("Var/L², §4.4 formula", self.variance.relative_asymptotic),
-            ("Var/L², §4.4 formula (bar)", self.variance.relative_asymptotic_error),
+            ("Var/L², §4.4 formula", small.and_then(|v| v.relative_asymptotic)),
+            ("Var/L², §4.4 formula (bar)", small.and_then(|v| v.relative_asymptotic_error)),
         ] {
             if let Some(v) = v {
                 out.push((what.into(), v));
@@ -437,9 +449,11 @@ impl Report {
         let mut out = vec![
             ("mean luminance (small-sphere)", self.mean_luminance),
             ("prediction: mean", self.prediction.mean),
-            ("Var L (small-sphere)", self.variance.exact),
             ("prediction: Var L", self.prediction.variance),
         ];
+        if let Some(v) = &self.variance {
+            out.push(("Var L (small-sphere)", v.exact));
+        }
         for (name, c) in [("(23) exact", &self.corr23), ("(24) exact", &self.corr24)] {
             if let Some(c) = c {
                 out.push((name, int(&c.exact)));

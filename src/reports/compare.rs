@@ -195,12 +195,14 @@ pub fn sides(oracle: &Report, tracer: &Summary) -> (Side, Side) {
     (Side::new(p.mean.value, p.mean.error, tracer.mean), Side::new(p.variance.value, p.variance.error, tracer.variance))
 }
 
-/// Mean and variance of the small-sphere model (§4.3) beside the tracer.
-pub fn small_sphere_sides(oracle: &Report, tracer: &Summary) -> (Side, Side) {
-    (
+/// Mean and variance of the small-sphere model (§4.3) beside the tracer;
+/// `None` where the report has no small-sphere Var L ([`Report::variance`]).
+pub fn small_sphere_sides(oracle: &Report, tracer: &Summary) -> Option<(Side, Side)> {
+    let variance = oracle.variance.as_ref()?;
+    Some((
         Side::new(oracle.mean_luminance.value, oracle.mean_luminance.error, tracer.mean),
-        Side::new(oracle.variance.exact.value, oracle.variance.exact.error, tracer.variance),
-    )
+        Side::new(variance.exact.value, variance.exact.error, tracer.variance),
+    ))
 }
 
 /// The JSON of `mcrt-noise compare`.

@@ -166,11 +166,16 @@ fn row_at(scene: &Scene, r: f64, budget: &Budget) -> Result<Row, SweepError> {
         let why = rep.pairs_not_computed.clone().unwrap_or_else(|| "(23), (24) not computed".into());
         return Err(SweepError::Oracle { radius: r, error: crate::model::OracleError::Unsupported(why) });
     };
-    let finite = rep.finite.as_ref().map(|f| FiniteColumns {
-        mean_ratio: f.mean_ratio,
-        variance_ratio: f.variance_ratio,
-        bias: f.bias,
-    });
+    let finite = match rep.finite.as_ref() {
+        Some(f) => {
+            let Some(variance_ratio) = f.variance_ratio else {
+                let why = "the report has no small-sphere Var L to compare with".to_string();
+                return Err(SweepError::Oracle { radius: r, error: crate::model::OracleError::Unsupported(why) });
+            };
+            Some(FiniteColumns { mean_ratio: f.mean_ratio, variance_ratio, bias: f.bias })
+        }
+        None => None,
+    };
     Ok(Row {
         radius: r,
         finite,

@@ -14,6 +14,11 @@ use std::time::{Duration, Instant};
 /// A pair integral that Var L weighs 0 and the run did not compute.
 const NOT_COMPUTED: &str = "not needed (weight 0)";
 
+/// What the small-sphere column shows where that model cannot form Var L
+/// (`Report::variance` is `None`: a beam's single-scattered light with
+/// q < 1 or N_B > 1).
+const NOT_DERIVED: &str = "not derived (§9.8)";
+
 /// How the `kernel` command prints numbers of its working precision: the
 /// value and cross-check to all digits, the bar to 4 (at the working
 /// precision: a bar of 3.6e-502 at 1024 bits was printed as f64, `0.000e0`).
@@ -185,7 +190,10 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
     )
     .unwrap();
     writeln!(s, "prediction: {} model, {}", r.prediction.model, r.prediction.note).unwrap();
-    let small_rel = ValueWithBar { value: r.variance.relative, error: r.variance.relative_error };
+    // The small-sphere Var L, where that model can form it (`Report::variance`).
+    let small_var = r.variance.as_ref().map(|v| v.exact);
+    let small_missing = if r.variance.is_none() { NOT_DERIVED } else { NOT_COMPUTED };
+    let small_rel = r.variance.as_ref().map(|v| ValueWithBar { value: v.relative, error: v.relative_error });
     match &r.finite {
         Some(f) => {
             writeln!(
@@ -194,15 +202,20 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
                 "", "finite-sphere (exact at R)", "small-sphere (§4.3, R → 0)"
             )
             .unwrap();
-            let row = |s: &mut String, name: &str, a: &ValueWithBar, b: &ValueWithBar, ratio: Option<&ValueWithBar>| {
+            let row = |s: &mut String,
+                       name: &str,
+                       a: &ValueWithBar,
+                       b: Option<&ValueWithBar>,
+                       ratio: Option<&ValueWithBar>| {
                 let ratio = ratio.map_or(String::new(), |q| pm(q.value, q.error));
-                writeln!(s, "{name:<24} {}{}{ratio}", col(a), col(b)).unwrap();
+                let b = b.map_or(format!("{small_missing:<30}"), col);
+                writeln!(s, "{name:<24} {}{b}{ratio}", col(a)).unwrap();
             };
-            row(&mut s, "mean luminance", &f.mean, &r.mean_luminance, Some(&f.mean_ratio));
-            row(&mut s, "Var L (one iteration)", &f.variance, &r.variance.exact, Some(&f.variance_ratio));
-            row(&mut s, "relative noise Var/L²", &f.relative_noise, &small_rel, None);
+            row(&mut s, "mean luminance", &f.mean, Some(&r.mean_luminance), Some(&f.mean_ratio));
+            row(&mut s, "Var L (one iteration)", &f.variance, small_var.as_ref(), f.variance_ratio.as_ref());
+            row(&mut s, "relative noise Var/L²", &f.relative_noise, small_rel.as_ref(), None);
             for (name, exact, small) in [("(23) exact", &f.corr23, &r.corr23), ("(24) exact", &f.corr24, &r.corr24)] {
-                let small = small.as_ref().map_or(format!("{:<30}", NOT_COMPUTED), |c| col(&int(&c.exact)));
+                let small = small.as_ref().map_or(format!("{small_missing:<30}"), |c| col(&int(&c.exact)));
                 match exact {
                     Some(e) => writeln!(s, "{name:<24} {}{small}", col(&int(e))).unwrap(),
                     None => writeln!(s, "{name:<24} {NOT_COMPUTED:<30}{small}").unwrap(),
@@ -215,8 +228,9 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
         }
         None => {
             writeln!(s, "mean luminance           {}", pm(r.mean_luminance.value, r.mean_luminance.error)).unwrap();
-            writeln!(s, "Var L (one iteration)    {}", pm(r.variance.exact.value, r.variance.exact.error)).unwrap();
-            writeln!(s, "relative noise Var/L²    {}", pm(small_rel.value, small_rel.error)).unwrap();
+            let or_not = |v: Option<ValueWithBar>| v.map_or(small_missing.to_string(), |v| pm(v.value, v.error));
+            writeln!(s, "Var L (one iteration)    {}", or_not(small_var)).unwrap();
+            writeln!(s, "relative noise Var/L²    {}", or_not(small_rel)).unwrap();
             for (name, c) in [("(23) exact", &r.corr23), ("(24) exact", &r.corr24)] {
                 match c {
                     Some(c) => writeln!(s, "{name:<24} {}", pm(c.exact.value, c.exact.error)).unwrap(),
@@ -276,7 +290,8 @@ pub fn oracle_table(r: &crate::oracle::Report) -> String {
             _ => {}
         }
     }
-    match (r.variance.relative_asymptotic, r.variance.relative_asymptotic_error) {
+    let asymptotic = r.variance.as_ref().map(|v| (v.relative_asymptotic, v.relative_asymptotic_error));
+    match asymptotic.unwrap_or((None, None)) {
         (Some(v), Some(e)) => writeln!(
             s,
             "  Var/L², §4.4 formula   {} (quadrature bar; as an estimate of Var/L² it is off by the O(R) gap of the ratios)",

@@ -84,7 +84,8 @@ pub fn sweep(scene: &Scene, radii: &[f64], trials: u64, seed: u64) -> Result<Vec
             let oracle = run(&s, Precision::F64, None).map_err(|e| e.to_string())?;
             let tracer = Tracer::new(&s).map_err(|e| e.to_string())?;
             let summary = trace(&tracer, seed, 0..trials, HitMethod::Sorted, &|_| {}).estimates().summary()?;
-            let (mean, variance) = small_sphere_sides(&oracle, &summary);
+            let (mean, variance) =
+                small_sphere_sides(&oracle, &summary).ok_or("the oracle has no small-sphere Var L here")?;
             let (finite_mean, finite_variance) = sides(&oracle, &summary);
             Ok(SweepRow { radius, mean, variance, finite_mean, finite_variance })
         })

@@ -94,7 +94,7 @@ pub fn finite_text(r: &mcrt_noise::oracle::Report, digits: usize) -> String {
         ("bias", Some(f.bias)),
         ("relative_noise", Some(f.relative_noise)),
         ("mean_ratio", Some(f.mean_ratio)),
-        ("variance_ratio", Some(f.variance_ratio)),
+        ("variance_ratio", f.variance_ratio),
         ("m2", Some(f.integral_m2.into())),
         ("p", Some(f.integral_p.into())),
         ("q_pair", f.integral_q.map(Into::into)),
