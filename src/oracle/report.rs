@@ -446,14 +446,12 @@ impl Report {
     /// of a positive integrand): printed as 0, they have underflowed.
     fn positive_numbers(&self) -> Vec<(&'static str, ValueWithBar)> {
         let int = |i: &Integral| ValueWithBar { value: i.value, error: i.error };
-        let mut out = vec![
-            ("mean luminance (small-sphere)", self.mean_luminance),
-            ("prediction: mean", self.prediction.mean),
-            ("prediction: Var L", self.prediction.variance),
-        ];
+        let mut out =
+            vec![("mean luminance (small-sphere)", self.mean_luminance), ("prediction: mean", self.prediction.mean)];
         if let Some(v) = &self.variance {
             out.push(("Var L (small-sphere)", v.exact));
         }
+        out.push(("prediction: Var L", self.prediction.variance));
         for (name, c) in [("(23) exact", &self.corr23), ("(24) exact", &self.corr24)] {
             if let Some(c) = c {
                 out.push((name, int(&c.exact)));
