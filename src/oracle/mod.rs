@@ -307,7 +307,7 @@ pub fn run_with_scoped<T: CheckRule>(
         Ok(Some(OrderOne::Integrals(f))) => (Some(f), Ok(None), None),
         Ok(Some(OrderOne::Mean(m, failed))) => (None, Ok(Some(m)), failed),
         Ok(None) => (None, Ok(None), None),
-        Err(e) => (None, Err(e.clone()), (pairs_weigh_nothing(scene) || exact).then_some(e)),
+        Err(e) => (None, Err(e.clone()), (pairs_weigh_nothing(scene) || exact || beam_pairs).then_some(e)),
     };
     if ints.mean.value.is_zero() {
         return Err(OracleError::Unsupported(

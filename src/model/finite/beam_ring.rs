@@ -12,9 +12,10 @@
 //! with X = ξ₀ + z sin ϑ, D₀ = depth₀ + zμ: inside when
 //! g(φ) = a² − ξ² − η² ≥ 0 and t ≥ 0. g = A + B cos φ + C sin φ + D cos²φ
 //! (B = 2Xbμ, C = −2η₀b, D = b² sin²ϑ) has at most four zeros; they are
-//! found by a certified subdivision (|g′| ≤ |B| + |C| + |D|, so an interval
-//! with |g(l)| + |g(r)| above that bound times its width, plus rounding,
-//! holds none) down to a few ulps of 2π, and t's two by cos φ = −D₀/(b sin ϑ).
+//! found by a certified subdivision (`certified_zeros`: |g″| ≤ |B| + |C| +
+//! 2|D|, so an interval whose end values share a sign and exceed that bound
+//! times w²/8, plus rounding, holds none) down to a few ulps of 2π, and
+//! t's two by cos φ = −D₀/(b sin ϑ).
 //!
 //! At fixed z the plane ⊥ u cuts the beam in a convex set (an ellipse of
 //! semi-axes a/|μ| along e₁ and a along e₂, cut by t ≥ 0), so the b whose
@@ -63,7 +64,7 @@ impl<T: CheckRule> Ring<'_, T> {
     }
 
     /// The zeros of g on [0, 2π] to a few ulps (module docs).
-    fn margin_zeros(&self) -> Vec<T> {
+    fn margin_zeros(&self) -> Result<Vec<T>, String> {
         let like = &self.b;
         let beam = self.beam;
         let b = self.b.to_f64();
@@ -86,9 +87,9 @@ impl<T: CheckRule> Ring<'_, T> {
 /// 2·noise of 0 (both ends within noise, the chord bound too) as its ends. The w² bound keeps the unproven
 /// intervals per level bounded next to a double zero (a ring tangent to the
 /// beam), where a Lipschitz bound's grow as 1/√w. More than
-/// [`MAX_RING_EVALS`] evaluations is a defect of the bound, not a scene:
-/// it panics rather than return arcs it cannot vouch for.
-fn certified_zeros<T: CheckRule>(f: impl Fn(&T) -> T, like: &T, curvature: f64, noise: f64) -> Vec<T> {
+/// [`MAX_RING_EVALS`] evaluations is an error (arcs it cannot vouch for
+/// are never returned).
+fn certified_zeros<T: CheckRule>(f: impl Fn(&T) -> T, like: &T, curvature: f64, noise: f64) -> Result<Vec<T>, String> {
     let (two_pi, zero) = (like.pi() * like.lit(2.0), like.lit(0.0));
     let min_width = two_pi.clone() * like.eps() * like.lit(16.0);
     let mut zeros = Vec::new();
@@ -110,7 +111,14 @@ fn certified_zeros<T: CheckRule>(f: impl Fn(&T) -> T, like: &T, curvature: f64, 
             continue;
         }
         let mid = (lo.clone() + hi.clone()) / like.lit(2.0);
-        assert!(evals < MAX_RING_EVALS, "certified_zeros: {evals} evaluations (curvature {curvature:e}) at [{:e}, {:e}]: {f_lo:e} {f_hi:e}, noise {noise:e}", lo.to_f64(), hi.to_f64());
+        if evals >= MAX_RING_EVALS {
+            return Err(format!(
+                "the zeros of a ring's boundary function took {evals} evaluations without being certified \
+                 (curvature bound {curvature:e}, noise {noise:e}, at [{:e}, {:e}])",
+                lo.to_f64(),
+                hi.to_f64()
+            ));
+        }
         if hi.clone() - lo.clone() <= min_width {
             if mid > zero && mid < two_pi {
                 zeros.push(mid);
@@ -122,7 +130,7 @@ fn certified_zeros<T: CheckRule>(f: impl Fn(&T) -> T, like: &T, curvature: f64, 
         stack.push((lo, mid.clone(), f_lo, f_mid));
         stack.push((mid, hi, f_mid, f_hi));
     }
-    zeros
+    Ok(zeros)
 }
 
 /// The rings at one z that meet the beam: b ∈ [lo, hi] (`hi` `None`:
@@ -153,13 +161,13 @@ impl<T: CheckRule> BeamLight<T> {
     /// The arcs [φ₀, φ₁] ⊂ [0, 2π] of the ring (z, b ≥ 0) inside the beam,
     /// in increasing order (module docs); the whole ring as [0, 2π] when it
     /// lies inside, none when it misses. Domain: any z, b ≥ 0.
-    pub(super) fn ring_arcs(&self, z: &T, b: &T) -> Vec<[T; 2]> {
+    pub(super) fn ring_arcs(&self, z: &T, b: &T) -> Result<Vec<[T; 2]>, String> {
         let ring = self.ring(z, b);
         let (zero, two_pi) = (b.lit(0.0), b.pi() * b.lit(2.0));
         if b.is_zero() {
-            return if ring.inside(&zero) { vec![[zero, two_pi]] } else { Vec::new() };
+            return Ok(if ring.inside(&zero) { vec![[zero, two_pi]] } else { Vec::new() });
         }
-        let mut cuts = ring.margin_zeros();
+        let mut cuts = ring.margin_zeros()?;
         // t = 0 at cos φ = −D₀/(b sin ϑ).
         let across = b.clone() * self.dir.sin.clone();
         if !across.is_zero() {
@@ -188,13 +196,13 @@ impl<T: CheckRule> BeamLight<T> {
                 _ => arcs.push([lo.clone(), hi.clone()]),
             }
         }
-        arcs
+        Ok(arcs)
     }
 
     /// Whether the ring (z, b) meets the beam.
     #[cfg(test)]
     fn ring_meets(&self, z: &T, b: &T) -> bool {
-        !self.ring_arcs(z, b).is_empty()
+        !self.ring_arcs(z, b).unwrap().is_empty()
     }
 
     /// The rings at z that meet the beam, or `None` (module docs). In the
@@ -208,7 +216,7 @@ impl<T: CheckRule> BeamLight<T> {
     /// zeros), at the feet of the perpendiculars to the lines — and at the
     /// corners; those on the section's boundary are the kinks, their min
     /// and max the span (lo = 0 when the origin is inside).
-    pub(super) fn ring_span(&self, z: &T) -> Option<RingSpan<T>> {
+    pub(super) fn ring_span(&self, z: &T) -> Result<Option<RingSpan<T>>, String> {
         let like = z;
         let ring = self.ring(z, &like.lit(0.0));
         let zero = like.lit(0.0);
@@ -216,19 +224,23 @@ impl<T: CheckRule> BeamLight<T> {
         let (x, d0) = (ring.x.clone(), ring.d0.clone());
         let slack = like.eps() * like.lit(64.0);
         // Inside the section, up to rounding: the candidates lie on its boundary.
+        // ξ, η are formed from terms as large as |X|, |μy₁|, |η₀|, |y₂|: the
+        // tolerance scales with them (a thin beam far from the line rounds
+        // its boundary's points 10² times a's ulp outside).
         let in_ellipse = |y1: &T, y2: &T| {
             let (xi, eta) = (x.clone() - mu.clone() * y1.clone(), eta0.clone() + y2.clone());
-            (xi.clone() * xi + eta.clone() * eta).sqrt() <= a.clone() * (like.lit(1.0) + slack.clone())
+            let scale = a.clone() + x.abs() + (mu.clone() * y1.clone()).abs() + eta0.abs() + y2.abs();
+            (xi.clone() * xi + eta.clone() * eta).sqrt() <= a.clone() + slack.clone() * scale
         };
         let in_half = |y1: &T| d0.clone() + sin.clone() * y1.clone() >= -(slack.clone() * (d0.abs() + y1.abs()));
         let line = (!sin.is_zero()).then(|| -d0.clone() / sin.clone());
         if sin.is_zero() && d0 < zero {
-            return None;
+            return Ok(None);
         }
         let mut points: Vec<(T, T)> = Vec::new();
         if mu.is_zero() {
             if x.abs() > *a {
-                return None;
+                return Ok(None);
             }
             let w = ((a.clone() - x.abs()) * (a.clone() + x.abs())).sqrt();
             for edge in [-eta0.clone() - w.clone(), -eta0.clone() + w.clone()] {
@@ -239,20 +251,23 @@ impl<T: CheckRule> BeamLight<T> {
             }
         } else {
             let (af, xf, ef, mf) = (a.to_f64(), x.to_f64(), eta0.to_f64(), mu.to_f64());
-            // h = (X sin ψ − (a/2) sin 2ψ)/μ² + (a/2) sin 2ψ − η₀ cos ψ:
-            // |h″| ≤ (|X| + 2a)/μ² + 2a + |η₀|, and |h| ≤ (|X| + a)/μ² + a + |η₀|.
-            let curvature = (xf.abs() + 2.0 * af) / (mf * mf) + 2.0 * af + ef.abs();
-            let noise = 64.0 * like.eps().to_f64() * curvature;
+            // h = (X sin ψ − a sin²ϑ sin ψ cos ψ)/μ² − η₀ cos ψ, the a-terms
+            // combined (they cancel for a beam along the line, where the
+            // uncombined bound stayed 4a over an h of rounding and the
+            // subdivision never ended): |h″| ≤ (|X| + 2a sin²ϑ)/μ² + |η₀|.
+            let s2 = sin.to_f64() * sin.to_f64();
+            let curvature = (xf.abs() + 2.0 * af * s2) / (mf * mf) + ef.abs();
+            let noise = 64.0 * like.eps().to_f64() * ((xf.abs() + af) / (mf * mf) + ef.abs());
             let on_ellipse = |psi: &T| {
                 let (c, s) = (psi.cos(), psi.sin());
                 ((x.clone() - a.clone() * c) / mu.clone(), a.clone() * s - eta0.clone())
             };
+            let (mu2, sin2) = (mu.clone() * mu.clone(), sin.clone() * sin.clone());
             let h = |psi: &T| {
                 let (c, s) = (psi.cos(), psi.sin());
-                (x.clone() - a.clone() * c.clone()) * s.clone() / (mu.clone() * mu.clone())
-                    + (a.clone() * s - eta0.clone()) * c
+                (x.clone() * s.clone() - a.clone() * sin2.clone() * s * c.clone()) / mu2.clone() - eta0.clone() * c
             };
-            let mut psis = certified_zeros(h, like, curvature, noise);
+            let mut psis = certified_zeros(h, like, curvature, noise)?;
             psis.push(zero.clone());
             points.extend(psis.iter().map(on_ellipse));
             if let Some(l) = &line {
@@ -274,20 +289,24 @@ impl<T: CheckRule> BeamLight<T> {
             .collect();
         let origin_inside = ring.inside(&zero);
         if radii.is_empty() && !origin_inside {
-            return None;
+            return Ok(None);
         }
         let fold = |best: Option<T>, r: &T, wider: bool| match best {
             Some(b) if (r.clone() > b) != wider => Some(b),
             _ => Some(r.clone()),
         };
-        let lo = if origin_inside { zero.clone() } else { radii.iter().fold(None, |m, r| fold(m, r, false))? };
+        let lo = match (origin_inside, radii.iter().fold(None, |m, r| fold(m, r, false))) {
+            (true, _) => zero.clone(),
+            (false, Some(l)) => l,
+            (false, None) => return Ok(None),
+        };
         let unbounded = mu.is_zero();
         let hi = if unbounded { None } else { radii.iter().fold(None, |m, r| fold(m, r, true)) };
         if hi.as_ref().is_some_and(|h| !(*h > lo)) {
-            return None;
+            return Ok(None);
         }
         let kinks = radii.into_iter().filter(|r| *r > lo && hi.as_ref().is_none_or(|h| r < h)).collect();
-        Some(RingSpan { lo, hi, kinks })
+        Ok(Some(RingSpan { lo, hi, kinks }))
     }
 
     /// [z_min, z_max] of the camera-line abscissae whose plane ⊥ u meets the
@@ -336,7 +355,7 @@ mod tests {
         for bm in &beams {
             for z in [-1.0, -0.2, 0.0, 0.4, 1.5] {
                 for b in [0.0, 0.05, 0.2, 0.45, 0.7, 1.3] {
-                    let arcs = bm.ring_arcs(&z, &b);
+                    let arcs = bm.ring_arcs(&z, &b).unwrap();
                     arcs_seen += arcs.len();
                     let ring = bm.ring(&z, &b);
                     for k in 0..4000 {
@@ -359,7 +378,7 @@ mod tests {
         let (lo, _) = bm.z_support();
         let lo = lo.unwrap();
         for z in [lo + 0.01, lo + 0.2, 0.0, 0.7, 3.0] {
-            let span = bm.ring_span(&z).expect("the plane meets the beam");
+            let span = bm.ring_span(&z).unwrap().expect("the plane meets the beam");
             let (b_min, b_max) = (span.lo, span.hi.expect("bounded for μ ≠ 0"));
             assert!(b_max > b_min);
             assert!(bm.ring_meets(&z, &(b_min + 1e-9)) && bm.ring_meets(&z, &(b_max - 1e-9)), "z {z}");
@@ -368,6 +387,48 @@ mod tests {
                 assert!(!bm.ring_meets(&z, &(b_min - 1e-7)), "z {z}");
             }
         }
-        assert!(bm.ring_span(&(lo - 0.01)).is_none());
+        assert!(bm.ring_span(&(lo - 0.01)).unwrap().is_none());
+    }
+
+    /// The beam at `center` along `direction` (radius a) for the camera at
+    /// the origin looking along +z, in the model's frame.
+    fn framed(center: [f64; 3], direction: [f64; 3], a: f64) -> BeamLight<f64> {
+        use mcrt_scene::DVec3;
+        let d = DVec3::from(direction).normalize();
+        let f = crate::model::beam_source::BeamFrame::new(DVec3::ZERO, DVec3::Z, DVec3::from(center), d);
+        BeamLight::new(f.mu, f.sin, f.xi0, f.eta0, f.depth0, a, 1.0)
+    }
+
+    /// A review's counterexamples: a thin beam far from the camera line
+    /// (its boundary points rounded outside a tolerance of a's ulps: the
+    /// span was cut to [5.334242, 5.334322] of [5.334242, 5.378335] at
+    /// z = 5.131, 14.5 % of the interactions lost), a thin beam across the
+    /// line (the strip), and beams along the line on its axis and 10⁻⁹
+    /// off it (h was rounding under a bound of 4a: the subdivision never
+    /// ended). Each span's ends are where rings stop meeting the beam.
+    #[test]
+    fn spans_of_thin_far_and_axial_beams() {
+        let cases = [
+            (framed([-2.0, 1.0, 1.5], [1.0, 0.0, 0.5], 0.01), vec![5.131, 3.0, 9.0]),
+            (framed([-2.0, 3.0, 1.0], [1.0, 0.0, 0.0], 0.01), vec![0.995, 1.0, 1.005]),
+            (framed([0.0, 0.0, -1.0], [0.0, 0.0, 1.0], 0.5), vec![0.3, -0.9, 4.0]),
+            (framed([0.0, 0.0, 3.0], [0.0, 0.0, -1.0], 0.5), vec![0.3, 2.9]),
+            (framed([1e-9, 0.0, -1.0], [0.0, 0.0, 1.0], 0.5), vec![0.3, 2.0]),
+            (framed([0.0, 0.0, -1.0], [1e-5, 0.0, 1.0], 0.5), vec![0.0, 0.3, 2.0]),
+        ];
+        for (bm, zs) in &cases {
+            for z in zs {
+                let span = bm.ring_span(z).unwrap().expect("the plane meets the beam");
+                let scale = span.hi.unwrap_or(1.0).max(1.0);
+                if let Some(hi) = span.hi {
+                    assert!(bm.ring_meets(z, &(hi - 1e-9 * scale)), "{bm:?} z {z}: {span:?}");
+                    assert!(!bm.ring_meets(z, &(hi + 1e-7 * scale)), "{bm:?} z {z}: {span:?}");
+                }
+                assert!(bm.ring_meets(z, &(span.lo + 1e-9 * scale)), "{bm:?} z {z}: {span:?}");
+                if span.lo > 1e-7 * scale {
+                    assert!(!bm.ring_meets(z, &(span.lo - 1e-7 * scale)), "{bm:?} z {z}: {span:?}");
+                }
+            }
+        }
     }
 }
