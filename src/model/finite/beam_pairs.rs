@@ -31,9 +31,8 @@
 use super::beam::BeamLight;
 use super::cross_segments::{cross_weight, CrossPair};
 use super::hit_cumulants::HitCumulants;
-use super::point::PointLight;
 use super::ray::Functional;
-use super::virtual_lights::functional_bound;
+use super::virtual_lights::virtual_light_node;
 use super::FiniteField;
 use crate::model::field::graded_about;
 use crate::quad::{integrate_nested, integrate_within_pass, CheckRule, Domain, Estimate, Failure, Options, Outcome};
@@ -255,7 +254,7 @@ impl<T: CheckRule> BeamLight<T> {
     /// with §9.8's; for Pair23, Pair24 the one-segment-two-spheres part of
     /// C₂₃, C₂₄. Domain: R > 0, σ > 0, isotropic media.
     pub(super) fn virtual_average(&self, ff: &FiniteField<T>, which: Functional, opts: &Options) -> Outcome<T> {
-        let (r, sigma) = (&ff.radius, &ff.sigma);
+        let sigma = &ff.sigma;
         let zero = self.radius.lit(0.0);
         // Floors for the inner integrals of the coarse pass (relative goals
         // only), as for the cross part (`floors`): a node's product
@@ -267,7 +266,6 @@ impl<T: CheckRule> BeamLight<T> {
             .abs()
             .to_f64();
         let (b_floor, node_floor) = self.floors(ff, opts.rel_tol * scale / 100.0);
-        let unit = ff.per_hit(which, &self.flux).to_f64() / (2.0 * std::f64::consts::PI);
         let node = |z: &T, b: &T, o2: &Options| -> Outcome<T> {
             let arcs = self.ring_arcs(z, b).map_err(|reason| ring_failure(reason, z))?;
             if arcs.is_empty() || b.is_zero() {
@@ -279,17 +277,7 @@ impl<T: CheckRule> BeamLight<T> {
             }
             let shift = ff.shift.clone() - sigma.clone() * t_lo;
             let allowed = (o2.abs_tol.max(node_floor(z, b)) / dens.value.to_f64()).min(f64::MAX);
-            let bound = functional_bound(ff, which, &self.flux, z, b, &shift);
-            if bound.to_f64() <= allowed {
-                let half = bound / z.lit(2.0);
-                let error = dens.value.abs() * half.clone() + half.clone() * dens.error.clone();
-                return Ok(Estimate::known(dens.value * half, error, dens.evaluations, o2.rule));
-            }
-            let light = PointLight::new(z.clone(), b.clone(), self.flux.clone(), r);
-            let each = Options { abs_tol: (allowed / unit).min(f64::MAX), ..o2.clone() };
-            let v = light.ray_integral_in(ff, which, &each, true, &shift)?;
-            let error = dens.value.abs() * v.error.clone() + v.value.abs() * dens.error.clone();
-            Ok(Estimate::known(dens.value * v.value, error, dens.evaluations + v.evaluations, o2.rule))
+            virtual_light_node(ff, which, &self.flux, [z, b], &dens, &shift, allowed, o2)
         };
         let o = Options { abs_tol: (opts.abs_tol / ff.albedo.to_f64()).min(f64::MAX), ..opts.clone() };
         Ok(self.over_rings(ff, &node, &o, &b_floor)?.scaled(&ff.albedo))

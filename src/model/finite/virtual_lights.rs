@@ -112,6 +112,38 @@ pub(super) fn functional_bound<T: CheckRule>(
     ff.per_hit(which, flux) * power_of(f_max, which.power()) * like.lit(4.0) * exponent.exp()
 }
 
+/// One virtual-light node of the average albedo ∫ n F d³x₁ (point lights
+/// and beams alike): `dens` (the density integrated around the ring at
+/// (z, b), its attenuation factored into `shift`) times the order-0 functional
+/// `which` of a light of flux `flux` at (z, b) with the shift `shift`, the
+/// functional to the absolute goal `allowed` (before its constant). Where
+/// [`functional_bound`] is within that goal — far from the camera — the
+/// functional is [0, bound] and needs no direction integral.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn virtual_light_node<T: CheckRule>(
+    ff: &FiniteField<T>,
+    which: Functional,
+    flux: &T,
+    [z, b]: [&T; 2],
+    dens: &Estimate<T>,
+    shift: &T,
+    allowed: f64,
+    opts: &Options,
+) -> Outcome<T> {
+    let bound = functional_bound(ff, which, flux, z, b, shift);
+    if bound.to_f64() <= allowed {
+        let half = bound / z.lit(2.0);
+        let error = dens.value.abs() * half.clone() + half.clone() * dens.error.clone();
+        return Ok(Estimate::known(dens.value.clone() * half, error, dens.evaluations, opts.rule));
+    }
+    let unit = ff.per_hit(which, flux).to_f64() / (2.0 * std::f64::consts::PI);
+    let light = PointLight::new(z.clone(), b.clone(), flux.clone(), &ff.radius);
+    let each = Options { abs_tol: (allowed / unit).min(f64::MAX), ..opts.clone() };
+    let v = light.ray_integral_in(ff, which, &each, true, shift)?;
+    let error = dens.value.abs() * v.error.clone() + v.value.abs() * dens.error.clone();
+    Ok(Estimate::known(dens.value.clone() * v.value, error, dens.evaluations + v.evaluations, opts.rule))
+}
+
 /// A point of the half-plane (z, b) about the camera line, m from the
 /// light's own (z_y, b_y): z = z_y + dz, b = b_y + db ≥ 0, the offsets as
 /// formed from m and γ (exact where z and b round them away).
@@ -133,7 +165,7 @@ impl<T: CheckRule> PointLight<T> {
     /// Pair23, Pair24 the one-segment-two-spheres part of C₂₃, C₂₄.
     /// Domain: R > 0, σ > 0, isotropic media.
     pub(super) fn virtual_average(&self, ff: &FiniteField<T>, which: Functional, opts: &Options) -> Outcome<T> {
-        let (r, sigma) = (&ff.radius, &ff.sigma);
+        let sigma = &ff.sigma;
         let zero = self.z.lit(0.0);
         // The scale of the functional, from the light itself: every inner
         // functional gets an absolute floor of a hundredth of its relative
@@ -146,7 +178,6 @@ impl<T: CheckRule> PointLight<T> {
             .value
             .abs()
             .to_f64();
-        let unit = ff.per_hit(which, &self.flux).to_f64() / (2.0 * std::f64::consts::PI);
         let node = |at: &Offset<T>, o2: &Options| {
             let (m, z, b) = (&at.m, &at.z, &at.b);
             let dens = ring_density(sigma, m, b, &self.b, &Options { abs_tol: 0.0, ..o2.clone() })?;
@@ -157,19 +188,7 @@ impl<T: CheckRule> PointLight<T> {
             let floor = o2.rel_tol * scale / 100.0 * (-(sigma.to_f64() * m.to_f64())).exp();
             // The functional's goal: ray_integral_in's abs_tol applies before its constant.
             let allowed = (o2.abs_tol / dens.value.to_f64()).max(floor);
-            let bound = functional_bound(ff, which, &self.flux, z, b, &shift);
-            if bound.to_f64() <= allowed {
-                // Far from the camera the functional cannot matter: it is
-                // [0, bound], within its goal, and needs no direction integral.
-                let half = bound / m.lit(2.0);
-                let error = dens.value.abs() * half.clone() + half.clone() * dens.error.clone();
-                return Ok(Estimate::known(dens.value * half, error, dens.evaluations, o2.rule));
-            }
-            let light = PointLight::new(z.clone(), b.clone(), self.flux.clone(), r);
-            let each = Options { abs_tol: (allowed / unit).min(f64::MAX), ..o2.clone() };
-            let v = light.ray_integral_in(ff, which, &each, true, &shift)?;
-            let error = dens.value.abs() * v.error.clone() + v.value.abs() * dens.error.clone();
-            Ok(Estimate::known(dens.value * v.value, error, dens.evaluations + v.evaluations, o2.rule))
+            virtual_light_node(ff, which, &self.flux, [z, b], &dens, &shift, allowed, o2)
         };
         let e = self.over_half_plane(
             ff,
