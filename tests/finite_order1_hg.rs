@@ -11,6 +11,9 @@ use mcrt_reference::{trace, HitMethod, Tracer};
 use mcrt_scene::{Phase, Scene};
 use std::path::Path;
 
+mod common;
+use common::order1::costly_part_spends_the_budget;
+
 /// `point-isotropic-order1` with q = 1, N_B = 1, N_F = 20, albedo 0.8, the
 /// given R and g.
 fn scene(radius: f64, g: f64) -> Scene {
@@ -98,19 +101,6 @@ fn tracer_agrees_with_the_forward_peaked_order1_variance_by_the_line() {
 /// and it needs ~2·10⁸).
 #[test]
 fn henyey_greenstein_moments_that_spend_the_budget_leave_the_rest_of_the_report() {
-    let s = scene(0.5, -0.5);
-    let first = Budget::new(1_000_000_000);
-    let everything = run_within_scoped(&s, Precision::F64, Some(1e-3), &first, Scope::Everything).unwrap();
-    let used = first.used();
-    let asked = run_within_scoped(&s, Precision::F64, Some(1e-3), &Budget::new(used + 300_000_000), Scope::FinitePairs)
-        .unwrap();
-    assert_eq!(asked.prediction.model, "small-sphere");
-    let why = asked.finite_not_used.clone().unwrap();
-    assert!(why.contains("its computation failed") && why.contains("budget"), "{why}");
-    assert!(asked.finite_error.is_some());
-    assert_eq!(asked.prediction.variance.value, everything.prediction.variance.value);
-    assert_eq!(asked.prediction.mean.value, everything.prediction.mean.value);
-    let (a, e) = (asked.finite_mean.unwrap().mean.unwrap(), everything.finite_mean.unwrap().mean.unwrap());
-    assert_eq!((a.value, a.error), (e.value, e.error));
+    let (why, used) = costly_part_spends_the_budget(&scene(0.5, -0.5), 300_000_000);
     println!("Everything used {used} evaluations; M₂ and P's failure: {why}");
 }

@@ -12,7 +12,7 @@ use mcrt_scene::{DVec3, Light, Scene};
 use std::path::Path;
 
 mod common;
-use common::order1::{against_tracer, finite_prediction, z, Barred};
+use common::order1::{against_tracer, costly_part_spends_the_budget, finite_prediction, z, Barred};
 
 /// One tracer point: `point-isotropic-order1` with these settings.
 #[derive(Debug, Clone, Copy)]
@@ -171,22 +171,8 @@ fn the_oracle_predicts_with_the_finite_pairs_when_asked() {
 /// far below the pairs' billions).
 #[test]
 fn finite_pairs_that_spend_the_budget_leave_the_rest_of_the_report() {
-    use mcrt_noise::oracle::{run_within_scoped, Precision, Scope};
     let p = Point { radius: 0.2, q: 0.5, n_f: 20, n_b: 8, albedo: 0.8, light_b: 1.0, trials: 0 };
-    let s = p.scene();
-    let first = Budget::new(1_000_000_000);
-    let everything = run_within_scoped(&s, Precision::F64, Some(1e-3), &first, Scope::Everything).unwrap();
-    let used = first.used();
-    let asked =
-        run_within_scoped(&s, Precision::F64, Some(1e-3), &Budget::new(used + 20_000_000), Scope::FinitePairs).unwrap();
-    assert_eq!(asked.prediction.model, "small-sphere");
-    let why = asked.finite_not_used.clone().unwrap();
-    assert!(why.contains("its computation failed") && why.contains("budget"), "{why}");
-    assert!(asked.finite_error.is_some());
-    assert_eq!(asked.prediction.variance.value, everything.prediction.variance.value);
-    assert_eq!(asked.prediction.mean.value, everything.prediction.mean.value);
-    let (a, e) = (asked.finite_mean.unwrap().mean.unwrap(), everything.finite_mean.unwrap().mean.unwrap());
-    assert_eq!((a.value, a.error), (e.value, e.error));
+    let (why, used) = costly_part_spends_the_budget(&p.scene(), 20_000_000);
     println!("Everything used {used} evaluations; the pairs' failure: {why}");
 }
 

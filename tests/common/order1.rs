@@ -62,3 +62,28 @@ pub fn against_tracer(label: &str, s: &Scene, goal: f64, trials: u64, seed: u64)
     );
     (zm, zv, var, tv)
 }
+
+/// `Scope::FinitePairs` runs its costly finite-sphere integrals after
+/// everything else: given what `Scope::Everything` used plus `extra`
+/// evaluations (far below their billions), they spend the budget, and the
+/// report stands with the small-sphere prediction, the exact finite-sphere
+/// mean, and their failure in `finite_not_used` and `finite_error` — the
+/// same prediction and mean as `Scope::Everything` gives. Returns the
+/// failure's text and what `Everything` used.
+pub fn costly_part_spends_the_budget(s: &Scene, extra: u64) -> (String, u64) {
+    use mcrt_noise::oracle::{run_within_scoped, Precision, Scope};
+    let first = Budget::new(1_000_000_000);
+    let everything = run_within_scoped(s, Precision::F64, Some(1e-3), &first, Scope::Everything).unwrap();
+    let used = first.used();
+    let asked =
+        run_within_scoped(s, Precision::F64, Some(1e-3), &Budget::new(used + extra), Scope::FinitePairs).unwrap();
+    assert_eq!(asked.prediction.model, "small-sphere");
+    let why = asked.finite_not_used.clone().unwrap();
+    assert!(why.contains("its computation failed") && why.contains("budget"), "{why}");
+    assert!(asked.finite_error.is_some());
+    assert_eq!(asked.prediction.variance.value, everything.prediction.variance.value);
+    assert_eq!(asked.prediction.mean.value, everything.prediction.mean.value);
+    let (a, e) = (asked.finite_mean.unwrap().mean.unwrap(), everything.finite_mean.unwrap().mean.unwrap());
+    assert_eq!((a.value, a.error), (e.value, e.error));
+    (why, used)
+}

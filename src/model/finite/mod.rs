@@ -460,3 +460,16 @@ fn shortest_path(scene: &Scene, o: DVec3, u: DVec3, r: f64) -> f64 {
         0.0
     }
 }
+
+/// The finite field of `scenes/point-isotropic-order1.toml` (the light at
+/// (1, 0, 1)) at radius `radius` with the phase function `phase`: the
+/// scene of the order-1 unit tests.
+#[cfg(test)]
+pub(super) fn order1_test_field(radius: f64, phase: Phase) -> FiniteField<f64> {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic-order1.toml");
+    let mut s = Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    s.estimator.radius = radius;
+    s.medium.phase = phase;
+    let field = Field::from_scene(&s, &1.0f64).unwrap();
+    FiniteField::of_first_segments(&s, &field)
+}

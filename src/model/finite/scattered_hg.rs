@@ -234,14 +234,7 @@ mod tests {
     use crate::model::field::Field;
     use mcrt_scene::Scene;
 
-    fn field_at(radius: f64, phase: Phase) -> FiniteField<f64> {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic-order1.toml");
-        let mut s = Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-        s.estimator.radius = radius;
-        s.medium.phase = phase;
-        let field = Field::from_scene(&s, &1.0f64).unwrap();
-        FiniteField::of_first_segments(&s, &field)
-    }
+    use super::super::order1_test_field as field_at;
 
     /// With p = 1/4π (g = 0) the route of this module — (θ, p, α) about the
     /// light's foot in the disk — is an independent computation of the
