@@ -514,3 +514,29 @@ fn assert_order_one_sane(r: &Report, what: &str) {
         assert!(ratio > 0.0 && ratio <= 1.0, "{what}: ratio {ratio}");
     }
 }
+
+/// A beam beside the camera ray, along it at distance 1 (farther than its
+/// radius 0.5 plus R = 0.2): no uncollided ray reaches a sphere, only its
+/// single-scattered light does. The small-sphere same-path hits (E9) are
+/// then exactly 0 — not an underflow — and the oracle predicts the scene
+/// (it refused it as "not representable: M₂ same-path hits is 0 ± 7e-293"
+/// until 6 December 2026).
+#[test]
+fn a_beam_beside_the_camera_ray_has_no_same_path_hits() {
+    use mcrt_scene::{DVec3, Light, ScatteringOrders};
+    let mut s = with_radius(scene("beam-isotropic"), 0.2);
+    let Light::Beam { radius, flux, .. } = s.lights[0] else { panic!("a beam") };
+    s.lights[0] =
+        Light::Beam { center: DVec3::new(1.0, 0.0, -1.0), direction: DVec3::new(0.0, 0.0, 1.0), radius, flux };
+    s.effects.scattering_orders = ScatteringOrders::Limited(1);
+    (s.estimator.q, s.estimator.camera_rays) = (1.0, 1);
+    let rep =
+        mcrt_noise::oracle::run_within(&s, Precision::F64, Some(1e-4), &mcrt_noise::quad::Budget::new(2_000_000_000))
+            .unwrap();
+    let same_path = rep.integral_m2_same_path.as_ref().unwrap();
+    assert_eq!(same_path.value, 0.0);
+    assert_eq!(rep.prediction.model, "finite-sphere");
+    assert!(
+        rep.prediction.variance.value > 0.0 && rep.prediction.variance.error < 1e-4 * rep.prediction.variance.value
+    );
+}

@@ -303,11 +303,18 @@ impl<T: Real> Field<T> {
     /// no light, though spheres of radius R grazing a beam may (finite-sphere
     /// model, the tracer).
     pub fn lights_the_camera_ray(&self) -> bool {
-        self.is_smooth()
-            || self.components.iter().any(|c| match &c.geometry {
-                Geometry::Point { .. } => true,
-                Geometry::Beam { s_in, s_out, .. } => s_out.as_ref() != Some(s_in),
-            })
+        self.is_smooth() || self.uncollided_light_meets_the_camera_ray()
+    }
+
+    /// Whether uncollided light reaches the camera ray itself: a point light,
+    /// or a beam the line passes through in front of its disk. Where none
+    /// does, the small-sphere model's same-path hits (E9: a path's first
+    /// segment through a sphere's centre) are exactly 0.
+    pub fn uncollided_light_meets_the_camera_ray(&self) -> bool {
+        self.components.iter().any(|c| match &c.geometry {
+            Geometry::Point { .. } => true,
+            Geometry::Beam { s_in, s_out, .. } => s_out.as_ref() != Some(s_in),
+        })
     }
 
     /// The x of the camera (s = 0).

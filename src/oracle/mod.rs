@@ -445,7 +445,7 @@ pub fn run_with_scoped<T: CheckRule>(
         prediction,
         wall_time_ms: t0.elapsed().as_secs_f64() * 1e3,
     };
-    report.check_representable(scene)?;
+    report.check_representable(scene, field.uncollided_light_meets_the_camera_ray())?;
     Ok(report)
 }
 
@@ -564,7 +564,7 @@ fn finite_report<T: CheckRule>(
             if ff.phase == mcrt_scene::Phase::Isotropic {
                 why
             } else {
-                format!("{why}; in a Henyey–Greenstein medium they are not derived yet (docs/model.md §9.10)")
+                format!("{why}; in a Henyey–Greenstein medium they are derived but not computed (docs/model.md §9.12: not yet affordable)")
             }
         }),
         covers,

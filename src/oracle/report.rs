@@ -443,8 +443,11 @@ impl Report {
     }
 
     /// The numbers that are positive for every lit scene (each an integral
-    /// of a positive integrand): printed as 0, they have underflowed.
-    fn positive_numbers(&self) -> Vec<(&'static str, ValueWithBar)> {
+    /// of a positive integrand): printed as 0, they have underflowed. The
+    /// same-path hits only where uncollided light meets the camera ray
+    /// (`same_path_lit`); elsewhere they are exactly 0 (a beam beside the
+    /// camera ray, whose scattered light alone reaches it).
+    fn positive_numbers(&self, same_path_lit: bool) -> Vec<(&'static str, ValueWithBar)> {
         let int = |i: &Integral| ValueWithBar { value: i.value, error: i.error };
         let mut out =
             vec![("mean luminance (small-sphere)", self.mean_luminance), ("prediction: mean", self.prediction.mean)];
@@ -463,7 +466,7 @@ impl Report {
         if let Some(m) = self.finite_mean.as_ref().and_then(|f| f.mean) {
             out.push(("finite-sphere mean (single scattering)", m));
         }
-        if let Some(m) = &self.integral_m2_same_path {
+        if let Some(m) = self.integral_m2_same_path.as_ref().filter(|_| same_path_lit) {
             out.push(("M₂ same-path hits", int(m)));
         }
         out
@@ -471,15 +474,17 @@ impl Report {
 
     /// Fails when a printed number is not finite, or a quantity that is
     /// positive for every lit scene (the mean, which the ratios and the
-    /// relative noise divide by; Var L; (23), (24)) has underflowed to 0.
-    pub(super) fn check_representable(&self, scene: &Scene) -> Result<(), OracleError> {
+    /// relative noise divide by; Var L; (23), (24); the same-path hits where
+    /// uncollided light meets the camera ray, `same_path_lit`) has
+    /// underflowed to 0.
+    pub(super) fn check_representable(&self, scene: &Scene, same_path_lit: bool) -> Result<(), OracleError> {
         let fluxes: Vec<String> = scene.lights.iter().map(|l| format!("{:e}", l.flux())).collect();
         let advice = format!(
             "the mean scales with the lights' flux ({}) and Var L with its square, the relative noise not at all: \
              rescale the fluxes (or bring the lights nearer: e^(−σ_ext·distance) underflows beyond ~700)",
             fluxes.join(", ")
         );
-        for (name, v) in self.positive_numbers() {
+        for (name, v) in self.positive_numbers(same_path_lit) {
             if !(v.value > 0.0) {
                 return Err(OracleError::NotRepresentable(format!(
                     "{name} is {:e} ± {:e}: it underflows f64; {advice}",
