@@ -119,8 +119,9 @@ impl<T: CheckRule> FiniteField<T> {
     }
 
     /// Refuses what the order-1 correlations of two spheres do not cover
-    /// yet: Henyey–Greenstein media (§9.7 and §9.11 are derived for
-    /// isotropic scattering).
+    /// yet: Henyey–Greenstein media (§9.7 and §9.11 are computed for
+    /// isotropic scattering; §9.12 derives them for these media, but no
+    /// route tried is affordable yet).
     fn order1_pairs_covered(&self) -> Result<(), OracleError> {
         if self.phase != Phase::Isotropic {
             return Err(OracleError::Unsupported(
