@@ -332,8 +332,8 @@ fn beam_correlations_agree_with_the_tracer() {
 
 /// The first beam point in CI through the library's `predict` (10⁶
 /// trials: Var L to ~0.25 %): the prediction is the finite-sphere model
-/// with model bars 0 and no small-sphere Var L beside it (that model has
-/// no pair integrals for a beam's scattered light, §9.8), it agrees with
+/// with model bars 0 and no small-sphere Var L beside it (`predict` skips
+/// that model's pair integrals for a beam, to which it never falls back), it agrees with
 /// the tracer, and without the two-segment share of C₂₃, C₂₄ (§9.11's
 /// second route) it is rejected, so the check can fail. ~1.5 minutes on
 /// two cores.
@@ -345,7 +345,7 @@ fn beam_correlations_agree_with_the_tracer_in_ci() {
     assert_eq!(prediction.model, mcrt_noise::Model::FiniteSphere, "{}", prediction.model_bar_basis);
     assert_eq!((prediction.mean.model_bar, prediction.variance.model_bar), (0.0, 0.0));
     let report = &prediction.report;
-    assert!(report.variance.is_none() && report.corr23.is_none(), "no small-sphere Var L for a beam's pairs");
+    assert!(report.variance.is_none() && report.corr23.is_none(), "predict skips the small-sphere pairs of a beam");
     let finite = report.finite.as_ref().unwrap();
     assert!(finite.corr23.is_some() && finite.corr24.is_some() && finite.variance_ratio.is_none());
     let json = serde_json::to_value(report).unwrap();

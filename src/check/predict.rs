@@ -162,8 +162,10 @@ impl From<OracleError> for PredictError {
 /// computation itself fails, the small-sphere model with its allowance
 /// serves for R ≤ 0.1 and the failure is returned beyond (and with a beam,
 /// whose small-sphere error was never measured).
-/// In MPFR a beam at q < 1 or N_B > 1 is refused (the small-sphere model
-/// has no pair integrals for its scattered light, `docs/model.md` §9.8).
+/// In MPFR a beam at q < 1 or N_B > 1 is refused (the finite-sphere
+/// correlations run in f64 only, and the small-sphere model, whose pair
+/// integrals for a beam's scattered light lack the cross-segment terms,
+/// `docs/model.md` §3a, has no measured model error there).
 /// Other order-1 scenes (Henyey–Greenstein media; in MPFR, point lights
 /// with q < 1 or N_B > 1) are predicted by the small-sphere
 /// model with its
@@ -259,6 +261,19 @@ pub fn predict_within(
             "the finite-sphere model does not cover this scene"
         };
         return Err(small_sphere_too_large(why));
+    }
+    // A beam's scattered light where (7)–(9) weigh the correlations, in
+    // MPFR: the finite-sphere correlations are computed in f64 only, and the
+    // small-sphere model's own error was never measured for a beam (it
+    // lacks the cross-segment pairs of E10 there, `docs/model.md` §3a), so
+    // it cannot serve: refused before the run.
+    if scattered_beam && oracle::finite_pairs_cover(&scene) && !with_pairs {
+        return Err(PredictError::Unsupported(
+            "a beam's single-scattered light with estimator.q < 1 or estimator.camera_rays > 1 is predicted by the \
+             finite-sphere model's correlations, computed in f64 only (use precision f64); the small-sphere model, \
+             which MPFR would give, has no measured model error for a beam"
+                .into(),
+        ));
     }
     let report = oracle::run_within_scoped(&scene, precision, rel_tol, budget, scope)?;
     let p = &report.prediction;

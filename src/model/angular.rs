@@ -222,6 +222,53 @@ impl<T: CheckRule> Halves<T> {
         }
     }
 
+    /// Halves in ϑ with the cuts of g's `features`: decades from each
+    /// pole's floor, its marks (the equator, where g may jump, is the
+    /// halves' own cut).
+    pub(crate) fn with_features(features: &Features<T>, like: &T) -> Self {
+        let mut halves = Halves::new(like);
+        if let Some(floor) = &features.plus.floor {
+            decades(&floor.clone().max_of(like.lit(1e-20))).into_iter().for_each(|c| halves.cut_at(c));
+        }
+        features.plus.marks.iter().for_each(|c| halves.cut_at(c.clone()));
+        if let Some(floor) = &features.minus.floor {
+            decades(&floor.clone().max_of(like.lit(1e-20))).into_iter().for_each(|c| halves.cut_before_pi(c));
+        }
+        features.minus.marks.iter().for_each(|c| halves.cut_before_pi(c.clone()));
+        halves
+    }
+
+    /// ∫₀^π g(ϑ) [sin ϑ] Λ(ϑ) dϑ (`measure`) over these halves, g once per
+    /// ϑ-node and Λ from (ϑ, π − ϑ) and its options, Λ's goal that of the
+    /// product (`Frame::view_integral`).
+    pub(crate) fn integrate_view(
+        self,
+        measure: Measure,
+        g: &(dyn Fn(&Direction<T>, &Options) -> Outcome<T> + Sync),
+        lam: &(dyn Fn(&T, &T, &Options) -> Outcome<T> + Sync),
+        opts: &Options,
+    ) -> Outcome<T> {
+        let zero = self.pi.lit(0.0);
+        let sample = |theta: &T, theta_c: &T, inner: &Options| -> Outcome<T> {
+            let dir = view_direction(theta, theta_c);
+            let gv = g(&dir, &Options { abs_tol: 0.0, ..inner.clone() })?;
+            let w = match measure {
+                Measure::Solid => dir.sin.clone(),
+                Measure::Planar => theta.lit(1.0),
+            };
+            let gw = gv.value.clone() * w.clone();
+            if gw.is_zero() {
+                return Ok(Estimate::known(zero.clone(), zero.clone(), gv.evaluations, inner.rule));
+            }
+            let lam_opts = Options { abs_tol: (inner.abs_tol / gw.abs().to_f64()).min(f64::MAX), ..inner.clone() };
+            let lam = lam(theta, theta_c, &lam_opts)?;
+            let value = gw.clone() * lam.value.clone();
+            let error = gw.abs() * lam.error.clone() + (gv.error * w).abs() * lam.value.abs();
+            Ok(Estimate::known(value, error, gv.evaluations + lam.evaluations, inner.rule))
+        };
+        self.integrate(&sample, &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() })
+    }
+
     /// ∫₀^π f(x, π − x) dx, each half with the options `each`.
     pub(crate) fn integrate(self, f: &dyn Fn(&T, &T, &Options) -> Outcome<T>, each: &Options) -> Outcome<T> {
         let Halves { near, far, half_pi, pi } = self;
@@ -396,42 +443,16 @@ impl<T: CheckRule> Frame<T> {
         opts: &Options,
     ) -> Outcome<T> {
         let like = &self.psi_u;
-        let zero = like.lit(0.0);
         // Breakpoints in ϑ, kept in the halves [0, π/2] (ϑ) and
-        // [0, π/2] (ϑ′ = π − ϑ).
-        let mut halves = Halves::new(like);
-        // Λ's logarithmic singularity at ψ_u, and ±0.1 around it (a piece
-        // whose far end is not singular eases the check rule's bisection).
+        // [0, π/2] (ϑ′ = π − ϑ): g's, and Λ's logarithmic singularity at
+        // ψ_u with ±0.1 around it (a piece whose far end is not singular
+        // eases the check rule's bisection).
+        let mut halves = Halves::with_features(features, like);
         let tenth = like.lit(0.1);
         for c in [self.psi_u.clone(), self.psi_u.clone() - tenth.clone(), self.psi_u.clone() + tenth] {
             halves.cut_at(c);
         }
-        if let Some(floor) = &features.plus.floor {
-            decades(&floor.clone().max_of(like.lit(1e-20))).into_iter().for_each(|c| halves.cut_at(c));
-        }
-        features.plus.marks.iter().for_each(|c| halves.cut_at(c.clone()));
-        if let Some(floor) = &features.minus.floor {
-            decades(&floor.clone().max_of(like.lit(1e-20))).into_iter().for_each(|c| halves.cut_before_pi(c));
-        }
-        features.minus.marks.iter().for_each(|c| halves.cut_before_pi(c.clone()));
-        let sample = |theta: &T, theta_c: &T, inner: &Options| -> Outcome<T> {
-            let dir = view_direction(theta, theta_c);
-            let gv = g(&dir, &Options { abs_tol: 0.0, ..inner.clone() })?;
-            let w = match measure {
-                Measure::Solid => dir.sin.clone(),
-                Measure::Planar => theta.lit(1.0),
-            };
-            let gw = gv.value.clone() * w.clone();
-            if gw.is_zero() {
-                return Ok(Estimate::known(zero.clone(), zero.clone(), gv.evaluations, inner.rule));
-            }
-            let lam_opts = Options { abs_tol: (inner.abs_tol / gw.abs().to_f64()).min(f64::MAX), ..inner.clone() };
-            let lam = lam(theta, theta_c, &lam_opts)?;
-            let value = gw.clone() * lam.value.clone();
-            let error = gw.abs() * lam.error.clone() + (gv.error * w).abs() * lam.value.abs();
-            Ok(Estimate::known(value, error, gv.evaluations + lam.evaluations, inner.rule))
-        };
-        halves.integrate(&sample, &Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() })
+        halves.integrate_view(measure, g, lam, opts)
     }
 
     /// Where the integrand of Λ(ϑ) is singular off the real φ-axis: L₁ ~ 1/ψ

@@ -294,6 +294,24 @@ impl<T: Real> ScatteredBeam<T> {
         out
     }
 
+    /// Where (in x) the plane through the camera-ray point normal to u
+    /// touches the disk's rim, s = (c − o)·u ± a sin ϑ (c the disk's
+    /// centre): there the rim's directions, where the beam's radiance by
+    /// direction bends (`beam_angular`), cross the equator μ = 0, where the
+    /// pair integrals' g jumps, so their integrand along the ray bends
+    /// (for a beam across the ray, μ = 0, these are also where that plane
+    /// touches the cylinder). Ahead of the camera only.
+    pub fn equator_crossings(&self) -> Vec<T> {
+        let zero = self.radius.lit(0.0);
+        let centre = -(self.xi0.clone() * self.sin.clone() + self.depth0.clone() * self.mu.clone());
+        let half = self.radius.clone() * self.sin.clone();
+        [centre.clone() - half.clone(), centre + half]
+            .into_iter()
+            .filter(|s| *s > zero)
+            .map(|s| s - self.center.clone())
+            .collect()
+    }
+
     /// Where (in x) the camera ray crosses the beam's cylindrical surface
     /// p = a, ahead of the camera.
     pub fn surface_crossings(&self) -> Vec<T> {

@@ -28,6 +28,7 @@
 //! (26) ≈ (16 albedo² 𝓕 σ/(3π² R)) ∫ σ e^{−2σs} H̃ ds.
 
 use super::angular::{Direction, Features, Measure, Pole};
+use super::beam_source::ScatteredBeam;
 use super::field::{Component, Field, Geometry};
 use super::moments::{phase_poles, ray_domain};
 use super::scattered::{source_features, Scattered};
@@ -110,13 +111,51 @@ fn first_sphere_range<T: Real>(c: &Component<T>, forward: bool, like: &T) -> Opt
     }
 }
 
-/// A beam's single-scattered light has no small-sphere correlation
-/// integrals (`docs/model.md` §9.8): refused, not left out.
-fn refuse_scattered_beams<T: Real>(field: &Field<T>) -> Result<(), OracleError> {
-    if field.scattered_beams.is_empty() {
-        return Ok(());
+/// A light's single-scattered field, as the pair integrals see it.
+enum ScatteredLight<'a, T> {
+    /// A point light's (`scattered`).
+    Point(&'a Scattered<T>),
+    /// A beam's, in isotropic media (`beam_angular`).
+    Beam(&'a ScatteredBeam<T>),
+}
+
+impl<T> Clone for ScatteredLight<'_, T> {
+    fn clone(&self) -> Self {
+        *self
     }
-    Err(OracleError::Unsupported(super::noise::BEAM_PAIRS_NOT_DERIVED.into()))
+}
+
+impl<T> Copy for ScatteredLight<'_, T> {}
+
+impl<T: CheckRule> ScatteredLight<'_, T> {
+    /// ∫ g(ϑ) L₁ dω (or / sin ϑ) at s = center + x, times e^{c₀} like
+    /// every integral of the field (a beam's is carried times its own c_b).
+    fn view_integral(
+        &self,
+        field: &Field<T>,
+        x: &T,
+        features: &Features<T>,
+        measure: Measure,
+        g: &(dyn Fn(&Direction<T>, &Options) -> Outcome<T> + Sync),
+        opts: &Options,
+    ) -> Outcome<T> {
+        let sigma = &field.sigma_ext;
+        match self {
+            ScatteredLight::Point(sc) => {
+                let at = sc.at(x, sigma, &field.sigma_sc);
+                at.view_shared(&sc.shared, sigma, &field.phase, features, measure, g, opts)
+            }
+            ScatteredLight::Beam(beam) => {
+                let scale = (field.shift.clone() - beam.shift.clone()).exp();
+                if scale.is_zero() {
+                    return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, opts.rule));
+                }
+                let o = Options { abs_tol: (opts.abs_tol / scale.to_f64()).min(f64::MAX), ..opts.clone() };
+                let view = beam.view(x, sigma, &field.albedo);
+                Ok(view.view_integral(features, measure, g, &o)?.scaled(&scale))
+            }
+        }
+    }
 }
 
 /// Exact integral (23) or (24) (appendix), summed over the field's
@@ -124,7 +163,6 @@ fn refuse_scattered_beams<T: Real>(field: &Field<T>) -> Result<(), OracleError> 
 /// R > 0; uncollided fields. Fails (`OracleError::Unsupported`) when no
 /// light reaches the camera ray.
 pub fn exact<T: CheckRule>(field: &Field<T>, r: &T, which: Which, opts: &Options) -> Result<Estimate<T>, OracleError> {
-    refuse_scattered_beams(field)?;
     let like = r.clone();
     let mut total: Option<Estimate<T>> = None;
     let terms: Vec<_> = field
@@ -134,7 +172,7 @@ pub fn exact<T: CheckRule>(field: &Field<T>, r: &T, which: Which, opts: &Options
         .filter_map(|(c, forward)| first_sphere_range(c, forward, &like).map(|range| (c, forward, range)))
         .collect();
     // A term's failure carries no best guess of the sum when there are several.
-    let several = terms.len() + field.scattered.len() > 1;
+    let several = terms.len() + field.scattered.len() + field.scattered_beams.len() > 1;
     let part = |e: OracleError| if several { e.of_a_part() } else { e };
     for (c, forward, (lo, hi)) in terms {
         let lo = lo.max_of(field.x_camera());
@@ -144,8 +182,10 @@ pub fn exact<T: CheckRule>(field: &Field<T>, r: &T, which: Which, opts: &Options
             Some(t) => t.plus(e),
         });
     }
-    for sc in &field.scattered {
-        let e = scattered_term(field, sc, r, which, opts).map_err(part)?;
+    let lights =
+        field.scattered.iter().map(ScatteredLight::Point).chain(field.scattered_beams.iter().map(ScatteredLight::Beam));
+    for light in lights {
+        let e = scattered_term(field, light, r, which, opts).map_err(part)?;
         total = Some(match total {
             None => e,
             Some(t) => t.plus(e),
@@ -181,46 +221,56 @@ pub fn pair_features<T: Real>(field: &Field<T>, r: &T, s_abs: &T) -> Features<T>
 /// f(−μ)²·L₁·(separation integral of the orientation sign μ gives).
 fn scattered_term<T: CheckRule>(
     field: &Field<T>,
-    sc: &Scattered<T>,
+    light: ScatteredLight<'_, T>,
     r: &T,
     which: Which,
     opts: &Options,
 ) -> Result<Estimate<T>, OracleError> {
-    let sigma = field.sigma_ext.clone();
-    let k = k_factor(field, r) * if which == Which::Eq24 { r.lit(2.0) } else { r.lit(1.0) };
-    let two_r = r.lit(2.0) * r.clone();
-    let decay = if which == Which::Eq24 { r.lit(2.0) } else { r.lit(1.0) };
     let what = match which {
         Which::Eq23 => "correlation integral (23), single-scattered light",
         Which::Eq24 => "correlation integral (24), single-scattered light",
     };
     let x0 = field.x_camera();
-    integrate_nested(
-        |x: &T, inner: &Options| {
-            let s_abs = field.s_of(x);
-            let outer =
-                k.clone() * sigma.clone() * sigma.clone() * (-(decay.clone() * sigma.clone() * s_abs.clone())).exp();
-            if outer.is_zero() || !(s_abs > x.lit(0.0)) {
-                return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, inner.rule));
-            }
-            let g = |d: &Direction<T>, o: &Options| {
-                let f = field.phase_at(&d.mu);
-                let f2 = f.clone() * f;
-                let forward = d.mu >= d.mu.lit(0.0);
-                let j_opts = Options { abs_tol: (o.abs_tol / f2.to_f64()).min(f64::MAX), ..o.clone() };
-                let j = separation(&sigma, which, forward, &d.mu, &d.sin, &s_abs, &two_r, &j_opts)?;
-                Ok(Estimate::known(f2.clone() * j.value, f2 * j.error, j.evaluations, o.rule))
-            };
-            let at = sc.at(x, &sigma, &field.sigma_sc);
-            let o = Options { abs_tol: (inner.abs_tol / outer.to_f64()).min(f64::MAX), ..inner.clone() };
-            let features = pair_features(field, r, &s_abs);
-            let e = at.view_shared(&sc.shared, &sigma, &field.phase, &features, Measure::Solid, &g, &o)?;
-            Ok(Estimate::known(outer.clone() * e.value, outer * e.error, e.evaluations, inner.rule))
-        },
-        &ray_domain(field, &x0, None),
-        opts,
-    )
-    .map_err(OracleError::quad(what))
+    let domain = match light {
+        ScatteredLight::Point(_) => ray_domain(field, &x0, None),
+        ScatteredLight::Beam(beam) => ray_domain(field, &x0, None).with_breakpoints(beam.equator_crossings()),
+    };
+    integrate_nested(|x: &T, inner: &Options| scattered_at(field, light, r, which, x, inner), &domain, opts)
+        .map_err(OracleError::quad(what))
+}
+
+/// The integrand of [`scattered_term`] at s = center + x: the first-met
+/// sphere's weight σ²e^{−σs} (23) or 2σ²e^{−2σs} (24) times K times the
+/// angular integral of f(−μ)²·L₁·(separation integral).
+fn scattered_at<T: CheckRule>(
+    field: &Field<T>,
+    light: ScatteredLight<'_, T>,
+    r: &T,
+    which: Which,
+    x: &T,
+    inner: &Options,
+) -> Outcome<T> {
+    let sigma = field.sigma_ext.clone();
+    let k = k_factor(field, r) * if which == Which::Eq24 { r.lit(2.0) } else { r.lit(1.0) };
+    let two_r = r.lit(2.0) * r.clone();
+    let decay = if which == Which::Eq24 { r.lit(2.0) } else { r.lit(1.0) };
+    let s_abs = field.s_of(x);
+    let outer = k * sigma.clone() * sigma.clone() * (-(decay * sigma.clone() * s_abs.clone())).exp();
+    if outer.is_zero() || !(s_abs > x.lit(0.0)) {
+        return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, inner.rule));
+    }
+    let g = |d: &Direction<T>, o: &Options| {
+        let f = field.phase_at(&d.mu);
+        let f2 = f.clone() * f;
+        let forward = d.mu >= d.mu.lit(0.0);
+        let j_opts = Options { abs_tol: (o.abs_tol / f2.to_f64()).min(f64::MAX), ..o.clone() };
+        let j = separation(&sigma, which, forward, &d.mu, &d.sin, &s_abs, &two_r, &j_opts)?;
+        Ok(Estimate::known(f2.clone() * j.value, f2 * j.error, j.evaluations, o.rule))
+    };
+    let o = Options { abs_tol: (inner.abs_tol / outer.to_f64()).min(f64::MAX), ..inner.clone() };
+    let features = pair_features(field, r, &s_abs);
+    let e = light.view_integral(field, x, &features, Measure::Solid, &g, &o)?;
+    Ok(Estimate::known(outer.clone() * e.value, outer * e.error, e.evaluations, inner.rule))
 }
 
 /// One component, one orientation: outer over the first-met sphere's
@@ -422,7 +472,6 @@ pub fn asymptotic<T: CheckRule>(
     which: Which,
     opts: &Options,
 ) -> Result<Result<Estimate<T>, String>, OracleError> {
-    refuse_scattered_beams(field)?;
     for c in &field.components {
         let on_axis = match &c.geometry {
             Geometry::Point { d, .. } => d.is_zero(),
@@ -475,11 +524,15 @@ pub fn asymptotic<T: CheckRule>(
             }
             let o = Options { abs_tol: (inner.abs_tol / w.to_f64()).min(f64::MAX), ..inner.clone() };
             let mut e = Estimate::known(x.lit(0.0), x.lit(0.0), 0, inner.rule);
-            for sc in &field.scattered {
-                let at = sc.at(x, &sigma, &field.sigma_sc);
+            let lights = field
+                .scattered
+                .iter()
+                .map(ScatteredLight::Point)
+                .chain(field.scattered_beams.iter().map(ScatteredLight::Beam));
+            for light in lights {
                 // The pair integrals' breakpoints, so that Λ is shared with them.
                 let features = pair_features(field, r, &field.s_of(x));
-                let part = at.view_shared(&sc.shared, &sigma, &field.phase, &features, Measure::Planar, &g, &o)?;
+                let part = light.view_integral(field, x, &features, Measure::Planar, &g, &o)?;
                 e.value = e.value + part.value;
                 e.error = e.error + part.error;
                 e.evaluations += part.evaluations;

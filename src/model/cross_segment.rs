@@ -93,8 +93,11 @@ pub fn cross_segment_by<T: CheckRule>(
     opts: &Options,
     route: Route,
 ) -> Result<Option<Estimate<T>>, OracleError> {
-    if field.scattered.is_empty() {
+    if field.scattered.is_empty() && field.scattered_beams.is_empty() {
         return Ok(None);
+    }
+    if !field.scattered_beams.is_empty() {
+        return Err(OracleError::Unsupported(NOT_FOR_BEAMS.into()));
     }
     if field.phase != Phase::Isotropic {
         return Err(OracleError::Unsupported(NOT_ISOTROPIC.into()));
@@ -138,6 +141,12 @@ pub const MAX_SCALE: f64 = 0.2;
 /// Why Henyey–Greenstein media get no cross-segment term.
 pub const NOT_ISOTROPIC: &str = "the small-sphere cross-segment terms of (23), (24) (E10) are derived for isotropic \
      media only: medium.phase must be isotropic";
+
+/// Why a beam's single-scattered light gets none.
+pub const NOT_FOR_BEAMS: &str =
+    "the small-sphere cross-segment terms of (23), (24) (E10) are derived for point lights \
+     only (a beam's first segments are parallel, its R → 0 form is not derived; the finite-sphere model has them, \
+     docs/model.md §9.11)";
 
 /// Why a light on the camera line gets none.
 const ON_THE_LINE: &str = "the small-sphere cross-segment terms of (23), (24) (E10) need every point light off the \

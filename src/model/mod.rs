@@ -8,6 +8,7 @@
 
 pub mod along;
 pub mod angular;
+pub mod beam_angular;
 pub mod beam_source;
 pub mod chebyshev;
 pub mod correlations;

@@ -192,19 +192,9 @@ impl<T: CheckRule> Integrals<T> {
     }
 }
 
-/// Why the small-sphere pair integrals refuse a beam's single-scattered
-/// light ([`super::field::Field::scattered_beams`]).
-pub const BEAM_PAIRS_NOT_DERIVED: &str = "the small-sphere correlation integrals (23), (24) and their R → 0 forms are \
-     not derived for a beam's single-scattered light (they need its angular distribution; its fluence serves the \
-     single-sphere moments only), so the small-sphere Var L cannot be formed where (7)–(9) weigh them (q < 1 or \
-     N_B > 1); the finite-sphere model's C₂₃, C₂₄ (docs/model.md §9.11) predict it";
-
 impl<T: CheckRule> PairIntegrals<T> {
     /// Q, (23), (24), (25) and (26) side by side.
     fn compute(field: &Field<T>, r: &T, o: &Options) -> Result<PairIntegrals<T>, OracleError> {
-        if !field.scattered_beams.is_empty() {
-            return Err(OracleError::Unsupported(BEAM_PAIRS_NOT_DERIVED.into()));
-        }
         let with_cross = |which: Which| {
             let (exact, cross) =
                 rayon::join(|| correlations::exact(field, r, which, o), || cross_term(field, r, which, o));

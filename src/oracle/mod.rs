@@ -16,7 +16,6 @@ use crate::model::field::{beam_interval, Field};
 use crate::model::finite::{FiniteField, FiniteIntegrals, Functional, Weighed};
 use crate::model::noise::{
     d_constants, d_errors, relative_from_d, relative_from_d_error, variance, Counts, Integrals, Valued,
-    BEAM_PAIRS_NOT_DERIVED,
 };
 use crate::model::OracleError;
 use crate::prec::FINITE_PAIRS_PREDICTION_TOL;
@@ -243,27 +242,19 @@ pub fn run_with_scoped<T: CheckRule>(
     let predicting = matches!(scope, Scope::Prediction | Scope::ExactPrediction);
     // The finite-sphere correlations in the prediction: f64 only.
     let exact = scope == Scope::ExactPrediction && like.prec() <= 53;
-    // A beam's single-scattered light has no small-sphere pair integrals
-    // (`docs/model.md` §9.8): where (7)–(9) weigh them, the finite-sphere
-    // model alone predicts it (§9.11), when asked for its correlations
-    // (`--finite-pairs`, or `predict` in f64), and the report has no
-    // small-sphere Var L.
+    // A beam's single-scattered light: the small-sphere pairs from its
+    // radiance by direction (`docs/model.md` §3a), the finite-sphere ones
+    // (§9.11) when asked for them (`--finite-pairs`, or `predict` in f64).
     let beam_scattered = !field.scattered_beams.is_empty();
-    let beam_pairs = beam_scattered && !pairs_weigh_nothing(scene);
-    if beam_pairs && !((scope == Scope::FinitePairs || exact) && scattered_covered(scene)) {
-        return Err(OracleError::Unsupported(format!(
-            "{BEAM_PAIRS_NOT_DERIVED} (here estimator.q = {}, estimator.camera_rays = {}; allowed with a beam at \
-             order 1: q = 1 and camera_rays = 1, or any q and camera_rays in an isotropic medium with the \
-             finite-sphere model's correlations — `mcrt-noise oracle --finite-pairs`, the library's predict in f64)",
-            scene.estimator.q, scene.estimator.camera_rays
-        )));
-    }
     let small_unpaired = (predicting || beam_scattered) && pairs_weigh_nothing(scene);
     let ((ints, finite), scattered) = rayon::join(
         || {
             rayon::join(
                 || {
-                    if small_unpaired || beam_pairs {
+                    // With a beam the prediction's exact scope skips the
+                    // small-sphere pairs too: it never falls back to them
+                    // (their model error for a beam was never measured).
+                    if small_unpaired || (beam_scattered && exact) {
                         Integrals::compute_single_sphere(&field, &r, &opts).map(|i| (i, None))
                     } else if pairs_weigh_nothing(scene) {
                         // Reported, not needed: their failure does not fail the run.
@@ -307,7 +298,7 @@ pub fn run_with_scoped<T: CheckRule>(
         Ok(Some(OrderOne::Integrals(f))) => (Some(f), Ok(None), None),
         Ok(Some(OrderOne::Mean(m, failed))) => (None, Ok(Some(m)), failed),
         Ok(None) => (None, Ok(None), None),
-        Err(e) => (None, Err(e.clone()), (pairs_weigh_nothing(scene) || exact || beam_pairs).then_some(e)),
+        Err(e) => (None, Err(e.clone()), (pairs_weigh_nothing(scene) || exact).then_some(e)),
     };
     if ints.mean.value.is_zero() {
         return Err(OracleError::Unsupported(
@@ -377,7 +368,13 @@ pub fn run_with_scoped<T: CheckRule>(
     if finite_report.is_none() && !small_formed {
         // No model gives Var L: the finite-sphere one failed (or, above 53
         // bits, was not run) and the small-sphere one cannot form it.
-        return Err(finite_error.clone().unwrap_or_else(|| OracleError::Unsupported(BEAM_PAIRS_NOT_DERIVED.into())));
+        return Err(finite_error.clone().unwrap_or_else(|| {
+            OracleError::Unsupported(
+                "neither model formed Var L: the small-sphere pair integrals were not computed and the \
+                 finite-sphere model was not run"
+                    .into(),
+            )
+        }));
     }
     let prediction = match &finite_report {
         Some(f) => ReportPrediction {
@@ -434,7 +431,6 @@ pub fn run_with_scoped<T: CheckRule>(
         integral_q: pairs.map(|p| scaled(&p.q, &k)),
         pairs_not_computed: pairs.is_none().then(|| match &pairs_failed {
             Some(e) => format!("{e}: {SMALL_SPHERE_PAIRS_FAILED}"),
-            None if beam_scattered => BEAM_PAIRS_NOT_DERIVED.to_string(),
             None => SMALL_SPHERE_PAIRS_NOT_NEEDED.to_string(),
         }),
         attenuation_shift: field.shift.to_f64(),

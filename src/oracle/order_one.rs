@@ -274,7 +274,7 @@ pub(super) fn finite_not_used<T>(scene: &Scene, run: &Result<Option<OrderOne<T>>
         Ok(Some(OrderOne::Mean(_, None))) => Some(format!(
             "with single-scattered light it covers q = 1 and N_B = 1 only (here q = {}, N_B = {}), where (7)–(9) \
              weigh the correlations of two spheres 0; this scene needs {needed}, which take about a minute at \
-             10⁻³ (docs/model.md §9.7): the library's `predict` computes them (point lights, f64), and so does \
+             10⁻³ (docs/model.md §9.7): the library's `predict` computes them (point lights and beams, f64), and so does \
              `mcrt-noise oracle --finite-pairs` (give it --rel-tol and --max-evals); its exact mean is \
              `finite_mean`",
             e.q, e.camera_rays

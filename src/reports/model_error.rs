@@ -49,8 +49,8 @@ pub fn figure(title: &str, rows: &[Row]) -> Result<String, String> {
 pub const ORDER1_SCENE: &str = "point-isotropic-order1";
 
 /// The bundled beam scene of the single-scattering headline row, run at
-/// order 1 with q = 1 and N_B = 1 (a headline row only: the sweeps also
-/// report (23), (24), not derived for a beam's single-scattered light).
+/// order 1 with q = 1 and N_B = 1 (a headline row only: the sweeps' (23),
+/// (24) of a beam's single-scattered light lack the cross-segment pairs).
 pub const ORDER1_BEAM_SCENE: &str = "beam-isotropic";
 
 /// The scenes the document reads from its scenes directory.

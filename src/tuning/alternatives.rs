@@ -97,7 +97,8 @@ pub(crate) fn beside_the_standard_method(
     let own = Parameters::of(scene);
     // The small-sphere model at the scene's R, with the scene's q and N_B
     // (its pair integrals), under a budget of its own (it alone can cost
-    // as much as the whole search over R); a refusal (a beam's) or a
+    // as much as the whole search over R; for a beam's scattered light its
+    // pairs lack the cross-segment terms, docs/model.md §3a); a refusal or a
     // failure is that alternative's answer, not the optimum's.
     let budget = Budget::new(opts.evaluations);
     let small = RadiusCache::small_sphere(scene, budget).at(own.radius).map_err(|e| e.to_string());

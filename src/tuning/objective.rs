@@ -62,8 +62,8 @@ impl ModelAtRadius {
     /// finite-sphere mean (`finite_mean`: single scattering in an isotropic
     /// medium, or from point lights in a Henyey–Greenstein one). A
     /// small-sphere report without its pair integrals (run with
-    /// `Scope::Prediction` at q = 1, N_B = 1, or with a beam's
-    /// single-scattered light) cannot predict other settings: that is an
+    /// `Scope::Prediction` at q = 1, N_B = 1, or `Scope::ExactPrediction`
+    /// with a beam's single-scattered light) cannot predict other settings: that is an
     /// error giving the report's reason (`pairs_not_computed`).
     pub fn from_report(r: &Report) -> Result<ModelAtRadius, crate::model::OracleError> {
         let vb = |i: crate::oracle::Integral| ValueWithBar::from(i);
