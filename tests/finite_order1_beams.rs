@@ -261,7 +261,7 @@ fn paired_scene(radius: f64) -> Scene {
 /// whole Var L of both models, whose gap also holds the cross-segment
 /// pairs (E10) that the small-sphere model has for point lights only: it
 /// falls like R ln(1/R) (printed). `cargo test --release --test
-/// finite_order1_beams -- --ignored --nocapture pairs_tend` (~N minutes).
+/// finite_order1_beams -- --ignored --nocapture pairs_tend` (~4 minutes).
 #[test]
 #[ignore = "minutes: the finite-sphere correlations at three radii"]
 fn a_beams_single_scattered_pairs_tend_to_the_small_sphere_ones() {
