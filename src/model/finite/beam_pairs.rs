@@ -169,7 +169,7 @@ impl<T: CheckRule> BeamLight<T> {
             .reduce(|a, c| a.min_of(c))
             .unwrap_or_else(|| zero.clone())
             .max_of(zero.clone());
-        let front = sigma.clone() * b.clone() / (like.pi() * self.radius.clone() * self.radius.clone());
+        let front = sigma.clone() * b.clone() / (pi.clone() * self.radius.clone() * self.radius.clone());
         let o = Options { abs_tol: 0.0, ..opts.clone() };
         let mut total = Estimate::known(zero.clone(), zero.clone(), 0, o.rule);
         for [lo, hi] in arcs {

@@ -137,7 +137,10 @@ impl<T: CheckRule> FiniteField<T> {
     /// Σ over the lights (point lights and beams) of `each` (light, its share of the absolute
     /// goal), failures named `what`: the order-1 totals that are sums of
     /// per-light integrals ([`FiniteField::order1_virtual`],
-    /// [`FiniteField::order1_cross`]).
+    /// [`FiniteField::order1_cross`]). Their levels nest four and five
+    /// deep, so they run with their breakpoints declared (no scan) and with
+    /// [`pair_rule`]'s Gauss–Kronrod pair where the goal allows, whoever
+    /// calls them: without either, the cost grows by orders of magnitude.
     pub(super) fn order1_light_sum(
         &self,
         what: &'static str,
@@ -145,7 +148,8 @@ impl<T: CheckRule> FiniteField<T> {
         each: impl Fn(&FiniteLight<T>, &Options) -> Outcome<T>,
     ) -> Result<Estimate<T>, OracleError> {
         self.order1_pairs_covered()?;
-        let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, ..opts.clone() };
+        let rule = pair_rule(&self.radius, opts);
+        let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, rule, ..opts.clone() }.declared();
         let mut total: Option<Estimate<T>> = None;
         for light in &self.lights {
             let e = each(light, &share).map_err(OracleError::quad(what))?;
@@ -307,6 +311,7 @@ impl<T: CheckRule> FiniteField<T> {
     /// [`FiniteField::order1_p_and_q`] reading (and building) `tables`,
     /// whose evaluations the caller charges.
     fn order1_p_and_q_with(&self, tables: &ScatteredTables<T>, opts: &Options) -> (Part<T>, Part<T>) {
+        let opts = &self.order1_options(opts);
         let with_bar = |x: &T, _tol: f64, o: &Options| self.order1_mean_with_bar(x, tables, o);
         let source = crate::model::along::MeanSource::WithBar(&with_bar);
         self.with_line(|line| rayon::join(|| line.p_single(&source, opts), || line.q_pair(&source, opts)))
@@ -331,8 +336,8 @@ impl<T: CheckRule> FiniteField<T> {
     }
 
     /// Every integral of the order-1 model (uncollided plus single-scattered
-    /// light; isotropic media, point lights: beams are refused), each times
-    /// e^{c₀}.
+    /// light; isotropic media, point lights and beams: Henyey–Greenstein
+    /// media are refused, `order1_pairs_covered`), each times e^{c₀}.
     pub fn order1_integrals(&self, opts: &Options) -> Result<FiniteIntegrals<T>, OracleError> {
         self.order1_integrals_weighed(opts, Weighed::ALL)
     }
