@@ -425,6 +425,7 @@ fn short_k<T: CheckRule>(sigma: &T, c: &HitCumulants<T>, s0: &T, len: &T, lambda
 impl<T: CheckRule> FiniteField<T> {
     /// Σ over the lights of X₂₃ or X₂₄ (`cross_segments`), times e^{c₀}.
     pub fn order1_cross(&self, pair: CrossPair, opts: &Options) -> Result<Estimate<T>, crate::model::OracleError> {
+        let opts = &self.pair_options(opts);
         self.order1_light_sum("finite-sphere cross-segment pairs", opts, |light, o| match light {
             FiniteLight::Point(p) => p.cross_segments(self, pair, o),
             FiniteLight::Beam(b) => b.cross_segments(self, pair, o),

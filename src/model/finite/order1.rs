@@ -107,6 +107,16 @@ impl<T: CheckRule> FiniteField<T> {
         Ok(())
     }
 
+    /// The options of the order-1 correlations of two spheres (the
+    /// virtual-light share of C₂₃, C₂₄ and the cross-segment pairs), whoever
+    /// calls them: their levels nest four and five deep, so their
+    /// breakpoints are declared (no scan) and they run with [`pair_rule`]'s
+    /// Gauss–Kronrod pair where the goal allows; without either the cost
+    /// grows by orders of magnitude (§9.7, **Cost**).
+    pub(super) fn pair_options(&self, opts: &Options) -> Options {
+        Options { rule: pair_rule(&self.radius, opts), ..opts.clone() }.declared()
+    }
+
     /// The options of an order-1 integral: in a Henyey–Greenstein medium
     /// the Gauss–Kronrod pair where the goal allows (its nests are three
     /// and four levels deep per camera-ray point, `order1::pair_rule`).
@@ -137,10 +147,7 @@ impl<T: CheckRule> FiniteField<T> {
     /// Σ over the lights (point lights and beams) of `each` (light, its share of the absolute
     /// goal), failures named `what`: the order-1 totals that are sums of
     /// per-light integrals ([`FiniteField::order1_virtual`],
-    /// [`FiniteField::order1_cross`]). Their levels nest four and five
-    /// deep, so they run with their breakpoints declared (no scan) and with
-    /// [`pair_rule`]'s Gauss–Kronrod pair where the goal allows, whoever
-    /// calls them: without either, the cost grows by orders of magnitude.
+    /// [`FiniteField::order1_cross`]).
     pub(super) fn order1_light_sum(
         &self,
         what: &'static str,
@@ -148,8 +155,7 @@ impl<T: CheckRule> FiniteField<T> {
         each: impl Fn(&FiniteLight<T>, &Options) -> Outcome<T>,
     ) -> Result<Estimate<T>, OracleError> {
         self.order1_pairs_covered()?;
-        let rule = pair_rule(&self.radius, opts);
-        let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, rule, ..opts.clone() }.declared();
+        let share = Options { abs_tol: opts.abs_tol / self.lights.len() as f64, ..opts.clone() };
         let mut total: Option<Estimate<T>> = None;
         for light in &self.lights {
             let e = each(light, &share).map_err(OracleError::quad(what))?;

@@ -290,8 +290,15 @@ impl<T: CheckRule> FiniteField<T> {
     /// The single-scattered part of μ (Mean) or of ∫σe^{−σs}⟨𝒞₁²⟩ (Second)
     /// by the virtual-light route: a check of [`FiniteField::scattered_mean`]
     /// and of the ⟨𝒞₁²⟩ in [`FiniteField::order1_second_added`] that shares
-    /// no geometry with them.
+    /// no geometry with them; of C₂₃ (Pair23) or C₂₄ (Pair24), the share of
+    /// one scattered segment meeting both spheres
+    /// ([`FiniteField::order1_pair_added`]), with the pair options
+    /// (`pair_options`) whoever calls it.
     pub fn order1_virtual(&self, which: Functional, opts: &Options) -> Result<Estimate<T>, crate::model::OracleError> {
+        let opts = &match which {
+            Functional::Pair23 | Functional::Pair24 => self.pair_options(opts),
+            _ => opts.clone(),
+        };
         self.order1_light_sum(which.name(), opts, |light, o| match light {
             FiniteLight::Point(p) => p.virtual_average(self, which, o),
             FiniteLight::Beam(b) => b.virtual_average(self, which, o),
