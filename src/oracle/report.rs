@@ -244,10 +244,11 @@ pub struct Report {
     /// Integral (24), likewise.
     pub corr24: Option<Correlation>,
     /// Var L of the small-sphere model, and the §4.4 formula; `None` (JSON
-    /// `null`) where that model cannot form it: a beam's single-scattered
-    /// light with q < 1 or N_B > 1, whose pair integrals (23), (24) are not
-    /// derived ([`Report::pairs_not_computed`] says so; `docs/model.md`
-    /// §9.8). The prediction is then the finite-sphere model's (§9.11).
+    /// `null`) where that model cannot form it: its integrals of two
+    /// spheres, which (7)–(9) weigh (q < 1 or N_B > 1), failed
+    /// ([`Report::pairs_error`] and [`Report::pairs_not_computed`] say
+    /// why). The prediction is then the finite-sphere model's, if it has
+    /// one.
     pub variance: Option<Variance>,
     /// M₂ = ∫σe^{−σs}⟨𝒞²⟩ ds, the rest of (16) beside (23) (with the
     /// same-path double hits of scattered light, `integral_m2_same_path`).
@@ -285,9 +286,8 @@ pub struct Report {
     /// Why the small-sphere model's integrals of two spheres (Q, (23),
     /// (24), (25), (26)) are missing, if they are: a prediction
     /// ([`Scope::Prediction`]) with q = 1 and N_B = 1, whose Var L weighs
-    /// them 0, their failure with q = 1 and N_B = 1 (the failure, then
-    /// [`SMALL_SPHERE_PAIRS_FAILED`]), or a beam's single-scattered light,
-    /// for which they are not derived (`docs/model.md` §9.8).
+    /// them 0, or their failure (the failure, then
+    /// [`SMALL_SPHERE_PAIRS_FAILED`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pairs_not_computed: Option<String>,
     /// c₀ = σ_ext × shortest light path to the camera ray: integrals are
