@@ -336,7 +336,8 @@ impl<T: CheckRule> FiniteField<T> {
             Functional::Pair24 => CrossPair::C24,
             _ => return Err(OracleError::Unsupported(format!("{} is not a correlation", which.name()))),
         };
-        let half = Options { abs_tol: opts.abs_tol / 2.0, rule: pair_rule(&self.radius, opts), ..opts.clone() };
+        // Both shares apply the pair options themselves (`pair_options`).
+        let half = Options { abs_tol: opts.abs_tol / 2.0, ..opts.clone() };
         let (one, two) = rayon::join(|| self.order1_virtual(which, &half), || self.order1_cross(pair, &half));
         Ok(one?.plus(two?))
     }
