@@ -209,10 +209,13 @@ fn each_circle_holds_the_world_frames_radiance() {
 /// shells' absolute goal was not scaled by their 1/(πa²), so their bars
 /// came out 1/(πa²) times too coarse: at a ≤ 10⁻³ no goal of 10⁻¹⁰ was met
 /// (bars 80–10⁶ times the goal), and the order-1 oracle on `beam-isotropic`
-/// with a = 0.01 spent its budget of 10⁹ evaluations. (At a = 10⁻⁶ the two
-/// routes differ by 2.9·10⁻¹⁰ relative on the beam across the ray at
-/// x = 4, beyond their bars of 5.6·10⁻¹¹: which one rounds the thin
-/// geometry worse is not settled; not compared here.)
+/// with a = 0.01 spent its budget of 10⁹ evaluations. At a = 10⁻⁶ the two
+/// routes are not compared: against the line source with its a² term
+/// (`beam_source`'s `thin_beams_fluence_is_the_line_source`) the fluence
+/// is within 2.4·10⁻¹³ since its shells run in the offset from the band's
+/// start (it was 2.8·10⁻¹⁰ high at x = 4 before), while this route is
+/// 3.8·10⁻¹¹ high there and 1.1·10⁻¹¹ low at x = 0.3, ~60 times its bars
+/// (at 10⁻¹¹): its own rounding of the thin rim, not mended.
 #[test]
 fn thin_beams_directions_integrate_to_the_fluence() {
     let (sigma, albedo) = (1.0, 0.8);

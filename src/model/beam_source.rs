@@ -160,6 +160,28 @@ impl<T: CheckRule> BeamPoint<T> {
         }
     }
 
+    /// The width of the shell's support in ψ for x outside the cylinder
+    /// (p > a): ψ_far − ψ_near, ψ_m = asin(m/d), with ψ_far = π/2 when the
+    /// circle's largest radius d does not reach a + p (`reaches` false).
+    /// With X = a + p, Y = p − a, S_m = √((d − m)(d + m)): sin Δ =
+    /// 4ap/(X S_Y + Y S_X) and cos Δ = (S_X S_Y + XY)/d², and π/2 − ψ_near =
+    /// atan2(S_Y, Y): no difference of two rounded angles, whose rounding
+    /// (ulp(ψ) ~ εp/d) is a relative ~εp/a of a thin beam's band.
+    fn band_width(&self, d: &T, reaches: bool) -> T {
+        let (x, y) = (self.a.clone() + self.p.clone(), self.p.clone() - self.a.clone());
+        let s = |m: &T| ((d.clone() - m.clone()) * (d.clone() + m.clone())).max_of(d.lit(0.0)).sqrt();
+        let sy = s(&y);
+        // atan2(v, u) for u, v ≥ 0 (not both 0), through the smaller ratio.
+        let angle = |v: T, u: T| if v <= u { (v / u).atan() } else { d.pi() / d.lit(2.0) - (u / v).atan() };
+        if !reaches {
+            return angle(sy, y);
+        }
+        let sx = s(&x);
+        let sin = d.lit(4.0) * self.a.clone() * self.p.clone() * d.clone() * d.clone();
+        let cos = (x.clone() * sy.clone() + y.clone() * sx.clone()) * (sx * sy + x * y);
+        angle(sin, cos)
+    }
+
     /// ∫ Θ(d√(1 − c²)) kernel(τ + dc, d) dc over the sphere of radius d
     /// about x, where its points lie past the disk (τ + dc ≥ 0).
     ///
@@ -174,10 +196,15 @@ impl<T: CheckRule> BeamPoint<T> {
     /// (τ < 0). Both hemispheres are formed from ψ itself, never as π − θ,
     /// whose rounding (half an ulp of π) against a band ~2a/d wide was a
     /// relative 10⁻⁹ at a = 10⁻⁶ (a reviewer's float64 port against mpmath);
-    /// the distances ρ − m of a node from the kinks are formed as
+    /// each piece runs in the offset δ = ψ − ψ_lo from its start, and the
+    /// distances ρ − m of a node from the kinks are formed from δ as
     /// 2d cos((ψ + ψ_m)/2) sin((ψ − ψ_m)/2), exact next to the kink, and
-    /// as (m − d) + 2d sin²(π/4 − ψ/2) where m ≥ d (the circle's largest ρ
-    /// at ψ = π/2, an end of every piece). Measured against the c-form it
+    /// as (m − d) + 2d sin²((π/2 − ψ)/2) where m ≥ d (the circle's largest
+    /// ρ at ψ = π/2, an end of every piece), ψ − ψ_near and ψ_end − ψ from
+    /// δ and the band's width ([`BeamPoint::band_width`]): nodes in
+    /// absolute ψ carried ulp(ψ), a relative ~εp/a of a thin beam's band
+    /// (2.8·10⁻¹⁰ high at a = 10⁻⁶ against an mpmath line source; module
+    /// tests). Measured against the c-form it
     /// replaced: the same values where that converged, 2.5× fewer
     /// evaluations (the parts off the support are skipped); a thin beam's
     /// band sits within ~a·p/d² of c = ±1, where c's own rounding limited
@@ -261,36 +288,68 @@ impl<T: CheckRule> BeamPoint<T> {
         // the absolute one: the sum of their bars stays within the shell's
         // goal (the integrand is non-negative).
         let share = Options { abs_tol: o.abs_tol / (2.0 * pieces.len() as f64), rel_tol: o.rel_tol / 2.0, ..o.clone() };
-        // ρ − m at ψ.
-        let gap = |psi: &T, m: &T, psi_m: &Option<T>| match psi_m {
-            Some(t_m) => {
-                d.lit(2.0)
-                    * d.clone()
-                    * ((psi.clone() + t_m.clone()) / d.lit(2.0)).cos()
-                    * ((psi.clone() - t_m.clone()) / d.lit(2.0)).sin()
-            }
-            None => {
-                let s = (half_pi.clone() / d.lit(2.0) - psi.clone() / d.lit(2.0)).sin();
-                -((m.clone() - d.clone()) + d.lit(2.0) * d.clone() * s.clone() * s)
-            }
-        };
+        // The support's width, support_hi − support_lo, formed without ψ's
+        // rounding where the support starts at ψ_near (outside the cylinder).
+        let reach =
+            if inside { support_hi.clone() - support_lo.clone() } else { self.band_width(d, psi_far.is_some()) };
+        let two_d = d.lit(2.0) * d.clone();
         let mut total = Estimate::known(zero.clone(), zero.clone(), 0, o.rule);
         for (sign, lo, hi) in pieces {
-            let f = |psi: &T, o2: &Options| {
+            // The piece in δ = ψ − lo ∈ [0, width]; its nodes' distances from
+            // the kinks are formed from δ and the piece's own offsets
+            // (ψ − ψ_near = off_near + δ, ψ_end − ψ = rem − δ with ψ_end =
+            // ψ_far or π/2), not from ψ = lo + δ: a thin beam's band is
+            // ~2a/d wide at ψ ≈ p/d, where ψ's rounding is a relative
+            // ~εp/a of the band (at a = 10⁻⁶ the fluence came out 2.8·10⁻¹⁰
+            // high against a bar of 10⁻¹³, `thin_beams_fluence_is_the_line_source`).
+            let starts_the_support = lo == support_lo;
+            let rem = if starts_the_support { reach.clone() } else { support_hi.clone() - lo.clone() };
+            let width = if hi == support_hi { rem.clone() } else { hi.clone() - lo.clone() };
+            let off_near = psi_near.as_ref().map(|t| {
+                if starts_the_support && !inside {
+                    zero.clone()
+                } else {
+                    lo.clone() - t.clone()
+                }
+            });
+            let f = |delta: &T, o2: &Options| {
+                let psi = lo.clone() + delta.clone();
                 let (sin, cos) = (psi.clone().sin(), psi.clone().cos());
                 let rho = d.clone() * sin.clone();
-                let (to_near, to_far) = (gap(psi, &near, &psi_near), -gap(psi, &far, &psi_far));
+                let to_near = match (&psi_near, &off_near) {
+                    (Some(t), Some(off)) => {
+                        two_d.clone()
+                            * ((psi.clone() + t.clone()) / d.lit(2.0)).cos()
+                            * ((off.clone() + delta.clone()) / d.lit(2.0)).sin()
+                    }
+                    // Inside the cylinder with the whole circle in the disk
+                    // (a − p ≥ d): ρ − (a − p) < 0.
+                    _ => {
+                        let h = ((half_pi.clone() - psi.clone()) / d.lit(2.0)).sin();
+                        -((near.clone() - d.clone()) + two_d.clone() * h.clone() * h)
+                    }
+                };
+                let left = ((rem.clone() - delta.clone()) / d.lit(2.0)).sin();
+                let to_far = match &psi_far {
+                    Some(t) => two_d.clone() * ((psi.clone() + t.clone()) / d.lit(2.0)).cos() * left,
+                    None => (far.clone() - d.clone()) + two_d.clone() * left.clone() * left,
+                };
                 let angle = arc_in_disc_gaps(&rho, &self.a, &self.p, &to_near, &to_far);
                 let v = if angle.is_zero() {
                     angle
                 } else {
                     angle * kernel(&(self.tau.clone() + sign.clone() * d.clone() * cos), d) * sin
                 };
-                Ok(Estimate::known(v, psi.lit(0.0), 1, o2.rule))
+                Ok(Estimate::known(v, delta.lit(0.0), 1, o2.rule))
             };
-            let cuts: Vec<T> =
-                [&psi_near].into_iter().flatten().filter(|t| inside && **t > lo && **t < hi).cloned().collect();
-            total = total.plus(integrate_within_pass(f, &Domain::finite(lo, hi).with_breakpoints(cuts), &share)?);
+            let cuts: Vec<T> = [&psi_near]
+                .into_iter()
+                .flatten()
+                .filter(|t| inside && **t > lo && **t < hi)
+                .map(|t| t.clone() - lo.clone())
+                .collect();
+            let domain = Domain::finite(zero.clone(), width).with_breakpoints(cuts);
+            total = total.plus(integrate_within_pass(f, &domain, &share)?);
         }
         Ok(total)
     }
@@ -443,6 +502,44 @@ mod tests {
             let e = crate::quad::integrate(f, &d, &Options::rel(1e-12)).unwrap();
             let want = disc_overlap(&r, &a, &p);
             assert!((e.value - want).abs() <= 1e-11 * want + e.error, "R {r} a {a} p {p}: {} vs {want}", e.value);
+        }
+    }
+
+    /// A thin beam's fluence against the line source with its a² term
+    /// (`scripts/thin-beam-fluence.py`, mpmath at 40 digits: the disk's
+    /// mean-value series along the axis, no shared geometry), at a = 10⁻⁴,
+    /// 10⁻⁵, 10⁻⁶ and two points outside the beam, within the fluence's
+    /// bar and 10⁻¹² of rounding. Until 6 December 2026 the shells' nodes
+    /// were absolute ψ, whose rounding is a relative ~εp/a of the band the
+    /// beam fills: 4.5·10⁻¹², 1.4·10⁻¹¹ and 2.8·10⁻¹⁰ high at x = 4 against
+    /// bars of ~10⁻¹³ (now ≤ 2.4·10⁻¹³).
+    #[test]
+    #[allow(clippy::excessive_precision)] // the reference's 20 digits, as printed
+    fn thin_beams_fluence_is_the_line_source() {
+        let frame = BeamFrame::new(DVec3::ZERO, DVec3::Z, DVec3::new(-2.0, 0.0, 1.0), DVec3::X);
+        let beam = |a: f64| ScatteredBeam {
+            radius: a,
+            flux: 1.0,
+            mu: frame.mu,
+            sin: frame.sin,
+            xi0: frame.xi0,
+            eta0: frame.eta0,
+            depth0: frame.depth0,
+            shift: 0.0,
+            center: 0.0,
+        };
+        let reference = [
+            (1e-4, 0.3, 0.014434577362099070509),
+            (1e-4, 4.0, 0.00022806207722071262751),
+            (1e-5, 0.3, 0.01443457727035191818),
+            (1e-5, 4.0, 0.00022806207668438290769),
+            (1e-6, 0.3, 0.014434577269434446656),
+            (1e-6, 4.0, 0.00022806207667901961049),
+        ];
+        for (a, x, want) in reference {
+            let e = beam(a).fluence(&x, &1.0, &0.8, &Options::rel(1e-12)).unwrap();
+            let gap = (e.value - want).abs();
+            assert!(gap <= e.error + 1e-12 * want, "a {a}, x {x}: {:e} ± {:e} against {want:e}", e.value, e.error);
         }
     }
 
