@@ -9,13 +9,13 @@ distance from x. For a ≪ the distance p of x from the axis the average is
 the mean-value series of the disk, φ(0) + (a²/8)Δ⊥φ + O(a⁴), Δ⊥ the
 Laplacian across the axis (φ'' + φ'/p for φ radial about x's foot), so F is
 a 1-D integral along the axis plus its a² term (here ≤ 6.4·10⁻⁹ relative;
-the a⁴ term below 10⁻¹⁷). No geometry is shared with the Rust shells.
+the a⁴ term ≤ 5·10⁻¹⁷). No geometry is shared with the Rust shells.
 
 The beam of the unit test `thin_beams_fluence_is_the_line_source`: disk
 centre (−2, 0, 1), along +x, flux 1; σ = 1, albedo 0.8; the points (0, 0, x)
 of the camera ray from the origin along +z, so depth τ = 2, p = |x − 1|.
 
-Usage: python3 scripts/thin-beam-fluence.py   (mpmath, 40 digits, ~1 min)
+Usage: python3 scripts/thin-beam-fluence.py   (mpmath, 40 digits, a few seconds)
 """
 from mpmath import mp, mpf, quad, exp, pi, sqrt, inf, diff
 
@@ -39,6 +39,6 @@ def fluence(tau, p, a):
     return albedo / (4 * pi) * (line + a * a / 8 * second)
 
 
-for a in ["1e-4", "1e-5", "1e-6"]:
+for a in ["1e-4", "1e-5", "1e-6", "1e-7", "1e-8"]:
     for x in ["0.3", "4"]:
         print(a, x, mp.nstr(fluence(mpf(2), abs(mpf(x) - 1), mpf(a)), 20))

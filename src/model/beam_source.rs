@@ -124,6 +124,21 @@ impl<T: CheckRule> BeamPoint<T> {
         if let Some(r) = knee {
             cuts.push(r.clone());
         }
+        // Well outside the cylinder (p ≥ 2a, so d ≥ p/2) the shells run in
+        // v = d − p: a thin beam fills the shells with |d − p| ≲ a, where it
+        // is grazed (the shell's content peaks as 1/√(d − p) smoothed over
+        // a, a fraction ~√(a/p) of the whole), and absolute nodes d would
+        // carry ulp(p), a relative εp/a of that band: ε√(p/a) in the
+        // fluence (2·10⁻¹² at a = 10⁻⁸, p = 0.7). The kinks d = p ∓ a are
+        // then v = ∓a exactly.
+        let offset = self.p >= self.a.lit(2.0) * self.a.clone();
+        let (lo, cuts) = if offset {
+            let shifted = cuts[2..].iter().map(|c| c.clone() - self.p.clone());
+            let cuts: Vec<T> = [-self.a.clone(), self.a.clone()].into_iter().chain(shifted).collect();
+            (lo - self.p.clone(), cuts)
+        } else {
+            (lo, cuts)
+        };
         let cuts: Vec<T> = cuts.into_iter().filter(|c| *c > lo).collect();
         let domain = Domain::semi_infinite(lo).with_breakpoints(cuts).with_decay(self.sigma.clone());
         let area = zero.pi() * self.a.clone() * self.a.clone();
@@ -132,9 +147,11 @@ impl<T: CheckRule> BeamPoint<T> {
         // samples (without it a beam of radius 10⁻³ got bars 3·10⁵ times
         // its goal's, and none thinner converged).
         let area_f64 = area.to_f64();
-        let f = |d: &T, o: &Options| {
+        let f = |v: &T, o: &Options| {
             let o = &Options { abs_tol: o.abs_tol * area_f64, ..o.clone() };
-            Ok(self.shell(d, kernel, o)?.scaled(&(d.lit(1.0) / area.clone())))
+            let (d, d_less_p) =
+                if offset { (self.p.clone() + v.clone(), v.clone()) } else { (v.clone(), v.clone() - self.p.clone()) };
+            Ok(self.shell(&d, &d_less_p, kernel, o)?.scaled(&(v.lit(1.0) / area.clone())))
         };
         if !within {
             return integrate_nested(f, &domain, opts);
@@ -160,26 +177,18 @@ impl<T: CheckRule> BeamPoint<T> {
         }
     }
 
-    /// The width of the shell's support in ψ for x outside the cylinder
-    /// (p > a): ψ_far − ψ_near, ψ_m = asin(m/d), with ψ_far = π/2 when the
-    /// circle's largest radius d does not reach a + p (`reaches` false).
-    /// With X = a + p, Y = p − a, S_m = √((d − m)(d + m)): sin Δ =
-    /// 4ap/(X S_Y + Y S_X) and cos Δ = (S_X S_Y + XY)/d², and π/2 − ψ_near =
-    /// atan2(S_Y, Y): no difference of two rounded angles, whose rounding
-    /// (ulp(ψ) ~ εp/d) is a relative ~εp/a of a thin beam's band.
-    fn band_width(&self, d: &T, reaches: bool) -> T {
-        let (x, y) = (self.a.clone() + self.p.clone(), self.p.clone() - self.a.clone());
-        let s = |m: &T| ((d.clone() - m.clone()) * (d.clone() + m.clone())).max_of(d.lit(0.0)).sqrt();
-        let sy = s(&y);
-        // atan2(v, u) for u, v ≥ 0 (not both 0), through the smaller ratio.
-        let angle = |v: T, u: T| if v <= u { (v / u).atan() } else { d.pi() / d.lit(2.0) - (u / v).atan() };
-        if !reaches {
-            return angle(sy, y);
-        }
-        let sx = s(&x);
-        let sin = d.lit(4.0) * self.a.clone() * self.p.clone() * d.clone() * d.clone();
-        let cos = (x.clone() * sy.clone() + y.clone() * sx.clone()) * (sx * sy + x * y);
-        angle(sin, cos)
+    /// The circle's kinks against the disk on the shell of radius d:
+    /// m = |a − p| (near) and a + p (far), with d − m formed from d − p
+    /// (exact by Sterbenz where d ≈ p, as on a thin beam's band, where
+    /// a ± p rounds to ulp(p), a relative ~εp/a of the band).
+    fn kinks(&self, d: &T, d_less_p: &T) -> [Kink<T>; 2] {
+        let (a, p) = (&self.a, &self.p);
+        let near = if p >= a {
+            Kink::new(d, p.clone() - a.clone(), d_less_p.clone() + a.clone())
+        } else {
+            Kink::new(d, a.clone() - p.clone(), d.clone() - (a.clone() - p.clone()))
+        };
+        [near, Kink::new(d, a.clone() + p.clone(), d_less_p.clone() - a.clone())]
     }
 
     /// ∫ Θ(d√(1 − c²)) kernel(τ + dc, d) dc over the sphere of radius d
@@ -200,16 +209,20 @@ impl<T: CheckRule> BeamPoint<T> {
     /// distances ρ − m of a node from the kinks are formed from δ as
     /// 2d cos((ψ + ψ_m)/2) sin((ψ − ψ_m)/2), exact next to the kink, and
     /// as (m − d) + 2d sin²((π/2 − ψ)/2) where m ≥ d (the circle's largest
-    /// ρ at ψ = π/2, an end of every piece), ψ − ψ_near and ψ_end − ψ from
-    /// δ and the band's width ([`BeamPoint::band_width`]): nodes in
-    /// absolute ψ carried ulp(ψ), a relative ~εp/a of a thin beam's band
-    /// (2.8·10⁻¹⁰ high at a = 10⁻⁶ against an mpmath line source; module
-    /// tests). Measured against the c-form it
+    /// ρ at ψ = π/2, an end of every piece): ψ − ψ_near and ψ_end − ψ from
+    /// δ and the band's width ([`band_width`]), π/2 − ψ from ψ_end's own
+    /// complement, the half-angle cosines as sines of those, d − m from
+    /// `d_less_p` = d − p, which the caller forms exactly where it matters
+    /// ([`BeamPoint::integral`]), and the plane's angle as
+    /// 2 asin(√((d − |τ|)/2d)). Nodes in absolute ψ carried ulp(ψ), a
+    /// relative ~εp/a of a thin beam's band (2.8·10⁻¹⁰ high at a = 10⁻⁶
+    /// against an mpmath line source), and the other forms missed single
+    /// shells by 10⁻¹³–7·10⁻⁸ (module tests). Measured against the c-form it
     /// replaced: the same values where that converged, 2.5× fewer
     /// evaluations (the parts off the support are skipped); a thin beam's
     /// band sits within ~a·p/d² of c = ±1, where c's own rounding limited
     /// the c-form to a relative ~2·10⁻⁹ at a = 10⁻⁶.
-    fn shell(&self, d: &T, kernel: &(dyn Fn(&T, &T) -> T + Sync), o: &Options) -> Outcome<T> {
+    fn shell(&self, d: &T, d_less_p: &T, kernel: &(dyn Fn(&T, &T) -> T + Sync), o: &Options) -> Outcome<T> {
         let zero = d.lit(0.0);
         let one = d.lit(1.0);
         if d.is_zero() {
@@ -240,10 +253,9 @@ impl<T: CheckRule> BeamPoint<T> {
         // beam's value only beside a brighter light's).
         let o = &Options { abs_tol: o.abs_tol.max((d.underflow_floor() * d.lit(16.0 * 1024.0)).to_f64()), ..o.clone() };
         let half_pi = d.pi() / d.lit(2.0);
-        let (near, far) = ((self.a.clone() - self.p.clone()).abs(), self.a.clone() + self.p.clone());
-        let kink = |m: &T| (*m < *d).then(|| (m.clone() / d.clone()).asin());
-        let (psi_near, psi_far) = (kink(&near), kink(&far));
         let inside = self.p < self.a;
+        let [near, far] = self.kinks(d, d_less_p);
+        let (psi_near, psi_far) = (near.psi.clone(), far.psi.clone());
         // The support in ψ, the same in both hemispheres.
         let support_lo = match (&psi_near, inside) {
             (_, true) => zero.clone(),
@@ -257,7 +269,9 @@ impl<T: CheckRule> BeamPoint<T> {
             if self.tau.clone().abs() >= *d {
                 zero.clone()
             } else {
-                (self.tau.clone().abs() / d.clone()).min_of(one.clone()).acos()
+                // acos(|τ|/d) = 2 asin(√((d − |τ|)/2d)), accurate where |τ| ≈ d.
+                let half = ((d.clone() - self.tau.clone().abs()) / (d.lit(2.0) * d.clone())).sqrt();
+                d.lit(2.0) * half.min_of(one.clone()).asin()
             }
         };
         // (sign of c, ψ-range): the hemisphere away from the disk (c ≥ 0)
@@ -291,8 +305,11 @@ impl<T: CheckRule> BeamPoint<T> {
         // The support's width, support_hi − support_lo, formed without ψ's
         // rounding where the support starts at ψ_near (outside the cylinder).
         let reach =
-            if inside { support_hi.clone() - support_lo.clone() } else { self.band_width(d, psi_far.is_some()) };
+            if inside { support_hi.clone() - support_lo.clone() } else { band_width(d, &near, &far, &self.a, &self.p) };
         let two_d = d.lit(2.0) * d.clone();
+        // π/2 − ψ_end for the support's end ψ_end: atan2(S_far, a + p) where
+        // the circle reaches a + p, else 0.
+        let c_end = if psi_far.is_some() { angle_of(far.s.clone(), far.m.clone()) } else { zero.clone() };
         let mut total = Estimate::known(zero.clone(), zero.clone(), 0, o.rule);
         for (sign, lo, hi) in pieces {
             // The piece in δ = ψ − lo ∈ [0, width]; its nodes' distances from
@@ -313,26 +330,40 @@ impl<T: CheckRule> BeamPoint<T> {
                 }
             });
             let f = |delta: &T, o2: &Options| {
+                // e = π/2 − ψ = (π/2 − ψ_end) + (ψ_end − ψ): a thin beam's
+                // band lies next to π/2 on the shells that do not reach a + p
+                // (~√(a/p) wide there), where ψ's own rounding, ulp(π/2), is
+                // a relative ~ε√(p/a) of cos ψ and of the half-angle cosines.
+                let left = rem.clone() - delta.clone();
+                let e = c_end.clone() + left.clone();
+                // sin ψ and cos ψ from the smaller of ψ and e (either's
+                // rounding is a relative ε/ψ of the sine of the other).
                 let psi = lo.clone() + delta.clone();
-                let (sin, cos) = (psi.clone().sin(), psi.clone().cos());
+                let (sin, cos) =
+                    if psi <= e { (psi.clone().sin(), psi.cos()) } else { (e.clone().cos(), e.clone().sin()) };
                 let rho = d.clone() * sin.clone();
-                let to_near = match (&psi_near, &off_near) {
-                    (Some(t), Some(off)) => {
-                        two_d.clone()
-                            * ((psi.clone() + t.clone()) / d.lit(2.0)).cos()
-                            * ((off.clone() + delta.clone()) / d.lit(2.0)).sin()
+                // ρ − m_near = 2d cos((ψ + ψ_near)/2) sin((ψ − ψ_near)/2) and
+                // m_far − ρ = 2d cos((ψ + ψ_far)/2) sin((ψ_far − ψ)/2), the
+                // cosines as sin(e + (ψ − ψ_near)/2) and sin(c_end + (ψ_far − ψ)/2).
+                let half = |x: T| x / d.lit(2.0);
+                let to_near = match &off_near {
+                    Some(off) => {
+                        let since = off.clone() + delta.clone();
+                        two_d.clone() * (e.clone() + half(since.clone())).sin() * half(since).sin()
                     }
                     // Inside the cylinder with the whole circle in the disk
                     // (a − p ≥ d): ρ − (a − p) < 0.
-                    _ => {
-                        let h = ((half_pi.clone() - psi.clone()) / d.lit(2.0)).sin();
-                        -((near.clone() - d.clone()) + two_d.clone() * h.clone() * h)
+                    None => {
+                        let h = half(e.clone()).sin();
+                        near.d_less_m.clone() - two_d.clone() * h.clone() * h
                     }
                 };
-                let left = ((rem.clone() - delta.clone()) / d.lit(2.0)).sin();
                 let to_far = match &psi_far {
-                    Some(t) => two_d.clone() * ((psi.clone() + t.clone()) / d.lit(2.0)).cos() * left,
-                    None => (far.clone() - d.clone()) + two_d.clone() * left.clone() * left,
+                    Some(_) => two_d.clone() * (c_end.clone() + half(left.clone())).sin() * half(left).sin(),
+                    None => {
+                        let h = half(left).sin();
+                        two_d.clone() * h.clone() * h - far.d_less_m.clone()
+                    }
                 };
                 let angle = arc_in_disc_gaps(&rho, &self.a, &self.p, &to_near, &to_far);
                 let v = if angle.is_zero() {
@@ -353,6 +384,56 @@ impl<T: CheckRule> BeamPoint<T> {
         }
         Ok(total)
     }
+}
+
+/// A kink of a shell's circle against the disk: the circle of radius
+/// ρ = d sin ψ touches the disk's rim from inside or outside at ρ = m.
+struct Kink<T> {
+    /// m = |a − p| or a + p.
+    m: T,
+    /// d − m, formed by the caller from d − p.
+    d_less_m: T,
+    /// S_m = √((d − m)(d + m)) (0 where m ≥ d).
+    s: T,
+    /// ψ_m = asin(m/d) = atan2(m, S_m) where m < d.
+    psi: Option<T>,
+}
+
+impl<T: Real> Kink<T> {
+    fn new(d: &T, m: T, d_less_m: T) -> Kink<T> {
+        let zero = d.lit(0.0);
+        let s = (d_less_m.clone() * (d.clone() + m.clone())).max_of(zero.clone()).sqrt();
+        let psi = (d_less_m > zero).then(|| angle_of(m.clone(), s.clone()));
+        Kink { m, d_less_m, s, psi }
+    }
+}
+
+/// atan2(v, u) for u, v ≥ 0, not both 0, through the smaller ratio.
+fn angle_of<T: Real>(v: T, u: T) -> T {
+    if v <= u {
+        (v / u).atan()
+    } else {
+        u.pi() / u.lit(2.0) - (u / v).atan()
+    }
+}
+
+/// The width of a shell's support in ψ for x outside the cylinder (p > a):
+/// ψ_far − ψ_near, or π/2 − ψ_near where the circle's largest radius d
+/// does not reach a + p. With X = a + p, Y = p − a (the kinks' m) and
+/// their S: sin Δ = 4ap/(X S_Y + Y S_X), cos Δ = (S_X S_Y + XY)/d², and
+/// π/2 − ψ_near = atan2(S_Y, Y): no difference of two rounded angles,
+/// whose rounding (ulp(ψ) ~ εp/d) is a relative ~εp/a of a thin beam's
+/// band.
+fn band_width<T: Real>(d: &T, near: &Kink<T>, far: &Kink<T>, a: &T, p: &T) -> T {
+    let (x, y) = (&far.m, &near.m);
+    if far.psi.is_none() {
+        return angle_of(near.s.clone(), y.clone());
+    }
+    // X² − Y² = 4ap.
+    let sin = d.lit(4.0) * a.clone() * p.clone() * d.clone() * d.clone();
+    let cos = (x.clone() * near.s.clone() + y.clone() * far.s.clone())
+        * (far.s.clone() * near.s.clone() + x.clone() * y.clone());
+    angle_of(sin, cos)
 }
 
 /// A beam's single-scattered light as the small-sphere field sees it
@@ -483,129 +564,5 @@ impl<T: CheckRule> ScatteredBeam<T> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::model::field::graded_about;
-    use crate::model::finite::scattered::hit_chance;
-    use crate::special::{arc_in_disc, disc_overlap};
-
-    /// ∫₀^R ρΘ(ρ) dρ is the overlap of the disc of radius R with the beam's
-    /// disk: the arc against the lens's closed form, inside, across the rim
-    /// and outside.
-    #[test]
-    fn the_arc_integrates_to_the_overlap() {
-        for &(r, a, p) in &[(0.3, 0.5, 0.1), (0.3, 0.5, 0.4), (0.3, 0.5, 0.75), (2.0, 0.5, 0.3), (0.2, 0.5, 0.0)] {
-            let f = |rho: &f64| rho * arc_in_disc(rho, &a, &p);
-            let mut cuts = vec![(a - p).abs(), a + p];
-            cuts.retain(|c| *c > 0.0 && *c < r);
-            let d = Domain::finite(0.0, r).with_breakpoints(cuts);
-            let e = crate::quad::integrate(f, &d, &Options::rel(1e-12)).unwrap();
-            let want = disc_overlap(&r, &a, &p);
-            assert!((e.value - want).abs() <= 1e-11 * want + e.error, "R {r} a {a} p {p}: {} vs {want}", e.value);
-        }
-    }
-
-    /// A thin beam's fluence against the line source with its a² term
-    /// (`scripts/thin-beam-fluence.py`, mpmath at 40 digits: the disk's
-    /// mean-value series along the axis, no shared geometry), at a = 10⁻⁴,
-    /// 10⁻⁵, 10⁻⁶ and two points outside the beam, within the fluence's
-    /// bar and 10⁻¹² of rounding. Until 6 December 2026 the shells' nodes
-    /// were absolute ψ, whose rounding is a relative ~εp/a of the band the
-    /// beam fills: 4.5·10⁻¹², 1.4·10⁻¹¹ and 2.8·10⁻¹⁰ high at x = 4 against
-    /// bars of ~10⁻¹³ (now ≤ 2.4·10⁻¹³).
-    #[test]
-    #[allow(clippy::excessive_precision)] // the reference's 20 digits, as printed
-    fn thin_beams_fluence_is_the_line_source() {
-        let frame = BeamFrame::new(DVec3::ZERO, DVec3::Z, DVec3::new(-2.0, 0.0, 1.0), DVec3::X);
-        let beam = |a: f64| ScatteredBeam {
-            radius: a,
-            flux: 1.0,
-            mu: frame.mu,
-            sin: frame.sin,
-            xi0: frame.xi0,
-            eta0: frame.eta0,
-            depth0: frame.depth0,
-            shift: 0.0,
-            center: 0.0,
-        };
-        let reference = [
-            (1e-4, 0.3, 0.014434577362099070509),
-            (1e-4, 4.0, 0.00022806207722071262751),
-            (1e-5, 0.3, 0.01443457727035191818),
-            (1e-5, 4.0, 0.00022806207668438290769),
-            (1e-6, 0.3, 0.014434577269434446656),
-            (1e-6, 4.0, 0.00022806207667901961049),
-        ];
-        for (a, x, want) in reference {
-            let e = beam(a).fluence(&x, &1.0, &0.8, &Options::rel(1e-12)).unwrap();
-            let gap = (e.value - want).abs();
-            assert!(gap <= e.error + 1e-12 * want, "a {a}, x {x}: {:e} ± {:e} against {want:e}", e.value, e.error);
-        }
-    }
-
-    /// The cylindrical form against the same volume integral in the beam's
-    /// own coordinates (a point of the disk in polar coordinates about the
-    /// axis, its depth t), which shares no geometry with it: the finite
-    /// kernel H at points inside the beam, outside it and before its disk.
-    /// Measured: they agree to 2·10⁻¹¹ relative, far inside the reference's
-    /// bars (that 3-D quadrature takes ~1 minute: ignored; README).
-    #[test]
-    #[ignore = "a 3-D reference quadrature, ~1 minute in release"]
-    fn the_cylindrical_form_is_the_volume_integral() {
-        let (sigma, r, a) = (1.0f64, 0.2f64, 0.5f64);
-        let kernel = |t: &f64, d: &f64| sigma * (-sigma * t).exp() * hit_chance(&sigma, &r, d);
-        let weighted = |t: &f64, d: &f64| d * d * kernel(t, d);
-        for &(p, tau) in &[(0.1, 0.7), (0.9, 0.4), (0.3, -0.5)] {
-            let at = BeamPoint { a, p, tau, sigma };
-            let ours = at.integral(&weighted, Some(&r), &Options::rel(1e-6), false).unwrap();
-            // x at (p, 0, τ); a disk point at (q cos φ, q sin φ), depth t.
-            let direct = integrate_nested(
-                |q: &f64, o: &Options| {
-                    let inner = integrate_within_pass(
-                        |phi: &f64, o2: &Options| {
-                            let across2 = p * p + q * q - 2.0 * p * q * phi.cos();
-                            let mut t_cuts = graded_about(&tau, &across2.sqrt().max(r), &8.0);
-                            t_cuts.push(tau);
-                            if across2 < r * r {
-                                let h = (r * r - across2).sqrt();
-                                t_cuts.extend([tau - h, tau + h]);
-                            }
-                            let d = Domain::semi_infinite(0.0)
-                                .with_breakpoints(t_cuts.into_iter().filter(|c| *c > 0.0))
-                                .with_decay(sigma);
-                            integrate_within_pass(
-                                |t: &f64, o3: &Options| {
-                                    let d = (across2 + (t - tau) * (t - tau)).sqrt();
-                                    Ok(Estimate::known(kernel(t, &d), 0.0, 1, o3.rule))
-                                },
-                                &d,
-                                o2,
-                            )
-                        },
-                        // Where the distance across is R: cos φ = (p² + q² − R²)/(2pq).
-                        &Domain::finite(0.0, std::f64::consts::PI).with_breakpoints(
-                            [(p * p + q * q - r * r) / (2.0 * p * q)]
-                                .into_iter()
-                                .filter(|c| c.abs() < 1.0)
-                                .map(f64::acos),
-                        ),
-                        o,
-                    )?;
-                    Ok(inner.scaled(&(2.0 * q / (std::f64::consts::PI * a * a))))
-                },
-                &Domain::finite(0.0, a).with_breakpoints([p, (p - r).abs(), p + r].into_iter().filter(|c| *c < a)),
-                &Options::rel(1e-3),
-            )
-            .unwrap();
-            let gap = (ours.value - direct.value).abs();
-            assert!(
-                gap <= ours.error + direct.error,
-                "p {p} τ {tau}: {} ± {} vs {} ± {}",
-                ours.value,
-                ours.error,
-                direct.value,
-                direct.error
-            );
-        }
-    }
-}
+#[path = "beam_source_tests.rs"]
+mod tests;
