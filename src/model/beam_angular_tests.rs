@@ -3,25 +3,13 @@
 
 use super::*;
 use crate::model::angular::Pole;
-use crate::model::beam_source::BeamFrame;
 use crate::quad::Rule;
 use mcrt_scene::DVec3;
 
 /// A beam of radius `a` from `center` along `direction`, seen from the
 /// camera ray from the origin along +z (scale c_b = 0).
 fn beam(center: DVec3, direction: DVec3, a: f64) -> ScatteredBeam<f64> {
-    let frame = BeamFrame::new(DVec3::ZERO, DVec3::Z, center, direction.normalize());
-    ScatteredBeam {
-        radius: a,
-        flux: 1.0,
-        mu: frame.mu,
-        sin: frame.sin,
-        xi0: frame.xi0,
-        eta0: frame.eta0,
-        depth0: frame.depth0,
-        shift: 0.0,
-        center: 0.0,
-    }
+    ScatteredBeam::seen_along_z(center, direction, a)
 }
 
 fn smooth() -> Features<f64> {

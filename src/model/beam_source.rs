@@ -322,13 +322,8 @@ impl<T: CheckRule> BeamPoint<T> {
             let starts_the_support = lo == support_lo;
             let rem = if starts_the_support { reach.clone() } else { support_hi.clone() - lo.clone() };
             let width = if hi == support_hi { rem.clone() } else { hi.clone() - lo.clone() };
-            let off_near = psi_near.as_ref().map(|t| {
-                if starts_the_support && !inside {
-                    zero.clone()
-                } else {
-                    lo.clone() - t.clone()
-                }
-            });
+            // 0 exactly where the piece starts at ψ_near.
+            let off_near = psi_near.as_ref().map(|t| lo.clone() - t.clone());
             let f = |delta: &T, o2: &Options| {
                 // e = π/2 − ψ = (π/2 − ψ_end) + (ψ_end − ψ): a thin beam's
                 // band lies next to π/2 on the shells that do not reach a + p
@@ -460,6 +455,27 @@ pub struct ScatteredBeam<T> {
     pub shift: T,
     /// The field's [`super::field::Field::center`].
     pub center: T,
+}
+
+#[cfg(test)]
+impl ScatteredBeam<f64> {
+    /// The tests' beam: radius `a`, flux 1, from `center` along
+    /// `direction`, seen from the camera ray from the origin along +z
+    /// (scale c_b = 0, field centre 0).
+    pub(crate) fn seen_along_z(center: DVec3, direction: DVec3, a: f64) -> ScatteredBeam<f64> {
+        let frame = BeamFrame::new(DVec3::ZERO, DVec3::Z, center, direction.normalize());
+        ScatteredBeam {
+            radius: a,
+            flux: 1.0,
+            mu: frame.mu,
+            sin: frame.sin,
+            xi0: frame.xi0,
+            eta0: frame.eta0,
+            depth0: frame.depth0,
+            shift: 0.0,
+            center: 0.0,
+        }
+    }
 }
 
 impl<T: Real> ScatteredBeam<T> {

@@ -36,18 +36,7 @@ fn the_arc_integrates_to_the_overlap() {
 #[test]
 #[allow(clippy::excessive_precision)] // the reference's 20 digits, as printed
 fn thin_beams_fluence_is_the_line_source() {
-    let frame = BeamFrame::new(DVec3::ZERO, DVec3::Z, DVec3::new(-2.0, 0.0, 1.0), DVec3::X);
-    let beam = |a: f64| ScatteredBeam {
-        radius: a,
-        flux: 1.0,
-        mu: frame.mu,
-        sin: frame.sin,
-        xi0: frame.xi0,
-        eta0: frame.eta0,
-        depth0: frame.depth0,
-        shift: 0.0,
-        center: 0.0,
-    };
+    let beam = |a: f64| ScatteredBeam::seen_along_z(DVec3::new(-2.0, 0.0, 1.0), DVec3::X, a);
     let reference = [
         (1e-4, 0.3, 0.014434577362099070509),
         (1e-4, 4.0, 0.00022806207722071262751),

@@ -146,8 +146,6 @@ fn optimize_section(s: &mut String, ledger: &mut Ledger) -> Result<(), String> {
 /// computes (μ, M₂, P at q = 1, N_B = 1), and the scene's own q, N_B, whose
 /// correlations are run once at 10⁻³ (a miss at the target's 10⁻⁶).
 fn finite_order1_section(s: &mut String, ledger: &mut Ledger) -> Result<(), String> {
-    use crate::model::field::Field;
-    use crate::model::finite::FiniteField;
     let mut scene = bundled_scene("point-isotropic-order1")?;
     scene.estimator.radius = 0.05;
     writeln!(
@@ -165,11 +163,7 @@ fn finite_order1_section(s: &mut String, ledger: &mut Ledger) -> Result<(), Stri
     unit.estimator.q = 1.0;
     unit.estimator.camera_rays = 1;
     let tol = 1e-6;
-    let (out, secs) = best_of(5, || {
-        let field = Field::from_scene(&unit, &0.0f64).map_err(|e| e.to_string())?;
-        let ff = FiniteField::of_first_segments(&unit, &field);
-        ff.order1_unpaired(&Options::rel(tol)).map_err(|e| e.to_string())
-    });
+    let (out, secs) = best_of(5, || order1_unpaired(&unit, &0.0f64, &Options::rel(tol)));
     let report = crate::oracle::run(&unit, crate::oracle::Precision::F64, Some(tol)).map_err(|e| e.to_string())?;
     let f = report.finite.ok_or("no finite-sphere model at q = 1, N_B = 1")?;
     let met = ledger.judge("finite-sphere order 1, q = 1, N_B = 1, f64", target, out.is_ok().then_some(secs));
@@ -206,24 +200,14 @@ fn finite_order1_section(s: &mut String, ledger: &mut Ledger) -> Result<(), Stri
 /// follow the table above: the timed 128-bit row, then each integral's two
 /// values, their gap and the sum of their bars.
 fn order1_at_128_bits(s: &mut String, ledger: &mut Ledger, unit: &mcrt_scene::Scene) -> Result<(), String> {
-    use crate::model::field::Field;
-    use crate::model::finite::{FiniteField, FiniteIntegrals};
     use crate::quad::{Budget, DEFAULT_EVALUATIONS};
     const BITS: u32 = 128;
     let tol = 1e-8;
     let target = Target::AtMost { seconds: 300.0, source: "issue 20" };
-    let narrow = {
-        let field = Field::from_scene(unit, &0.0f64).map_err(|e| e.to_string())?;
-        FiniteField::of_first_segments(unit, &field).order1_unpaired(&Options::rel(tol)).map_err(|e| e.to_string())?
-    };
+    let narrow = order1_unpaired(unit, &0.0f64, &Options::rel(tol))?;
     let t0 = Instant::now();
-    let wide = (|| -> Result<FiniteIntegrals<Float>, String> {
-        let like = Float::with_val(BITS, 0);
-        let field = Field::from_scene(unit, &like).map_err(|e| e.to_string())?;
-        let budget = Budget::with_deadline(DEFAULT_EVALUATIONS, std::time::Duration::from_secs(300));
-        let o = Options::rel(tol).with_budget(budget);
-        FiniteField::of_first_segments(unit, &field).order1_unpaired(&o).map_err(|e| e.to_string())
-    })();
+    let budget = Budget::with_deadline(DEFAULT_EVALUATIONS, std::time::Duration::from_secs(300));
+    let wide = order1_unpaired(unit, &Float::with_val(BITS, 0), &Options::rel(tol).with_budget(budget));
     let secs = t0.elapsed().as_secs_f64();
     let met = ledger.judge("finite-sphere order 1, q = 1, N_B = 1, 128 bits", target, wide.is_ok().then_some(secs));
     let (time, cell) = (duration(secs), target.cell());
@@ -257,6 +241,17 @@ fn order1_at_128_bits(s: &mut String, ledger: &mut Ledger, unit: &mcrt_scene::Sc
         .unwrap();
     }
     Ok(())
+}
+
+/// μ, M₂ and P of the finite-sphere order-1 model of `scene` (q = 1,
+/// N_B = 1) in the precision of `like`.
+fn order1_unpaired<T: crate::quad::CheckRule>(
+    scene: &mcrt_scene::Scene,
+    like: &T,
+    opts: &Options,
+) -> Result<crate::model::finite::FiniteIntegrals<T>, String> {
+    let field = crate::model::field::Field::from_scene(scene, like).map_err(|e| e.to_string())?;
+    crate::model::finite::FiniteField::of_first_segments(scene, &field).order1_unpaired(opts).map_err(|e| e.to_string())
 }
 
 /// One timed row of the finite-sphere tables: `label`, the tolerance,
