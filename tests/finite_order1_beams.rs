@@ -48,7 +48,8 @@ struct Point {
     scene: Scene,
     trials: u64,
     seed: u64,
-    /// Whether the small-sphere model must be rejected here (|z| > 6).
+    /// Whether the small-sphere model must be rejected here (|z| > 6), with
+    /// the tracer's Var L resolved to 0.3 % (issue 20's acceptance).
     rejects_small_sphere: bool,
 }
 
@@ -80,6 +81,8 @@ fn check(p: &Point) {
     assert!(z_mu.abs() <= 4.0 && z_var.abs() <= 4.0, "{}: the finite model disagrees with the tracer", p.name);
     if p.rejects_small_sphere {
         assert!(z_small.abs() > 6.0, "{}: the small-sphere Var L is not rejected (z = {z_small})", p.name);
+        let resolution = t_var.1 / t_var.0;
+        assert!(resolution <= 3e-3, "{}: Var L's standard error {resolution:.2e} exceeds 0.3 %", p.name);
     }
 }
 
@@ -344,4 +347,30 @@ fn a_beams_small_sphere_pairs_converge_in_hard_cases() {
         );
         assert!(var.error <= 1e-6 * var.value, "{name}: {var:?}");
     }
+}
+
+/// A thin beam's single-scattered light in the small-sphere model
+/// (`model::beam_source`, the fluence along the camera ray as a Chebyshev
+/// table): radius 10⁻⁵ crossing the camera ray, R = 0.01, q = 0.5, N_B = 8,
+/// the whole oracle at 10⁻⁴ within its default budget, each bar within the
+/// goal. Until December 2026 the table's pieces were graded by decades
+/// towards the beam's surface out to 4a only, and the fluence's ~1/p fall
+/// beyond (a line source's) spanned decades in one piece: the run spent
+/// the 10⁹ evaluations (it now takes 5.7·10⁸, ~45 s on two cores).
+#[test]
+#[ignore = "~45 s: a thin beam's order-1 oracle"]
+fn a_thin_beams_small_sphere_model_converges() {
+    let mut s = paired_scene(0.01);
+    s.estimator.forward_rays = 200;
+    let Light::Beam { center, direction, flux, .. } = s.lights[0] else { panic!("a beam") };
+    s.lights[0] = Light::Beam { center, direction, radius: 1e-5, flux };
+    let report = mcrt_noise::oracle::run(&s, Precision::F64, Some(1e-4)).unwrap_or_else(|e| panic!("{e}"));
+    let var = &report.variance.as_ref().expect("the small-sphere Var L").exact;
+    let mean = &report.mean_luminance;
+    println!(
+        "a = 1e-5: mean {:.9e} ± {:.1e}, Var L {:.9e} ± {:.1e}, {} evaluations",
+        mean.value, mean.error, var.value, var.error, report.evaluations
+    );
+    assert!(mean.error <= 1e-4 * mean.value, "{mean:?}");
+    assert!(var.error <= 1e-4 * var.value, "{var:?}");
 }
