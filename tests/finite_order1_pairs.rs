@@ -350,6 +350,11 @@ fn beam_correlations_agree_with_the_tracer_in_ci() {
     assert!(finite.corr23.is_some() && finite.corr24.is_some() && finite.variance_ratio.is_none());
     let json = serde_json::to_value(report).unwrap();
     assert!(json["variance"].is_null(), "{}", json["variance"]);
+    // The order-1 `finite` object with its correlations of two spheres
+    // (C₂₃, C₂₄, Q), pinned to 6 digits and the decades of their bars.
+    insta::with_settings!({snapshot_path => "../snapshots", prepend_module_to_snapshot => false}, {
+        insta::assert_snapshot!("finite_beam-isotropic-order1-pairs", common::finite_text(report, 6));
+    });
     let t = trace(&Tracer::new(&s).unwrap(), 77, 0..p.trials, HitMethod::Sorted, &|_| {}).summary().unwrap();
     let tracer = Barred(t.variance.value, t.variance.se);
     let var = Barred(prediction.variance.value, prediction.variance.quadrature_bar);

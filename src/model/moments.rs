@@ -198,21 +198,17 @@ fn beams_fluence_table<T: CheckRule>(
     // pieces graded by decades towards it, so that each sees the
     // singularity a decade off.
     // (The disk's face, crossed inside the beam, likewise.)
-    // Outside a thin beam the fluence falls like a line source's, ~1/p in
-    // the distance p from the axis, out to a decay length: the decades
-    // reach max(4a, 1/σ), so that no piece spans ln p over several decades
-    // (with 4a alone, a beam of radius 10⁻³ crossing the camera ray needed
-    // 1 200–1 328 fluence samples per table where it now needs 752–880,
-    // and one of 10⁻⁵ spent the oracle's 10⁹ evaluations at 10⁻⁴, where it
-    // now finishes in 5.7·10⁸).
     let width = field.sigma_ext.lit(1e-10) / field.sigma_ext.clone();
     let grading: Vec<T> = field
         .scattered_beams
         .iter()
         .flat_map(|b| {
-            let line_source = b.radius.lit(1.0) / field.sigma_ext.clone();
-            let (scale, width) = ((b.radius.clone() * b.radius.lit(4.0)).max_of(line_source), width.clone());
-            b.ray_breakpoints().into_iter().flat_map(move |k| super::field::graded_by(&k, &width, &scale, 10.0, 24))
+            let (scale, width) = (b.radius.clone() * b.radius.lit(4.0), width.clone());
+            let kinks = b
+                .ray_breakpoints()
+                .into_iter()
+                .flat_map(move |k| super::field::graded_by(&k, &width, &scale, 10.0, 24));
+            kinks.chain(b.line_source_grading(&field.sigma_ext))
         })
         .collect();
     along_ray_table(field, &field.beam_tables, |x, o| beams_fluence(field, x, o), &grading, rule, rel_tol, budget)
