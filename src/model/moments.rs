@@ -197,7 +197,9 @@ fn beams_fluence_table<T: CheckRule>(
     // The fluence bends like δ ln δ where the ray crosses a beam's surface:
     // pieces graded by decades towards it, so that each sees the
     // singularity a decade off.
-    // (The disk's face, crossed inside the beam, likewise.)
+    // (The disk's face, crossed inside the beam, likewise.) Outside a thin
+    // beam it falls like a line source's, ~1/p: decades about the ray's
+    // closest approach to the axis too (`ScatteredBeam::line_source_grading`).
     let width = field.sigma_ext.lit(1e-10) / field.sigma_ext.clone();
     let grading: Vec<T> = field
         .scattered_beams
