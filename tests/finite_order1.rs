@@ -208,8 +208,9 @@ fn order1_second_moment_and_p_tend_to_the_small_sphere_ones() {
 /// lights (the order-0 hit intervals of §9.2 for a point light at the
 /// interaction point, averaged over it; `finite::virtual_lights`). They
 /// agree within their bars (measured: a gap of 5.6·10⁻⁸ relative against
-/// bars of 5·10⁻⁶ and 6·10⁻⁶ relative, `docs/model.md` §9.6). In an isotropic medium ⟨𝒞₁²⟩ = c f⟨𝒞₁⟩ at
-/// every sphere, so this checks the I(D) behind M₂'s ⟨𝒞₁²⟩ too (its
+/// bars of 5·10⁻⁶ and 6·10⁻⁶ relative, `docs/model.md` §9.6). In an
+/// isotropic medium ⟨𝒞₁²⟩ = c f⟨𝒞₁⟩ at every sphere, so this checks the
+/// I(D) behind M₂'s ⟨𝒞₁²⟩ too (its
 /// prefactor is the tracer points' to check). ~3 minutes on two cores:
 /// `cargo test --release --test finite_order1 -- --ignored`.
 #[test]

@@ -72,6 +72,11 @@ pub fn sample_options<T: Real>(like: &T, rel_tol: f64, rule: Rule, budget: &Budg
         ..Options::rel(rel_tol).declared()
     }
 }
+/// Pieces a table may add by bisection beyond those its declared cuts
+/// make (which scale with the scene: a thin beam declares ~40 graded cuts
+/// along the ray, so a fixed total of 400 would have refused about ten
+/// thin beams before a single sample; the cuts are bounded by the light
+/// count, so the total stays bounded too).
 const MAX_PIECES: usize = 400;
 
 impl<T: Real> Piecewise<T> {
@@ -85,14 +90,18 @@ impl<T: Real> Piecewise<T> {
         let mut todo: Vec<(T, T)> =
             cuts.windows(2).filter(|w| w[0] < w[1]).map(|w| (w[0].clone(), w[1].clone())).collect();
         todo.reverse();
+        let limit = MAX_PIECES + todo.len();
         let like = cuts[0].clone();
         let mut pieces = Vec::new();
         let mut rel_error = like.lit(0.0);
         let mut evaluations = 0u64;
         while let Some((a, b)) = todo.pop() {
-            if pieces.len() + todo.len() > MAX_PIECES {
+            if pieces.len() + todo.len() > limit {
                 return Err(Failure {
-                    reason: format!("Chebyshev interpolation needed more than {MAX_PIECES} pieces"),
+                    reason: format!(
+                        "Chebyshev interpolation needed more than {limit} pieces ({} declared, {MAX_PIECES} more by bisection)",
+                        limit - MAX_PIECES
+                    ),
                     best_guess: None,
                     error_estimate: None,
                     evaluations,
@@ -287,5 +296,20 @@ mod tests {
             worst = worst.max(((p.eval(&x) - f(x)) / f(x)).abs());
         }
         assert!(worst <= p.rel_error.max(1e-14), "worst {worst:e}, bar {:e}", p.rel_error);
+    }
+
+    /// The piece limit counts the bisections beyond the declared cuts: 600
+    /// declared pieces of a smooth function build (a fixed total of 400
+    /// refused them unsampled), and a function that would need ~10⁴ pieces
+    /// still ends at the limit, with a message that says how it was reached.
+    #[test]
+    fn the_piece_limit_counts_bisections_beyond_the_declared_cuts() {
+        let cuts: Vec<f64> = (0..=600).map(|k| k as f64 / 600.0).collect();
+        let p = Piecewise::build(|x: &f64| known(1.0 + x * x), &cuts, 1e-12).unwrap();
+        assert!(p.covers(&0.5) && p.rel_error < 1e-12);
+        let wiggly = Piecewise::build(|x: &f64| known(2.0 + (1e5 * x).sin()), &cuts, 1e-12);
+        let Err(failure) = wiggly else { panic!("~10⁴ pieces are not built") };
+        let reason = failure.reason;
+        assert!(reason.contains("more than 1000 pieces (600 declared, 400 more by bisection)"), "{reason}");
     }
 }
