@@ -547,7 +547,7 @@ impl<T: Real> ScatteredBeam<T> {
         let near = (self.radius.clone() * self.radius.lit(4.0)).max_of(self.eta0.clone().abs());
         let width = near / self.sin.clone();
         let scale = self.radius.lit(1.0) / (sigma.clone() * self.sin.clone());
-        crate::model::field::graded_by(&(closest - self.center.clone()), &width, &scale, 10.0, 24)
+        crate::model::field::graded_about(&(closest - self.center.clone()), &width, &scale)
     }
 
     /// Where (in x) the plane through the camera-ray point normal to u

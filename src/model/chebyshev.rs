@@ -90,7 +90,8 @@ impl<T: Real> Piecewise<T> {
         let mut todo: Vec<(T, T)> =
             cuts.windows(2).filter(|w| w[0] < w[1]).map(|w| (w[0].clone(), w[1].clone())).collect();
         todo.reverse();
-        let limit = MAX_PIECES + todo.len();
+        let declared = todo.len();
+        let limit = MAX_PIECES + declared;
         let like = cuts[0].clone();
         let mut pieces = Vec::new();
         let mut rel_error = like.lit(0.0);
@@ -99,8 +100,7 @@ impl<T: Real> Piecewise<T> {
             if pieces.len() + todo.len() > limit {
                 return Err(Failure {
                     reason: format!(
-                        "Chebyshev interpolation needed more than {limit} pieces ({} declared, {MAX_PIECES} more by bisection)",
-                        limit - MAX_PIECES
+                        "Chebyshev interpolation needed more than {limit} pieces ({declared} declared, {MAX_PIECES} more by bisection)"
                     ),
                     best_guess: None,
                     error_estimate: None,

@@ -206,10 +206,8 @@ fn beams_fluence_table<T: CheckRule>(
         .iter()
         .flat_map(|b| {
             let (scale, width) = (b.radius.clone() * b.radius.lit(4.0), width.clone());
-            let kinks = b
-                .ray_breakpoints()
-                .into_iter()
-                .flat_map(move |k| super::field::graded_by(&k, &width, &scale, 10.0, 24));
+            let kinks =
+                b.ray_breakpoints().into_iter().flat_map(move |k| super::field::graded_about(&k, &width, &scale));
             kinks.chain(b.line_source_grading(&field.sigma_ext))
         })
         .collect();
