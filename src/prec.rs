@@ -74,6 +74,19 @@ pub const FINITE_HG_MEAN_TOL: f64 = 1e-3;
 /// back to the small-sphere model with its allowance, or fails).
 pub const FINITE_PAIRS_PREDICTION_EVALUATIONS: u64 = 3_000_000_000;
 
+/// The evaluation budget of a prediction of single-scattered light from
+/// point lights in a Henyey–Greenstein medium at q = 1 and N_B = 1, exact
+/// at any R (`oracle::Scope::ExactPrediction`: μ, M₂ with the same-path
+/// term, P, `docs/model.md` §9.10, at [`FINITE_PAIRS_PREDICTION_TOL`]).
+/// Measured (6 December 2026, two cores, g = 0.6, albedo 0.9, light at
+/// (0.7, 0.4, 1.6), N_F = 20): 4.2·10⁹ evaluations and 4.4 minutes at
+/// R = 0.2, 4.1·10⁹ and 5.2 minutes at R = 0.01; 4.1·10⁹ at g = −0.5,
+/// R = 0.5; 1.65·10¹⁰ (~30 minutes) at g = 0.9 with the light 0.2 from the
+/// camera line (5 December 2026), with the rest of the prediction and a
+/// second computation of μ beside it. Spent, the prediction falls back to the
+/// small-sphere model with its allowance (R ≤ 0.1), or fails.
+pub const FINITE_HG_PREDICTION_EVALUATIONS: u64 = 30_000_000_000;
+
 /// The same measurement without the cross-segment terms (December 2026,
 /// before they entered the model: Var L 4.7 % below the tracer at the
 /// first point, plus two standard errors): the model bar where they are not

@@ -190,7 +190,9 @@ fn a_prediction_whose_finite_correlations_fail_falls_back_or_fails_loudly() {
 }
 
 /// What the finite-sphere model does not cover yet (Var L in
-/// Henyey–Greenstein media at order 1) is predicted by the small-sphere
+/// Henyey–Greenstein media at order 1 with q < 1 or N_B > 1, here q = 0.5,
+/// N_B = 8; at q = 1 and N_B = 1 where its computation fails, below) is
+/// predicted by the small-sphere
 /// model with its measured allowance as the model bar; the mean is the
 /// finite-sphere model's exact one (`docs/model.md` §9.9), model bar 0.
 #[test]
@@ -218,12 +220,30 @@ fn scattered_light_is_predicted_with_the_measured_model_bar() {
     let bias = p.bias.expect("the bias");
     let small = p.report.prediction.mean;
     assert!((p.mean.value - bias.value - small.value).abs() <= bias.error + exact.error + small.error, "{bias:?}");
-    // With q = 1 and N_B = 1, (7)–(9) weigh (23), (24) 0, so the model is
-    // the same with or without them: the bar measured with them serves.
+    // With q = 1 and N_B = 1 the prediction is the finite-sphere model
+    // (`oracle::finite_hg_moments_cover`; minutes, so checked against the
+    // tracer in tests/finite_order1_hg.rs, ignored). Where its computation
+    // fails (here its budget: what the rest of the prediction uses plus
+    // 3·10⁸ evaluations, far below its billions; the exact mean, which has
+    // a budget of its own of the run's size, needs ~2·10⁸) the small-sphere model serves
+    // at R ≤ 0.1; (7)–(9) weigh (23), (24) 0 there, so the model is the same
+    // with or without the cross-segment terms: the bar measured with them.
+    use mcrt_noise::oracle::{prediction_scope, run_within_scoped, Precision::F64, Scope};
     let mut unpaired = hg.clone();
     (unpaired.estimator.q, unpaired.estimator.camera_rays) = (1.0, 1);
-    let p_un = mcrt_noise::check::predict_with(&unpaired, mcrt_noise::oracle::Precision::F64, Some(1e-4)).unwrap();
+    assert_eq!(prediction_scope(&unpaired, F64).0, Scope::ExactPrediction);
+    let rest = mcrt_noise::quad::Budget::new(1_000_000_000);
+    run_within_scoped(&unpaired, F64, Some(1e-4), &rest, Scope::Prediction).unwrap();
+    let budget = mcrt_noise::quad::Budget::new(rest.used() + 300_000_000);
+    let p_un = mcrt_noise::check::predict_within(&unpaired, F64, Some(1e-4), &budget).unwrap();
     assert_eq!(p_un.model, Model::SmallSphere);
+    assert!(
+        p_un.report.finite_mean.as_ref().and_then(|f| f.mean).is_some(),
+        "the exact mean (its own budget, of the run's size) was lost: {:?}",
+        p_un.report.finite_mean
+    );
+    let why = p_un.report.finite_not_used.as_deref().unwrap_or_default();
+    assert!(why.contains("its computation failed") && why.contains("budget"), "{why}");
     assert_eq!(p_un.mean.model_bar, 0.0);
     assert_eq!(p_un.variance.model_bar, v * scale * p_un.variance.value);
     assert!(p_un.model_bar_basis.contains("here q = 1 and N_B = 1, where (7)–(9)"), "{}", p_un.model_bar_basis);

@@ -119,6 +119,78 @@ fn oracle_json_has_the_documented_keys() {
     assert_eq!(v.pointer("/prediction/model").and_then(|m| m.as_str()), Some("finite-sphere"));
 }
 
+/// `oracle --json` on an order-1 scene (uncollided plus single-scattered
+/// light). At q = 1 and N_B = 1 the `finite` object is the whole
+/// finite-sphere model, and it is the prediction ("finite-sphere"), with
+/// Q, C₂₃, C₂₄ `null` and the reason in `finite.not_computed`. At the
+/// bundled scene's own q = 0.5 and N_B = 8 (no `--finite-pairs`) `finite`
+/// is `null`, the exact mean and bias are in `finite_mean`, the prediction
+/// is the small-sphere model, and `finite_not_used` names the flag that
+/// would make it exact.
+#[test]
+fn oracle_json_of_an_order1_scene() {
+    let number = |v: &serde_json::Value, path: &str| -> f64 {
+        let x = v.pointer(path).unwrap_or_else(|| panic!("missing {path} in {v}"));
+        x.as_f64().filter(|x| x.is_finite()).unwrap_or_else(|| panic!("{path} = {x}"))
+    };
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic-order1.toml")).unwrap();
+    let unpaired = text
+        .replace("radius = 0.01", "radius = 0.2")
+        .replace("q = 0.5", "q = 1.0")
+        .replace("forward_rays = 200", "forward_rays = 20")
+        .replace("camera_rays = 8", "camera_rays = 1");
+    assert_ne!(unpaired, text);
+    let path = std::env::temp_dir().join(format!("mcrt-noise-order1-q1-{}.toml", std::process::id()));
+    std::fs::write(&path, unpaired).unwrap();
+    let out = run_in_repo(&["oracle", path.to_str().unwrap(), "--json", "--rel-tol", "1e-4"]);
+    std::fs::remove_file(&path).ok();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v.pointer("/finite/covers").and_then(|c| c.as_str()), Some("uncollided and single-scattered"));
+    assert_eq!(v.pointer("/prediction/model").and_then(|m| m.as_str()), Some("finite-sphere"), "{v}");
+    // Each within the goal, compounded as the report forms it: the bias, a
+    // difference of two means, within both means' goals; Var/μ², within
+    // Var L's and twice the mean's; the ratios, within both models'.
+    let mean = number(&v, "/finite/mean/value");
+    for (key, goals) in [
+        ("mean", 1.0),
+        ("variance", 1.0),
+        ("integral_m2", 1.0),
+        ("integral_p", 1.0),
+        ("bias", 2.0),
+        ("relative_noise", 3.0),
+        ("mean_ratio", 2.0),
+        ("variance_ratio", 2.0),
+    ] {
+        let (value, error) = (number(&v, &format!("/finite/{key}/value")), number(&v, &format!("/finite/{key}/error")));
+        let scale = if key == "bias" { mean } else { value.abs() };
+        assert!(error > 0.0 && error <= goals * 1e-4 * scale, "{key}: {value} ± {error}");
+    }
+    for key in ["mean", "variance"] {
+        assert_eq!(number(&v, &format!("/prediction/{key}/value")), number(&v, &format!("/finite/{key}/value")));
+        assert_eq!(number(&v, &format!("/prediction/{key}/error")), number(&v, &format!("/finite/{key}/error")));
+    }
+    for key in ["integral_q", "corr23", "corr24"] {
+        assert!(v.pointer(&format!("/finite/{key}")).is_some_and(|x| x.is_null()), "finite.{key}: {v}");
+    }
+    let why = v.pointer("/finite/not_computed").and_then(|w| w.as_str()).unwrap();
+    assert!(why.contains("weight 0") && why.contains("q = 1 and N_B = 1"), "{why}");
+    assert!(v.pointer("/finite_not_used").is_none_or(|x| x.is_null()), "{v}");
+
+    let out = run_in_repo(&["oracle", "scenes/point-isotropic-order1.toml", "--json", "--rel-tol", "1e-4"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(v.pointer("/finite").is_some_and(|x| x.is_null()), "{v}");
+    assert_eq!(v.pointer("/prediction/model").and_then(|m| m.as_str()), Some("small-sphere"));
+    let (mean, bar) = (number(&v, "/finite_mean/mean/value"), number(&v, "/finite_mean/mean/error"));
+    assert!(bar <= 1e-4 * mean, "{mean} ± {bar}");
+    number(&v, "/finite_mean/bias/value");
+    number(&v, "/finite_mean/bias/error");
+    let why = v.pointer("/finite_not_used").and_then(|w| w.as_str()).unwrap();
+    assert!(why.contains("--finite-pairs") && why.contains("q = 0.5, N_B = 8"), "{why}");
+}
+
 #[test]
 fn oracle_refuses_order_two_loudly() {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic-order1.toml"))

@@ -2,11 +2,10 @@
 //! medium (`docs/model.md` §9.9, §9.10): with q = 1 and N_B = 1 the
 //! variance of L is M₂/N_F + (1 − 1/N_F)P − μ², and M₂ holds the same-path
 //! term of `model::finite::same_path_hg`, so the oracle asked for it
-//! (`Scope::FinitePairs`, `mcrt-noise oracle --finite-pairs`) predicts Var L
+//! (`Scope::FinitePairs`, `mcrt-noise oracle --finite-pairs`), and the
+//! library's `predict`, predict Var L
 //! exactly at the scene's R. Against the tracer with no allowance.
 
-use mcrt_noise::oracle::{run_within_scoped, Precision, Scope};
-use mcrt_noise::quad::Budget;
 use mcrt_reference::{trace, HitMethod, Tracer};
 use mcrt_scene::{Phase, Scene};
 use std::path::Path;
@@ -32,13 +31,17 @@ fn z(tracer: (f64, f64), model: (f64, f64)) -> f64 {
     (tracer.0 - model.0) / (tracer.1 * tracer.1 + model.1 * model.1).sqrt()
 }
 
-/// The oracle's prediction (`Scope::FinitePairs`, 10⁻³) is the finite-sphere
-/// model, and the tracer agrees with its mean and Var L within 4 standard
-/// errors, while the small-sphere Var L of the same report is rejected by
-/// more than 6. Returns nothing; prints the numbers.
+/// The library's `predict` (`Scope::ExactPrediction`, 10⁻³, f64) is the
+/// finite-sphere model with model bar 0, and the tracer agrees with its
+/// mean and Var L within 4 standard errors, while the small-sphere Var L of
+/// the same report is rejected by more than 6. Returns nothing; prints the
+/// numbers.
 fn tracer_agrees(s: &Scene, trials: u64) {
-    let report =
-        run_within_scoped(s, Precision::F64, Some(1e-3), &Budget::new(40_000_000_000), Scope::FinitePairs).unwrap();
+    let prediction = mcrt_noise::check::predict(s).unwrap();
+    assert_eq!(prediction.model, mcrt_noise::check::Model::FiniteSphere, "{}", prediction.model_bar_basis);
+    assert_eq!((prediction.mean.model_bar, prediction.variance.model_bar), (0.0, 0.0));
+    assert!(prediction.model_bar_basis.contains("Henyey–Greenstein"), "{}", prediction.model_bar_basis);
+    let report = prediction.report;
     assert_eq!(report.prediction.model, "finite-sphere", "{:?}", report.finite_not_used);
     let t = trace(&Tracer::new(s).unwrap(), 7, 0..trials, HitMethod::Sorted, &|_| {});
     let t = t.summary().unwrap();
@@ -66,8 +69,9 @@ fn tracer_agrees(s: &Scene, trials: u64) {
 
 /// g = −0.5, R = 0.5, the light at (1, 0, 1): the tracer's 6·10⁷ trials
 /// resolve Var L to 0.05 %; the small-sphere Var L is 5.1 % low. Measured
-/// 5 December 2026: z = +0.19 (mean), −0.98 (Var L); small-sphere Var L
-/// z = +96. ~6–8 minutes on two cores (`cargo test --release --test
+/// 5 December 2026 through `oracle --finite-pairs`, and again on 6 December
+/// 2026 through `predict` (4.64·10⁹ evaluations, 391 s with the tracer):
+/// z = +0.19 (mean), −0.98 (Var L); small-sphere Var L z = +96.6. ~6–8 minutes on two cores (`cargo test --release --test
 /// finite_order1_hg -- --ignored --nocapture`): the oracle's M₂ takes
 /// 4.1·10⁹ evaluations at 10⁻³ (§9.10, **Cost**).
 #[test]
@@ -78,8 +82,9 @@ fn tracer_agrees_with_the_henyey_greenstein_order1_variance() {
 
 /// g = 0.9, R = 0.2, the light at (0.2, 0, 2), ahead and 0.2 from the
 /// camera line: 3·10⁷ trials resolve Var L to 0.17 %; the small-sphere Var
-/// L is 62 % low. Measured 5 December 2026 (the oracle through the CLI,
-/// the same computation): z = −1.86 (mean), −1.17 (Var L); small-sphere
+/// L is 62 % low. Measured 5 December 2026 (the oracle through
+/// `oracle --finite-pairs`, the same integrals at the same goal as
+/// `predict`'s, which has not been re-run here): z = −1.86 (mean), −1.17 (Var L); small-sphere
 /// Var L z = +367. ~30 minutes on two cores: M₂ takes 1.65·10¹⁰
 /// evaluations at 10⁻³.
 #[test]

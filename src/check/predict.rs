@@ -162,12 +162,17 @@ impl From<OracleError> for PredictError {
 /// computation itself fails, the small-sphere model with its allowance
 /// serves for R ≤ 0.1 and the failure is returned beyond (and with a beam,
 /// whose small-sphere error was never measured).
+/// So is single-scattered light from point lights in a Henyey–Greenstein
+/// medium at q = 1 and N_B = 1 in f64 ([`oracle::finite_hg_moments_cover`]:
+/// μ, M₂ with the same-path term, P, `docs/model.md` §9.10, at the same
+/// goal, with the budget [`crate::prec::FINITE_HG_PREDICTION_EVALUATIONS`]),
+/// with the same fallback.
 /// In MPFR a beam at q < 1 or N_B > 1 is refused (the finite-sphere
 /// correlations run in f64 only, and the small-sphere model, whose pair
 /// integrals for a beam's scattered light lack the cross-segment terms,
 /// `docs/model.md` §3a, has no measured model error there).
-/// Other order-1 scenes (Henyey–Greenstein media; in MPFR, point lights
-/// with q < 1 or N_B > 1) are predicted by the small-sphere
+/// Other order-1 scenes (Henyey–Greenstein media at q < 1 or N_B > 1, or in
+/// MPFR; in MPFR, point lights with q < 1 or N_B > 1) are predicted by the small-sphere
 /// model with its
 /// measured allowance as the model bar, for R ≤ 0.1
 /// ([`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE`] where its (23), (24)
@@ -183,7 +188,9 @@ impl From<OracleError> for PredictError {
 /// quadrature at every table node, `docs/model.md` §9.8), about a minute
 /// with point lights at q < 1 or N_B > 1 (the finite-sphere correlations:
 /// ~61 s on `point-isotropic-order1`, minutes with a light near the camera
-/// line) and ~10–15 s in Henyey–Greenstein media (`docs/library.md` gives the profile
+/// line), about 5 minutes for point lights in a Henyey–Greenstein medium
+/// at q = 1 and N_B = 1 (4·10⁹ evaluations, at any R) and ~10–15 s in
+/// one at other q and N_B (`docs/library.md` gives the profile
 /// settings a dependent crate needs for its debug tests).
 pub fn predict(scene: &Scene) -> Result<Prediction, PredictError> {
     predict_with(scene, Precision::F64, None)
@@ -212,8 +219,10 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
 /// shared by every integral of the prediction, in place of its default
 /// ([`Precision::default_evaluations`], or
 /// [`crate::prec::FINITE_PAIRS_PREDICTION_EVALUATIONS`] where the
-/// finite-sphere correlations of single-scattered light are computed).
-/// Those correlations run last: if they spend the budget the small-sphere
+/// finite-sphere correlations of single-scattered light are computed, or
+/// [`crate::prec::FINITE_HG_PREDICTION_EVALUATIONS`] where the same-path
+/// term of a Henyey–Greenstein medium is: [`oracle::prediction_scope`]).
+/// Those correlations (or that term) run last: if they spend the budget the small-sphere
 /// model with its allowance serves for R ≤ 0.1, and beyond the failure is
 /// returned ([`PredictError::Oracle`]).
 ///
@@ -244,8 +253,8 @@ pub fn predict_within(
             "estimator.radius = {radius}: with scattered light (effects.scattering_orders ≥ 1) the prediction here \
              is the small-sphere model ({why}), whose own error is measured only for R ≤ {MODEL_ERROR_RADIUS}; use \
              R ≤ {MODEL_ERROR_RADIUS}, or scattering_orders = 1 in an isotropic medium (the finite-sphere model, \
-             exact at any R: point lights and beams at any q and N_B in f64), or \
-             scattering_orders = 0"
+             exact at any R: point lights and beams at any q and N_B in f64) or with point lights in a \
+             Henyey–Greenstein medium at q = 1 and camera_rays = 1 (f64), or scattering_orders = 0"
         ))
     };
     // With a beam, what the finite-sphere model does not cover the oracle
@@ -257,6 +266,8 @@ pub fn predict_within(
     if scattered && !scattered_beam && radius > MODEL_ERROR_RADIUS && !covered {
         let why = if oracle::finite_pairs_cover(&scene) {
             "in MPFR the finite-sphere correlations of single-scattered light are not computed: f64 gives them"
+        } else if oracle::finite_hg_moments_cover(&scene) {
+            "in MPFR the finite-sphere model of a Henyey–Greenstein medium is not computed: f64 gives it"
         } else {
             "the finite-sphere model does not cover this scene"
         };
@@ -280,6 +291,9 @@ pub fn predict_within(
     let mut mean = p.mean;
     let (model, (mean_rel, var_rel), basis) = match &report.finite {
         Some(f) if f.covers == "uncollided" => (Model::FiniteSphere, (0.0, 0.0), FINITE_BASIS.to_string()),
+        Some(_) if with_pairs && scene.medium.phase != mcrt_scene::Phase::Isotropic => {
+            (Model::FiniteSphere, (0.0, 0.0), finite_hg_basis())
+        }
         Some(_) if with_pairs => (Model::FiniteSphere, (0.0, 0.0), finite_pairs_basis()),
         Some(_) => (Model::FiniteSphere, (0.0, 0.0), FINITE_ORDER1_BASIS.to_string()),
         // A covered scene whose finite-sphere computation failed: beyond the
@@ -357,6 +371,15 @@ fn finite_pairs_basis() -> String {
         "none needed: the finite-sphere model is exact at this R for uncollided and single-scattered light, the \
          correlations of two spheres included (isotropic medium, point lights; docs/model.md §9.6, §9.7); they \
          are computed to a goal no tighter than {FINITE_PAIRS_PREDICTION_TOL:e}, within the quadrature bar"
+    )
+}
+
+fn finite_hg_basis() -> String {
+    format!(
+        "none needed: the finite-sphere model is exact at this R for uncollided and single-scattered light (point \
+         lights in a Henyey–Greenstein medium at q = 1 and N_B = 1, with the same-path term of M₂; docs/model.md \
+         §9.9, §9.10); it is computed to a goal no tighter than {FINITE_PAIRS_PREDICTION_TOL:e}, within the \
+         quadrature bar"
     )
 }
 

@@ -221,7 +221,9 @@ pub fn compare_cmd(scene: &Scene, trials: &str, seed: u64, threads: Option<usize
     let tracer = prepared(scene, &range)?;
     // The comparison reads the prediction, mean and Var L alone: the
     // library's, the finite-sphere correlations of single-scattered light
-    // included where they cover the scene (about a minute).
+    // included where they cover the scene (about a minute), and the
+    // same-path term of a Henyey–Greenstein medium at q = 1 and N_B = 1
+    // (about 5 minutes).
     let (scope, evaluations) = mcrt_noise::oracle::prediction_scope(scene, Precision::F64);
     let budget = mcrt_noise::quad::Budget::new(evaluations);
     let oracle = mcrt_noise::oracle::run_within_scoped(scene, Precision::F64, None, &budget, scope)?;

@@ -7,7 +7,9 @@
 //! the scene's R) for uncollided light and, in isotropic media, for
 //! single-scattered light (point lights and beams at q = 1 and N_B = 1;
 //! point lights at any q and N_B with [`Scope::FinitePairs`] or
-//! [`Scope::ExactPrediction`], which add the correlations of two spheres).
+//! [`Scope::ExactPrediction`], which add the correlations of two spheres;
+//! with these scopes also point lights in Henyey–Greenstein media at q = 1
+//! and N_B = 1).
 //! The report's `prediction` is the finite-sphere model where it exists,
 //! the small-sphere one otherwise, and says which (and, with scattered
 //! light, why in `finite_not_used`).
@@ -28,11 +30,13 @@ use std::time::Instant;
 mod order_one;
 mod report;
 pub(crate) use order_one::pairs_weigh_nothing;
+pub use order_one::{
+    finite_hg_moments_cover, finite_pairs_cover, finite_sphere_covers, finite_sphere_covers_the_standard_method,
+};
 use order_one::{
     finite_mean_report, finite_not_used, not_weighed, order_one, scattered_covered, scattered_mean_field,
     with_finite_pairs, with_hg_moments, OrderOne,
 };
-pub use order_one::{finite_pairs_cover, finite_sphere_covers, finite_sphere_covers_the_standard_method};
 use report::{correlation, reported, scaled};
 pub use report::{
     Asymptotic, Correlation, FiniteMean, FiniteReport, Integral, Report, ReportPrediction, ValueWithBar, Variance,
@@ -101,7 +105,10 @@ pub enum Scope {
     /// (`model::finite::Weighed`) at a goal no tighter than
     /// [`crate::prec::FINITE_PAIRS_PREDICTION_TOL`]: the library's
     /// `predict`, exact at any R (model bar 0). About a minute on two cores
-    /// (`point-isotropic-order1`: ~61 s); their failure is reported as with
+    /// (`point-isotropic-order1`: ~61 s). For point lights in a
+    /// Henyey–Greenstein medium at q = 1 and N_B = 1 (f64), μ, M₂ and P of
+    /// the order-1 model at the same goal, as [`Scope::FinitePairs`] computes
+    /// them (~4·10⁹ evaluations, about 5 minutes). Their failure is reported as with
     /// [`Scope::FinitePairs`], and a failure of the finite-sphere mean in
     /// [`Report::finite_error`] too. In MPFR it is [`Scope::Prediction`]:
     /// the correlations would take hours there.
@@ -235,13 +242,19 @@ pub fn run_with_scoped<T: CheckRule>(
     let unpaired = whole_model && pairs_weigh_nothing(scene);
     // Point lights in a Henyey–Greenstein medium at q = 1 and N_B = 1: μ, M₂
     // and P with the same-path term's four-level nest (`docs/model.md`
-    // §9.10), minutes at 10⁻³: with `--finite-pairs` only, after everything
-    // else (as the pairs), so that a spent budget leaves the report.
-    let hg_unpaired =
-        scope == Scope::FinitePairs && scattered_field.is_some() && !whole_model && pairs_weigh_nothing(scene);
+    // §9.10), minutes at 10⁻³: with `--finite-pairs` and the library's
+    // `predict` (f64) only, after everything else (as the pairs), so that a
+    // spent budget leaves the report.
     let predicting = matches!(scope, Scope::Prediction | Scope::ExactPrediction);
-    // The finite-sphere correlations in the prediction: f64 only.
+    // The finite-sphere correlations (and the same-path term of a
+    // Henyey–Greenstein medium) in the prediction: f64 only.
     let exact = scope == Scope::ExactPrediction && like.prec() <= 53;
+    let hg_unpaired = (scope == Scope::FinitePairs || exact)
+        && scattered_field.is_some()
+        && !whole_model
+        && pairs_weigh_nothing(scene);
+    // The prediction's goal for either is no tighter than 1e-3.
+    let pairs_goal = if exact { opts.rel_tol.max(FINITE_PAIRS_PREDICTION_TOL) } else { opts.rel_tol };
     // A beam's single-scattered light: the small-sphere pairs from its
     // radiance by direction (`docs/model.md` §3a), the finite-sphere ones
     // (§9.11) when asked for them (`--finite-pairs`, or `predict` in f64).
@@ -272,12 +285,12 @@ pub fn run_with_scoped<T: CheckRule>(
     // if they spend the budget the rest of the report stands.
     let scattered = match (scattered, &scattered_field) {
         (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if whole_model && (scope == Scope::FinitePairs || exact) => {
-            // The prediction's goal for them is no tighter than 1e-3.
-            let goal = if exact { opts.rel_tol.max(FINITE_PAIRS_PREDICTION_TOL) } else { opts.rel_tol };
             let weighed = Weighed::of(scene.estimator.q, scene.estimator.camera_rays);
-            Ok(Some(with_finite_pairs(ff, mean, &Options { rel_tol: goal, ..opts.clone() }, weighed)))
+            Ok(Some(with_finite_pairs(ff, mean, &Options { rel_tol: pairs_goal, ..opts.clone() }, weighed)))
         }
-        (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if hg_unpaired => Ok(Some(with_hg_moments(ff, mean, &opts))),
+        (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if hg_unpaired => {
+            Ok(Some(with_hg_moments(ff, mean, &Options { rel_tol: pairs_goal, ..opts.clone() })))
+        }
         (other, _) => other,
     };
     // A failure's best guess carries its field's e^{c₀}: in the report's units.
@@ -573,7 +586,10 @@ fn finite_report<T: CheckRule>(
 /// at `precision`: [`Scope::ExactPrediction`] with
 /// [`crate::prec::FINITE_PAIRS_PREDICTION_EVALUATIONS`] where the
 /// finite-sphere correlations of single-scattered light cover it in f64
-/// ([`finite_pairs_cover`]), else [`Scope::Prediction`] with
+/// ([`finite_pairs_cover`]), or with
+/// [`crate::prec::FINITE_HG_PREDICTION_EVALUATIONS`] where the same-path
+/// term of a Henyey–Greenstein medium does at q = 1 and N_B = 1
+/// ([`finite_hg_moments_cover`]), else [`Scope::Prediction`] with
 /// [`Precision::default_evaluations`]. `check::predict` and
 /// `mcrt-noise compare` both use it.
 ///
@@ -591,11 +607,16 @@ fn finite_report<T: CheckRule>(
 /// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
 /// assert_eq!(prediction_scope(&scene, Precision::F64), (Scope::ExactPrediction, 3_000_000_000));
 /// assert_eq!(prediction_scope(&scene, Precision::Bits(128)).0, Scope::Prediction);
+/// (scene.estimator.q, scene.estimator.camera_rays) = (1.0, 1);
+/// scene.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g: 0.6 };
+/// assert_eq!(prediction_scope(&scene, Precision::F64), (Scope::ExactPrediction, 30_000_000_000));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn prediction_scope(scene: &Scene, precision: Precision) -> (Scope, u64) {
     if precision == Precision::F64 && finite_pairs_cover(scene) {
         (Scope::ExactPrediction, crate::prec::FINITE_PAIRS_PREDICTION_EVALUATIONS)
+    } else if precision == Precision::F64 && finite_hg_moments_cover(scene) {
+        (Scope::ExactPrediction, crate::prec::FINITE_HG_PREDICTION_EVALUATIONS)
     } else {
         (Scope::Prediction, precision.default_evaluations())
     }

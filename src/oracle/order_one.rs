@@ -28,8 +28,10 @@ pub(super) fn scattered_mean_field<T: CheckRule>(scene: &Scene, field: &Field<T>
 /// An order-1 scene whose exact mean the finite-sphere model covers: an
 /// isotropic medium (point lights and beams), or point lights only in a
 /// Henyey–Greenstein medium (its Var L there at q = 1 and N_B = 1 with
-/// [`Scope::FinitePairs`](super::Scope::FinitePairs) only, `docs/model.md`
-/// §9.10; the correlations of two spheres are not derived there).
+/// [`Scope::FinitePairs`](super::Scope::FinitePairs) and, in f64,
+/// [`Scope::ExactPrediction`](super::Scope::ExactPrediction) only,
+/// `docs/model.md` §9.10; the correlations of two spheres are not computed
+/// there, §9.12).
 fn scattered_mean_covered(scene: &Scene) -> bool {
     scene.effects.scattering_orders == mcrt_scene::ScatteringOrders::Limited(1)
         && (scene.medium.phase == mcrt_scene::Phase::Isotropic
@@ -96,6 +98,38 @@ pub fn finite_sphere_covers(scene: &Scene) -> bool {
 /// ```
 pub fn finite_pairs_cover(scene: &Scene) -> bool {
     scattered_covered(scene) && !pairs_weigh_nothing(scene)
+}
+
+/// Whether [`Scope::ExactPrediction`](super::Scope::ExactPrediction) (and
+/// [`Scope::FinitePairs`](super::Scope::FinitePairs)) give the finite-sphere
+/// model of `scene` through the same-path term of a Henyey–Greenstein
+/// medium (exact at any R; when its computation succeeds, f64 only):
+/// single-scattered light from point lights in a Henyey–Greenstein medium
+/// at q = 1 and N_B = 1, where Var L needs μ, M₂ and P only
+/// (`docs/model.md` §9.10; minutes: 4·10⁹ evaluations at 10⁻³). At q < 1
+/// or N_B > 1 its correlations of two spheres are derived but not computed
+/// (§9.12).
+///
+/// ```
+/// use mcrt_noise::oracle::finite_hg_moments_cover;
+/// use mcrt_noise::Scene;
+///
+/// let mut scene = Scene::builder()
+///     .medium(1.0, 0.8)
+///     .point_light([1.0, 0.0, 1.0], 1.0)
+///     .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+///     .estimator(0.2, 1.0, 20, 1)
+///     .build()?;
+/// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
+/// assert!(!finite_hg_moments_cover(&scene)); // isotropic: `finite_sphere_covers`
+/// scene.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g: 0.6 };
+/// assert!(finite_hg_moments_cover(&scene));
+/// scene.estimator.q = 0.5;
+/// assert!(!finite_hg_moments_cover(&scene));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn finite_hg_moments_cover(scene: &Scene) -> bool {
+    scattered_mean_covered(scene) && !scattered_covered(scene) && pairs_weigh_nothing(scene)
 }
 
 /// Whether the finite-sphere model covers `scene` once q = 1 and N_B = 1
@@ -214,8 +248,10 @@ pub(super) fn with_finite_pairs<T: CheckRule>(
 
 /// μ, M₂ and P of an order-1 scene with point lights in a Henyey–Greenstein
 /// medium at q = 1 and N_B = 1 (`docs/model.md` §9.10; [`Scope::FinitePairs`](super::Scope::FinitePairs)
-/// only: 10⁹–10¹⁰ evaluations at 10⁻³), computed after everything else with
-/// the run's goal and budget, or, where they fail, the exact mean `mean`
+/// and, in f64, [`Scope::ExactPrediction`](super::Scope::ExactPrediction) only: 10⁹–10¹⁰
+/// evaluations at 10⁻³), computed after everything else with `opts` (the
+/// run's budget; the run's goal, or no tighter than 10⁻³ in the
+/// prediction), or, where they fail, the exact mean `mean`
 /// computed before (at its own goal and budget) with the failure. Of the two
 /// means the one with the smaller bar is kept, as in [`with_finite_pairs`].
 pub(super) fn with_hg_moments<T: CheckRule>(ff: &FiniteField<T>, mean: Estimate<T>, opts: &Options) -> OrderOne<T> {
@@ -258,15 +294,16 @@ pub(super) fn finite_not_used<T>(scene: &Scene, run: &Result<Option<OrderOne<T>>
         Ok(Some(OrderOne::Mean(_, None))) if scene.medium.phase != mcrt_scene::Phase::Isotropic => {
             Some(if pairs_weigh_nothing(scene) {
                 "in a Henyey–Greenstein medium it gives the exact mean (`finite_mean`, docs/model.md §9.9); its Var L \
-                 (here q = 1 and N_B = 1: μ, M₂ and P, with the same-path term ⟨𝒞₀𝒞₁⟩ of §9.10) takes 10⁹–10¹⁰ \
-                 evaluations at 10⁻³, so only `mcrt-noise oracle --finite-pairs` computes it (give it --rel-tol and \
-                 --max-evals)"
+                 (here q = 1 and N_B = 1: μ, M₂ and P, with the same-path term ⟨𝒞₀𝒞₁⟩ of §9.10) takes ~4·10⁹ \
+                 evaluations and minutes at 10⁻³, so the library's `predict` (f64) and `mcrt-noise oracle \
+                 --finite-pairs` (give it --rel-tol and --max-evals) compute it, not this run"
                     .into()
             } else {
                 format!(
                     "in a Henyey–Greenstein medium it gives the exact mean (`finite_mean`, docs/model.md §9.9) but not \
                      Var L at q = {}, N_B = {}: the correlations of two spheres ({needed}) are derived for isotropic \
-                     media only (at q = 1 and N_B = 1 `mcrt-noise oracle --finite-pairs` computes Var L, §9.10)",
+                     media only (at q = 1 and N_B = 1 the library's `predict` and `mcrt-noise oracle --finite-pairs` compute \
+                     Var L, §9.10)",
                     e.q, e.camera_rays
                 )
             })

@@ -177,7 +177,9 @@ pub struct ReportPrediction {
     /// `"finite-sphere"` (exact at the scene's R: uncollided light, and
     /// single-scattered light in isotropic media with q = 1, N_B = 1, or
     /// at any q, N_B with [`super::Scope::FinitePairs`] or
-    /// [`super::Scope::ExactPrediction`]) or
+    /// [`super::Scope::ExactPrediction`], and with these scopes
+    /// single-scattered light from point lights in Henyey–Greenstein media
+    /// with q = 1, N_B = 1) or
     /// `"small-sphere"` (§4.3, exact as R → 0; the other
     /// scenes with scattered light).
     pub model: &'static str,
@@ -210,7 +212,8 @@ pub const FINITE_ORDER1_NOTE: &str = "exact at this R for uncollided and single-
      the bars are the quadrature's (the model approximates nothing)";
 
 /// The note of a finite-sphere prediction with single-scattered light in a
-/// Henyey–Greenstein medium (`oracle --finite-pairs`, q = 1 and N_B = 1).
+/// Henyey–Greenstein medium (`oracle --finite-pairs` and the library's
+/// `predict`, q = 1 and N_B = 1).
 pub const FINITE_ORDER1_HG_NOTE: &str = "exact at this R for uncollided and single-scattered light (point lights \
      in a Henyey–Greenstein medium at q = 1 and N_B = 1, docs/model.md §9.10); the bars are the quadrature's (the \
      model approximates nothing)";
@@ -302,8 +305,9 @@ pub struct Report {
     /// The finite-sphere model: for uncollided light, and for
     /// single-scattered light in isotropic media with q = 1, N_B = 1 (point
     /// lights and beams) or, with [`super::Scope::FinitePairs`] or
-    /// [`super::Scope::ExactPrediction`], any q and N_B (point lights);
-    /// `None` elsewhere ([`Report::finite_not_used`]
+    /// [`super::Scope::ExactPrediction`], any q and N_B (point lights and
+    /// beams), and with these scopes point lights in Henyey–Greenstein media
+    /// with q = 1, N_B = 1; `None` elsewhere ([`Report::finite_not_used`]
     /// says why).
     pub finite: Option<FiniteReport>,
     /// The prediction to test a renderer against: the finite-sphere model

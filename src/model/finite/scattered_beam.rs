@@ -26,7 +26,7 @@ use super::second_hit::{weighted_second_hit, with_table_bar, SecondHitTable};
 use super::{FiniteField, FiniteLight};
 use crate::model::beam_source::BeamPoint;
 use crate::model::chebyshev::{sample_options, Piecewise};
-use crate::model::field::graded_by;
+use crate::model::field::graded_about;
 use crate::quad::{decay_lengths, integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
 use crate::special::arc_in_disc_gaps;
 
@@ -251,7 +251,7 @@ impl<T: CheckRule> BeamAlongRay<T> {
                 let width = ff.radius.clone().max_of(lo.lit(1e-10) / ff.sigma.clone());
                 let scale = b.radius.clone() * b.radius.lit(4.0);
                 for k in b.surface_crossings(ff).into_iter().chain(b.face_crossing(ff)) {
-                    cuts.extend(graded_by(&k, &width, &scale, 10.0, 24).into_iter().filter(|c| *c > lo && *c < hi));
+                    cuts.extend(graded_about(&k, &width, &scale).into_iter().filter(|c| *c > lo && *c < hi));
                 }
             }
         }
