@@ -249,12 +249,13 @@ pub fn run_with_scoped<T: CheckRule>(
     // The finite-sphere correlations (and the same-path term of a
     // Henyey–Greenstein medium) in the prediction: f64 only.
     let exact = scope == Scope::ExactPrediction && like.prec() <= 53;
-    let hg_unpaired = (scope == Scope::FinitePairs || exact)
-        && scattered_field.is_some()
-        && !whole_model
-        && pairs_weigh_nothing(scene);
+    let hg_unpaired =
+        (scope == Scope::FinitePairs || exact) && scattered_field.is_some() && finite_hg_moments_cover(scene);
     // The prediction's goal for either is no tighter than 1e-3.
-    let pairs_goal = if exact { opts.rel_tol.max(FINITE_PAIRS_PREDICTION_TOL) } else { opts.rel_tol };
+    let pairs_opts = Options {
+        rel_tol: if exact { opts.rel_tol.max(FINITE_PAIRS_PREDICTION_TOL) } else { opts.rel_tol },
+        ..opts.clone()
+    };
     // A beam's single-scattered light: the small-sphere pairs from its
     // radiance by direction (`docs/model.md` §3a), the finite-sphere ones
     // (§9.11) when asked for them (`--finite-pairs`, or `predict` in f64).
@@ -286,10 +287,10 @@ pub fn run_with_scoped<T: CheckRule>(
     let scattered = match (scattered, &scattered_field) {
         (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if whole_model && (scope == Scope::FinitePairs || exact) => {
             let weighed = Weighed::of(scene.estimator.q, scene.estimator.camera_rays);
-            Ok(Some(with_finite_pairs(ff, mean, &Options { rel_tol: pairs_goal, ..opts.clone() }, weighed)))
+            Ok(Some(with_finite_pairs(ff, mean, &pairs_opts, weighed)))
         }
         (Ok(Some(OrderOne::Mean(mean, None))), Some(ff)) if hg_unpaired => {
-            Ok(Some(with_hg_moments(ff, mean, &Options { rel_tol: pairs_goal, ..opts.clone() })))
+            Ok(Some(with_hg_moments(ff, mean, &pairs_opts)))
         }
         (other, _) => other,
     };

@@ -95,16 +95,14 @@ fn headline(s: &mut String, label: &str, scene: &Scene) -> Result<(), String> {
 /// tolerance they would take hours.
 const PAIRS_TOL: f64 = crate::prec::FINITE_PAIRS_PREDICTION_TOL;
 
-/// Evaluations of one such row: at least 4·10⁹ in a Henyey–Greenstein
-/// medium at R = 0.2 (`docs/model.md` §9.10).
-const PAIRS_EVALUATIONS: u64 = 20_000_000_000;
-
 /// [`headline`] with `Scope::FinitePairs` at [`PAIRS_TOL`]: an order-1 row
 /// whose finite-sphere Var L needs the correlations of two spheres, or the
-/// same-path term of a Henyey–Greenstein medium.
+/// same-path term of a Henyey–Greenstein medium, with the largest budget
+/// the library's prediction gives either
+/// ([`crate::prec::FINITE_HG_PREDICTION_EVALUATIONS`]).
 fn headline_with_pairs(s: &mut String, label: &str, scene: &Scene) -> Result<(), String> {
     use crate::oracle::{run_within_scoped, Scope};
-    let budget = crate::quad::Budget::new(PAIRS_EVALUATIONS);
+    let budget = crate::quad::Budget::new(crate::prec::FINITE_HG_PREDICTION_EVALUATIONS);
     let rep = run_within_scoped(scene, Precision::F64, Some(PAIRS_TOL), &budget, Scope::FinitePairs)
         .map_err(|e| e.to_string())?;
     if let Some(why) = &rep.finite_not_used {
