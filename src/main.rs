@@ -483,12 +483,44 @@ fn oracle(
     json: bool,
 ) -> Result<(), CliError> {
     let scene = load(path)?;
+    if matches!(scene.effects.scattering_orders, mcrt_noise::ScatteringOrders::Limited(n) if n >= 2)
+        || scene.effects.scattering_orders == mcrt_noise::ScatteringOrders::All
+    {
+        return every_order_oracle(path, &scene, precision, rel_tol, budget, json);
+    }
     let report = mcrt_noise::oracle::run_within_scoped(&scene, precision, rel_tol, budget, scope)
         .map_err(|e| CliError::from(e).at(path.display()))?;
     if json {
         println!("{}", cli::to_json(&report)?);
     } else {
         print!("{}", reports::tables::oracle_table(&report));
+    }
+    Ok(())
+}
+
+/// `oracle` on a scene with scattering orders >= 2: the exact mean, its
+/// small-sphere limit and the bias (f64 only; docs/model.md §10).
+fn every_order_oracle(
+    path: &std::path::Path,
+    scene: &mcrt_noise::Scene,
+    precision: Precision,
+    rel_tol: Option<f64>,
+    budget: &Budget,
+    json: bool,
+) -> Result<(), CliError> {
+    if precision != Precision::F64 {
+        return Err(CliError::usage(format!(
+            "--precision: with effects.scattering_orders >= 2 the oracle computes in f64 only (allowed: f64); \
+             scene {}",
+            path.display()
+        )));
+    }
+    let m = mcrt_noise::oracle::every_order_mean(scene, rel_tol, budget)
+        .map_err(|e| CliError::from(e).at(path.display()))?;
+    if json {
+        println!("{}", cli::to_json(&m)?);
+    } else {
+        print!("{m}");
     }
     Ok(())
 }

@@ -191,19 +191,34 @@ fn oracle_json_of_an_order1_scene() {
     assert!(why.contains("--finite-pairs") && why.contains("q = 0.5, N_B = 8"), "{why}");
 }
 
+/// With scattering_orders = 2 the oracle gives the exact mean, the
+/// small-sphere mean and the bias (docs/model.md §10), says why Var L is
+/// missing, and `predict` (through `check`'s prediction) refuses the scene
+/// naming the field; order 12 is beyond the cut integral's reach and is
+/// refused, exit 2, naming the field and the allowed range.
 #[test]
-fn oracle_refuses_order_two_loudly() {
+fn oracle_gives_the_mean_of_order_two_and_refuses_order_twelve() {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic-order1.toml"))
         .unwrap()
         .replace("scattering_orders = 1", "scattering_orders = 2");
     let path = std::env::temp_dir().join(format!("mcrt-noise-order2-{}.toml", std::process::id()));
-    std::fs::write(&path, text).unwrap();
+    std::fs::write(&path, &text).unwrap();
+    let out = bin().args(["oracle", path.to_str().unwrap(), "--json"]).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let get = |p: &str| v.pointer(p).and_then(|x| x.as_f64()).unwrap_or_else(|| panic!("{p} in {v}"));
+    let (mean, bar) = (get("/mean/value"), get("/mean/error"));
+    assert!(mean > 0.0 && bar > 0.0 && bar <= 1e-5 * mean, "{v}");
+    let (small, bias) = (get("/small_sphere_mean/value"), get("/bias/value"));
+    assert!((mean - small - bias).abs() <= get("/bias/error") + 1e-15 * mean, "{v}");
+    assert!(v["variance_missing"].as_str().unwrap().contains("not modelled"), "{v}");
+    std::fs::write(&path, text.replace("scattering_orders = 2", "scattering_orders = 12")).unwrap();
     let out = bin().args(["oracle", path.to_str().unwrap()]).output().unwrap();
     std::fs::remove_file(&path).ok();
-    // Unsupported is about the input: exit 2.
     assert_eq!(out.status.code(), Some(2));
     assert!(out.stdout.is_empty());
-    assert!(String::from_utf8(out.stderr).unwrap().contains("scattering_orders"));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("scattering_orders = 12") && err.contains("\"all\""), "{err}");
 }
 
 #[test]
@@ -976,6 +991,8 @@ fn exit_codes_follow_the_documented_policy() {
     let invalid = invalid.to_str().unwrap();
     let order2 = edited_scene("exit-order2", &[("scattering_orders = 0", "scattering_orders = 2")]);
     let order2 = order2.to_str().unwrap();
+    let order12 = edited_scene("exit-order12", &[("scattering_orders = 0", "scattering_orders = 12")]);
+    let order12 = order12.to_str().unwrap();
     let behind = edited_scene("exit-behind", &[("position = [1.0, 0.0, 1.0]", "position = [0.0, 0.0, -1.0]")]);
     let behind = behind.to_str().unwrap();
     let values = dir.join("values.txt");
@@ -996,7 +1013,8 @@ fn exit_codes_follow_the_documented_policy() {
         (&["oracle", "/nonexistent/scene.toml"], 2, "/nonexistent/scene.toml"),
         (&["trace", "/nonexistent/scene.toml", "--trials", "10"], 2, "/nonexistent/scene.toml"),
         (&["oracle", invalid], 2, "estimator.q = 1.5"),
-        (&["oracle", order2], 2, "unsupported"),
+        (&["oracle", order12], 2, "scattering_orders = 12"),
+        (&["oracle", order2, "--precision", "128"], 2, "--precision"),
         (&["check", order2, "--values", values], 2, "oracle: unsupported"),
         (&["sweep", behind, "--radii", "1e-2,1e-3"], 2, "the R → 0 form of (23) does not exist for this scene"),
         (&["kernel", "--theta", "abc", "--radius", "1e-3"], 2, "--theta"),

@@ -182,6 +182,12 @@ impl<T: Real> Piecewise<T> {
     /// The interpolant at x (clamped to the covered range): e^{p(x)}, p the
     /// Chebyshev interpolant of ln f, by Clenshaw's recurrence.
     pub fn eval(&self, x: &T) -> T {
+        self.eval_ln(x).exp()
+    }
+
+    /// ln of [`Piecewise::eval`]: the interpolant p(x) itself, for a caller
+    /// that puts it into one exponent with others.
+    pub fn eval_ln(&self, x: &T) -> T {
         let i = self.pieces.partition_point(|p| p.b < *x).min(self.pieces.len() - 1);
         let p = &self.pieces[i];
         let two = x.lit(2.0);
@@ -195,7 +201,7 @@ impl<T: Real> Piecewise<T> {
             b2 = b1;
             b1 = b0;
         }
-        (p.coeffs[0].clone() / x.lit(2.0) + t * b1 - b2).exp()
+        p.coeffs[0].clone() / x.lit(2.0) + t * b1 - b2
     }
 }
 

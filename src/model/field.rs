@@ -151,8 +151,10 @@ impl<T: Real> Field<T> {
                     ScatteringOrders::All => "\"all\"".into(),
                 };
                 return Err(OracleError::Unsupported(format!(
-                    "effects.scattering_orders = {shown}: the oracle models orders 0 (uncollided) and 1 (single-scattered \
-                     forward light) only; allowed: 0 or 1 (the tracer can run higher orders)"
+                    "effects.scattering_orders = {shown}: the noise model (Var L) covers orders 0 (uncollided) and 1 \
+                     (single-scattered forward light) only; allowed: 0 or 1. For orders 2 to 9 and \"all\" `mcrt-noise \
+                     oracle` gives the exact mean and the bias (point lights, isotropic media; docs/model.md §10), and \
+                     the tracer runs every order"
                 )));
             }
         };

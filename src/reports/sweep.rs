@@ -416,6 +416,10 @@ pub fn asymptotic_checks_markdown(
         let about = text.lines().next().unwrap_or("").trim_start_matches('#').trim().to_string();
         writeln!(s, "\n## `{name}`\n\n{about}\n").unwrap();
         let scene = Scene::from_toml_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        if !matches!(scene.effects.scattering_orders, mcrt_scene::ScatteringOrders::Limited(n) if n <= 1) {
+            writeln!(s, "Not checked: with `scattering_orders` ≥ 2 the oracle computes the mean only; (23), (24) of every order are not modelled yet ([model.md](model.md) §10).").unwrap();
+            continue;
+        }
         match sweep(&scene, &DOC_RADII) {
             Ok(rows) => {
                 s.push_str(&table(&rows));

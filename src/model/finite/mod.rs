@@ -30,6 +30,7 @@ mod beam_pairs;
 mod beam_ring;
 pub mod cross_segments;
 mod hit_cumulants;
+mod multiple;
 pub mod order1;
 pub mod point;
 pub mod ray;
@@ -39,6 +40,7 @@ mod scattered_beam;
 mod scattered_hg;
 mod scattered_table;
 mod second_hit;
+pub mod start_density;
 mod tables;
 pub mod virtual_lights;
 
@@ -97,6 +99,9 @@ pub struct FiniteField<T> {
     /// Whether the scene's forward paths scatter (orders ≥ 1): the
     /// along-ray domain then declares where single-scattered light bends.
     scattered: bool,
+    /// Where the segments beyond the first start (orders ≥ 2: `multiple`),
+    /// `None` for orders ≤ 1 — or the reason the orders are not modelled.
+    higher: Option<Result<start_density::StartDensity<T>, String>>,
     tables: tables::Tables<T>,
     /// The along-ray range of the tables ([`FiniteField::table_range`]).
     range: (T, T),
@@ -176,6 +181,7 @@ impl<T: CheckRule> FiniteField<T> {
             shift: like.lit(sigma * shortest_path(scene, o, u, r)),
             center: field.center.clone(),
             scattered: scene.effects.scattering_orders != ScatteringOrders::Limited(0),
+            higher: higher_orders(scene, &field.albedo),
             tables: tables::Tables::default(),
             range: (like.lit(0.0), like.lit(0.0)),
         };
@@ -434,6 +440,22 @@ impl<T: Real> FiniteIntegrals<T> {
 
 /// c₀/σ: a lower bound of every light → sphere → camera path (see
 /// [`FiniteField::shift`]), 0 when no light can reach.
+/// The start density of the segments beyond the first of `scene`'s paths
+/// (segments 2..=n, or all of them), `None` for orders ≤ 1, or why it
+/// cannot be built (an order beyond the cut's reach, every order without
+/// absorption).
+fn higher_orders<T: Real>(scene: &Scene, albedo: &T) -> Option<Result<start_density::StartDensity<T>, String>> {
+    let last = match scene.effects.scattering_orders {
+        ScatteringOrders::Limited(n) if n <= 1 => return None,
+        ScatteringOrders::Limited(n) => Some(n),
+        ScatteringOrders::All => None,
+    };
+    Some(start_density::StartDensity::new(albedo, 2, last).map_err(|e| match e {
+        OracleError::Unsupported(why) => why,
+        other => other.to_string(),
+    }))
+}
+
 fn shortest_path(scene: &Scene, o: DVec3, u: DVec3, r: f64) -> f64 {
     let scattered = scene.effects.scattering_orders != ScatteringOrders::Limited(0);
     let paths = scene.lights.iter().filter_map(|light| match *light {

@@ -51,6 +51,9 @@ pub(super) struct ScatteredTable<T> {
     /// Relative bar of the interpolant ([`ScatteredTable::hits`] adds the
     /// rounding of its exponent).
     pub rel_error: T,
+    /// The rate the tabled function is multiplied back by beyond R (σ for
+    /// I(D)).
+    decay: T,
 }
 
 impl<T: CheckRule> ScatteredTable<T> {
@@ -59,16 +62,33 @@ impl<T: CheckRule> ScatteredTable<T> {
     /// is finer than the table serves or the interpolation fails (module
     /// docs), and the evaluations spent either way.
     pub(super) fn build(sigma: &T, r: &T, lo: &T, hi: &T, opts: &Options) -> (Option<ScatteredTable<T>>, u64) {
+        let g = |d: &T, samples: &Options| {
+            let shift = sigma.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0));
+            hits_over_distance(sigma, r, d, &shift, samples, true)
+        };
+        Self::build_with(g, sigma, r, lo, hi, opts)
+    }
+
+    /// A table of g(D) = F(D)·e^{decay·max(D − R, 0)}, g computed by `g(D,
+    /// sample options)`, with the same pieces, window and bar as I(D)'s
+    /// (module docs): F(D) is another radial function of the distance
+    /// between a light and a sphere of radius R that bends at D = R (the
+    /// hits of every order beyond the first, `multiple`).
+    pub(super) fn build_with(
+        g: impl Fn(&T, &Options) -> crate::quad::Outcome<T>,
+        decay: &T,
+        r: &T,
+        lo: &T,
+        hi: &T,
+        opts: &Options,
+    ) -> (Option<ScatteredTable<T>>, u64) {
         let goal = opts.rel_tol / 10.0;
         let lo = &lo.clone().max_of(r.clone() * r.lit(LOWEST));
         if goal < FINEST_GOAL || !(hi > lo) {
             return (None, 0);
         }
         let samples = sample_options(r, goal, opts.rule, &opts.budget);
-        let g = |d: &T| {
-            let shift = sigma.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0));
-            hits_over_distance(sigma, r, d, &shift, &samples, true)
-        };
+        let g = |d: &T| g(d, &samples);
         let delta = r.clone() * r.lit(WINDOW);
         let (below, above) = (r.clone() - delta.clone(), r.clone() + delta.clone());
         let mut grading = graded_about(r, &delta, r);
@@ -94,7 +114,7 @@ impl<T: CheckRule> ScatteredTable<T> {
         if parts.is_empty() {
             return (None, evaluations);
         }
-        (Some(ScatteredTable { parts, rel_error }), evaluations)
+        (Some(ScatteredTable { parts, rel_error, decay: decay.clone() }), evaluations)
     }
 
     /// I(D)·e^{shift} and its relative bar — the table's
@@ -105,7 +125,8 @@ impl<T: CheckRule> ScatteredTable<T> {
     /// upper one).
     pub(super) fn hits(&self, sigma: &T, r: &T, big_d: &T, shift: &T) -> Option<(T, T)> {
         let (_, _, part) = self.parts.iter().find(|(from, to, _)| big_d >= from && big_d <= to)?;
-        let decay = sigma.clone() * (big_d.clone() - r.clone()).max_of(big_d.lit(0.0));
+        let _ = sigma;
+        let decay = self.decay.clone() * (big_d.clone() - r.clone()).max_of(big_d.lit(0.0));
         let rounding = big_d.eps() * big_d.lit(4.0) * (big_d.lit(1.0) + shift.abs() + decay.clone());
         let exponent = shift.clone() - decay;
         Some((part.eval(big_d) * exponent.exp(), self.rel_error.clone() + rounding))
@@ -150,7 +171,7 @@ impl<T: CheckRule> ScatteredTables<T> {
 
 /// [min, max] of the distance between a point light and a camera-ray
 /// point of the table range, over the lights; `None` without point lights.
-fn distance_range<T: CheckRule>(ff: &FiniteField<T>) -> Option<(T, T)> {
+pub(super) fn distance_range<T: CheckRule>(ff: &FiniteField<T>) -> Option<(T, T)> {
     let (x_lo, x_hi) = ff.table_range();
     let mut range: Option<(T, T)> = None;
     for light in &ff.lights {

@@ -1,0 +1,462 @@
+//! Every scattering order at any R (isotropic media, point lights;
+//! `docs/model.md` §10.2): the mean contribution to a sphere of a point
+//! light's segments 2, 3, …, n (or all), exact, and the small-sphere mean of
+//! every order, the limit the estimator's bias is measured from.
+//!
+//! Segment j ≥ 1 of a path starts at a point of density a^j c_j
+//! ([`super::start_density`]) and, isotropic from there, hits the sphere at
+//! distance d with the chance H(d) of §9.5 ([`super::scattered::hit_chance`]),
+//! so the segments 2..=n together give
+//!
+//!   ⟨𝒞^k⟩_{2..n}(s) = (c^k Φ/𝓕)(4π)^{−k} (C * H)(D),  C = Σ_{j=2}^{n} a^j c_j,
+//!
+//! D = |y − x(s)| (the albedo of the path's survival is in C; c carries the
+//! per-hit albedo of (5)). In bipolar coordinates about the light and the
+//! sphere's centre, with T(t) = ∫_t^∞ r C(r) dr,
+//!
+//!   (C * H)(D) = (2π/D) ∫₀^∞ d H(d) [T(|D − d|) − T(D + d)] dd,
+//!
+//! T at σ being σ·T₁(σt), T₁ the tail at σ = 1 (`start_density`). Segment
+//! 1 is §9.5's I(D) (its T is the logarithmic a E₁/4π, apart because of
+//! that singularity). T₁ is read from a table per quadrature pass
+//! ([`TailTable`], a piecewise Chebyshev interpolant of its logarithm); its
+//! relative bar ρ enters each sample of the d-integral as ρ·(T(|D − d|) +
+//! T(D + d)), so the cancellation of the difference at d ≪ D is in the bar.
+//! (C * H)(D) is tabled in D per pass like I(D) (`scattered_table`, decay
+//! rate νσ with every order, σ for a finite range).
+
+use super::point::PointLight;
+use super::scattered::hit_chance_parts;
+use super::scattered_table::ScatteredTable;
+use super::start_density::StartDensity;
+use super::{FiniteField, FiniteLight, OncePerPass};
+use crate::model::chebyshev::{sample_options, Piecewise};
+use crate::model::field::{graded_about, graded_by};
+use crate::model::OracleError;
+use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Options, Outcome};
+use std::sync::Arc;
+
+/// The tail T₁(t) = ∫_t^∞ r C(r) dr (σ = 1) of one pass, on [0, hi], and
+/// the radial density ρ₁(r) = r C(r) itself, for differences of T over
+/// short shells (where two values of T would cancel).
+#[derive(Debug)]
+pub(super) struct TailTable<T> {
+    table: Piecewise<T>,
+    radial: Option<Piecewise<T>>,
+    hi: T,
+}
+
+/// Gauss–Legendre nodes of a shell's ∫ρ₁: on [t₀, t₀ + w] with
+/// w ≤ t₀/2 the integrand is analytic in a Bernstein ellipse of
+/// ρ = 5 + √24 ≈ 9.9 (ρ₁ is analytic for Re r > 0), so 12 nodes leave
+/// ~ρ^{−24} ≈ 10^{−24}.
+const SHELL_NODES: usize = 12;
+
+/// Tail tables finer than this are not built (MPFR goals): the quadrature
+/// serves.
+const FINEST_GOAL: f64 = 1e-13;
+
+impl<T: CheckRule> TailTable<T> {
+    /// The table of `density`'s tail over [0, hi] (σ-units) to a
+    /// 2000th of the pass's tolerance (the d-integrals' samples, which a
+    /// table of (C * H)(D) asks for a 400th, difference two values of T,
+    /// and their bars carry T's relative bar times the sum: a 20th of their
+    /// goal), at least [`FINEST_GOAL`]; or `None` (a finer goal, or the
+    /// interpolation failed), and the evaluations spent.
+    fn build(density: &StartDensity<T>, hi: &T, opts: &Options) -> (Option<TailTable<T>>, u64) {
+        let goal = opts.rel_tol / 2000.0;
+        if goal < FINEST_GOAL {
+            return (None, 0);
+        }
+        let samples = sample_options(hi, goal, opts.rule, &opts.budget);
+        // Decades towards t = 0 (where r C(r) is finite but T is not
+        // analytic), then a geometric grading (ratio 2) outwards.
+        let zero = hi.lit(0.0);
+        let mut cuts = vec![zero.clone(), hi.clone()];
+        cuts.extend(graded_about(&zero, &hi.lit(1e-12), &hi.lit(1.0)).into_iter().filter(|c| *c > zero));
+        cuts.extend(graded_by(&zero, &hi.lit(1.0), hi, 2.0, 60).into_iter().filter(|c| *c > zero));
+        let table = match Piecewise::build(|t: &T| density.tail(t, &samples), &cuts, goal) {
+            Ok(table) => table,
+            Err(f) => return (None, f.evaluations),
+        };
+        let mut spent = table.evaluations;
+        // ρ₁ from 10⁻¹² on (a shell's nodes lie at ≥ t₀ > 0).
+        let radial_cuts: Vec<T> = cuts.iter().map(|c| c.clone().max_of(hi.lit(1e-12))).collect();
+        let radial = match Piecewise::build(|r: &T| density.radial(r, &samples), &radial_cuts, goal / 20.0) {
+            Ok(r) => {
+                spent += r.evaluations;
+                Some(r)
+            }
+            Err(f) => {
+                spent += f.evaluations;
+                None
+            }
+        };
+        (Some(TailTable { table, radial, hi: hi.clone() }), spent)
+    }
+
+    /// (∫_{t₀}^{t₀+w} ρ₁ dr·e^{base}, relative bar) for a short shell
+    /// (0 < w ≤ t₀/2, within the table), by [`SHELL_NODES`] Gauss–Legendre
+    /// nodes; `None` without the radial table or beyond it.
+    fn shell(&self, t0: &T, w: &T, base: &T) -> Option<(T, T)> {
+        let radial = self.radial.as_ref()?;
+        let half = w.clone() * w.lit(0.5);
+        let mid = t0.clone() + half.clone();
+        if mid.clone() + half.clone() > self.hi || !(w.clone() * w.lit(2.0) <= *t0) {
+            return None;
+        }
+        let mut sum = w.lit(0.0);
+        for (x, wt) in crate::quad::gauss_legendre(w, SHELL_NODES).iter() {
+            for r in [mid.clone() - half.clone() * x.clone(), mid.clone() + half.clone() * x.clone()] {
+                let term = wt.clone() * (radial.eval_ln(&r) + base.clone()).exp();
+                sum = sum + if x.is_zero() { term * w.lit(0.5) } else { term };
+            }
+        }
+        Some((sum * half, radial.rel_error.clone() + w.lit(1e-22)))
+    }
+
+    /// (∫_{t₀}^{t₀+w} ρ₁ dr·e^{base}) by adaptive quadrature of the radial
+    /// table (a shell whose two values of T would cancel, but too wide or
+    /// too near r = 0 for [`TailTable::shell`]), its bar with the table's
+    /// relative one added; `None` without the radial table or beyond it.
+    fn wide_shell(&self, t0: &T, w: &T, base: &T, opts: &Options) -> Option<Outcome<T>> {
+        let radial = self.radial.as_ref()?;
+        let end = t0.clone() + w.clone();
+        if end > self.hi {
+            return None;
+        }
+        let f = |r: &T| (radial.eval_ln(r) + base.clone()).exp();
+        let cuts: Vec<T> = graded_about(&t0.lit(0.0), &t0.lit(1e-12), &t0.lit(1.0))
+            .into_iter()
+            .filter(|c| *c > *t0 && *c < end)
+            .collect();
+        let domain = Domain::finite(t0.clone(), end).with_breakpoints(cuts);
+        let o = Options { abs_tol: 0.0, cross_check: false, ..opts.clone() };
+        Some(crate::quad::integrate(f, &domain, &o).map(|e| {
+            let bar = e.error.clone() + e.value.abs() * radial.rel_error.clone();
+            Estimate { error: bar, ..e }
+        }))
+    }
+
+    /// (ln T₁(t), relative bar) where the table reaches.
+    fn ln_tail(&self, t: &T) -> Option<(T, T)> {
+        if *t > self.hi {
+            return None;
+        }
+        Some((self.table.eval_ln(t), self.table.rel_error.clone()))
+    }
+}
+
+/// ln T₁(t) and its relative bar, from the table or by quadrature.
+fn ln_tail<T: CheckRule>(density: &StartDensity<T>, table: Option<&TailTable<T>>, t: &T, opts: &Options) -> Outcome<T> {
+    if let Some((v, rel)) = table.and_then(|tab| tab.ln_tail(t)) {
+        return Ok(Estimate::known(v, rel, 1, opts.rule));
+    }
+    density.ln_tail(t, opts)
+}
+
+/// (C * H)(D)·e^{shift} for a sphere whose centre is D > 0 from the light
+/// (module docs), as one level inside a pass (its rule): σ the medium's, R
+/// the sphere's radius; `table` the pass's tail table, if any.
+pub(super) fn multiple_hits<T: CheckRule>(
+    density: &StartDensity<T>,
+    table: Option<&TailTable<T>>,
+    sigma: &T,
+    r: &T,
+    big_d: &T,
+    shift: &T,
+    opts: &Options,
+) -> Outcome<T> {
+    let ln_sigma = sigma.ln();
+    let f = |d: &T, o: &Options| -> Outcome<T> {
+        if d.is_zero() {
+            return Ok(Estimate::known(d.lit(0.0), d.lit(0.0), 0, o.rule));
+        }
+        let (reach, rest) = hit_chance_parts(sigma, r, d);
+        let base = shift.clone() - sigma.clone() * reach + ln_sigma.clone();
+        let front = d.clone() * rest;
+        // A shell short against its radius: ∫ρ over it, not a difference of T.
+        let (t0, width) = (
+            sigma.clone() * (big_d.clone() - d.clone()).abs(),
+            sigma.clone() * d.lit(2.0) * d.clone().min_of(big_d.clone()),
+        );
+        if let Some((v, rel)) = table.and_then(|tab| tab.shell(&t0, &width, &base)) {
+            let value = front * v;
+            return Ok(Estimate::known(value.clone(), value.abs() * rel, SHELL_NODES as u64, o.rule));
+        }
+        let near = ln_tail(density, table, &(sigma.clone() * (big_d.clone() - d.clone()).abs()), o)?;
+        let far = ln_tail(density, table, &(sigma.clone() * (big_d.clone() + d.clone())), o)?;
+        let (tn, tf) = ((base.clone() + near.value).exp(), (base.clone() + far.value).exp());
+        // Two values of T that cancel by more than 4×: ∫ρ over the shell.
+        if (tn.clone() + tf.clone()) > (tn.clone() - tf.clone()) * d.lit(4.0) {
+            if let Some(e) = table.and_then(|tab| tab.wide_shell(&t0, &width, &base, o)) {
+                return Ok(e?.scaled(&front));
+            }
+        }
+        let value = front.clone() * (tn.clone() - tf.clone());
+        // Relative bars ρ of each T: the difference carries ρ_n T_n + ρ_f T_f.
+        let error = front * (tn * near.error + tf * far.error);
+        Ok(Estimate::known(value, error, near.evaluations + far.evaluations, o.rule))
+    };
+    // d = D (T's argument |D − d| turns), d = R (H's √-kink), R·10^k up to
+    // D (H falls like R²/d²), and decades about D.
+    // d = D/5 and 5D: where a shell becomes short enough for ∫ρ.
+    let mut cuts = vec![big_d.clone(), r.clone(), big_d.clone() / big_d.lit(5.0), big_d.clone() * big_d.lit(5.0)];
+    let gap = (big_d.clone() - r.clone()).abs();
+    if gap < *r && !gap.is_zero() {
+        cuts.extend(graded_about(big_d, &gap, r).into_iter().filter(|c| *c > gap.lit(0.0)));
+        cuts.extend(graded_about(r, &gap, r).into_iter().filter(|c| *c > gap.lit(0.0)));
+    }
+    cuts.extend(graded_about(&big_d.lit(0.0), r, big_d).into_iter().filter(|c| c > r));
+    cuts.extend(
+        graded_about(big_d, &(big_d.clone() * big_d.lit(1e-6)), big_d).into_iter().filter(|c| c > &big_d.lit(0.0)),
+    );
+    let domain = Domain::semi_infinite(big_d.lit(0.0)).with_breakpoints(cuts).with_decay(sigma.clone());
+    let factor = big_d.lit(2.0) * big_d.pi() / big_d.clone();
+    let opts = &Options { abs_tol: (opts.abs_tol / factor.to_f64()).min(f64::MAX), ..opts.clone() };
+    Ok(integrate_within_pass(f, &domain, opts)?.scaled(&factor))
+}
+
+/// The tables of every order beyond the first for one pass: T₁ and
+/// (C * H)(D) over the computation's distances.
+#[derive(Debug)]
+pub(super) struct MultipleTable<T> {
+    tail: Option<TailTable<T>>,
+    hits: Option<ScatteredTable<T>>,
+}
+
+/// The multiple-scattering tables of one computation, one per pass.
+pub(super) struct MultipleTables<T> {
+    passes: OncePerPass<MultipleTable<T>>,
+}
+
+impl<T> Default for MultipleTables<T> {
+    fn default() -> Self {
+        MultipleTables { passes: OncePerPass::default() }
+    }
+}
+
+impl<T: CheckRule> MultipleTables<T> {
+    fn for_pass(
+        &self,
+        ff: &FiniteField<T>,
+        density: &StartDensity<T>,
+        opts: &Options,
+    ) -> Option<Arc<MultipleTable<T>>> {
+        self.passes.get_or_build(opts, || {
+            let Some((lo, hi)) = super::scattered_table::distance_range(ff) else { return (None, 0) };
+            // T is read at σ(D + d), d up to where the d-integral's tail is
+            // cut (`quad`, decay rate σ): beyond, the quadrature serves.
+            let reach = ff.sigma.clone() * (hi.clone() + ff.radius.clone()) * ff.sigma.lit(2.0) + ff.sigma.lit(200.0);
+            let (tail, mut spent) = TailTable::build(density, &reach, opts);
+            let decay = ff.sigma.clone() * density.decay();
+            let g = |d: &T, o: &Options| {
+                let shift = decay.clone() * (d.clone() - ff.radius.clone()).max_of(d.lit(0.0));
+                multiple_hits(density, tail.as_ref(), &ff.sigma, &ff.radius, d, &shift, o)
+            };
+            let (hits, used) = ScatteredTable::build_with(g, &decay, &ff.radius, &lo, &hi, opts);
+            spent += used;
+            (Some(MultipleTable { tail, hits }), spent)
+        })
+    }
+
+    /// `result` with every table's evaluations added.
+    pub(super) fn charge<E>(&self, result: Result<Estimate<T>, E>) -> Result<Estimate<T>, E> {
+        self.passes.charge(result)
+    }
+}
+
+impl<T: CheckRule> PointLight<T> {
+    /// ⟨𝒞⟩_{2..n}·e^{c₀} at s = center + x: the mean contribution of the
+    /// light's paths' segments 2..=n (or all) to the sphere there (module
+    /// docs), from the pass's tables where they reach, else by quadrature.
+    /// Isotropic media only (the caller's check). Not in the paper, whose
+    /// §3 stops at the field it leaves unspecified: exact at R.
+    pub(super) fn multiple_moment(
+        &self,
+        ff: &FiniteField<T>,
+        density: &StartDensity<T>,
+        tables: &MultipleTables<T>,
+        x: &T,
+        opts: &Options,
+    ) -> Outcome<T> {
+        let (big_d, _) = self.distance_to(ff, x);
+        let front = ff.per_hit_power(1, &self.flux) / (x.pi() * x.lit(4.0));
+        let table = tables.for_pass(ff, density, opts);
+        if let Some((v, rel)) =
+            table.as_ref().and_then(|t| t.hits.as_ref()?.hits(&ff.sigma, &ff.radius, &big_d, &ff.shift))
+        {
+            let bar = v.abs() * rel;
+            return Ok(Estimate::known(v, bar, 1, opts.rule).scaled(&front));
+        }
+        // Far out on the camera ray (beyond the tables, where σe^{−σs} has
+        // made every value negligible) the bound (C * H) ≤ ∫C = Σ a^j
+        // (H ≤ 1) serves when it is within the goal.
+        let bound = density.mass() * ff.shift.clone().exp() * front.clone();
+        if bound.to_f64() <= opts.abs_tol {
+            return Ok(Estimate::known(x.lit(0.0), bound, 0, opts.rule));
+        }
+        let o = Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
+        let tail = table.as_ref().and_then(|t| t.tail.as_ref());
+        let e = multiple_hits(density, tail, &ff.sigma, &ff.radius, &big_d, &ff.shift, &o)?.scaled(&front);
+        Ok(e)
+    }
+}
+
+impl<T: CheckRule> FiniteField<T> {
+    /// Whether the model of every order covers this field's scene (orders
+    /// ≥ 2 in an isotropic medium with point lights only), or why not: the
+    /// check to make before any costly integral.
+    pub fn every_order_covered(&self) -> Result<(), OracleError> {
+        self.higher_orders().map(|_| ())
+    }
+
+    /// The start density of the segments beyond the first, or an error
+    /// naming what the model does not cover: orders ≥ 2 need an isotropic
+    /// medium and point lights.
+    pub(super) fn higher_orders(&self) -> Result<&StartDensity<T>, OracleError> {
+        let density = match self.higher.as_ref() {
+            None => {
+                return Err(OracleError::Unsupported(
+                    "the scene's forward paths stop before their second scattering".into(),
+                ))
+            }
+            Some(Err(why)) => return Err(OracleError::Unsupported(why.clone())),
+            Some(Ok(density)) => density,
+        };
+        if self.phase != mcrt_scene::Phase::Isotropic {
+            return Err(OracleError::Unsupported(format!(
+                "effects.scattering_orders ≥ 2 with medium.phase = {:?}: the finite-sphere model of every order \
+                 covers isotropic media only (docs/model.md §10); allowed: medium.phase = \"isotropic\", or \
+                 scattering_orders ≤ 1",
+                self.phase
+            )));
+        }
+        if self.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
+            return Err(OracleError::Unsupported(
+                "effects.scattering_orders ≥ 2 with a light of kind = \"beam\": the finite-sphere model of every \
+                 order covers point lights only (docs/model.md §10); allowed: kind = \"point\", or \
+                 scattering_orders ≤ 1"
+                    .into(),
+            ));
+        }
+        Ok(density)
+    }
+
+    /// μ_{2..n}(R)·e^{c₀} = ∫σe^{−σs}⟨𝒞⟩_{2..n} ds: the share of the mean
+    /// luminance of the forward paths' segments beyond the first (module
+    /// docs); with [`FiniteField::ray_total`] of the mean and
+    /// [`FiniteField::scattered_mean`] it is the exact mean of a scene with
+    /// orders ≥ 2 at its R.
+    pub fn multiple_mean(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        let density = self.higher_orders()?;
+        let tables = MultipleTables::default();
+        let result = self.with_line(|line| {
+            line.integral_nested("finite-sphere ∫⟨𝒞⟩ of segments ≥ 2", opts, |x, o| {
+                let share = Options { abs_tol: o.abs_tol / self.lights.len() as f64, ..o.clone() };
+                let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
+                for light in &self.lights {
+                    if let FiniteLight::Point(p) = light {
+                        total = total.plus(p.multiple_moment(self, density, &tables, x, &share)?);
+                    }
+                }
+                Ok(total)
+            })
+        });
+        tables.charge(result)
+    }
+
+    /// μ(0)·e^{c₀} of the orders 0..=n (`orders`, or all): the
+    /// small-sphere mean luminance, the estimator's limit as R → 0 and the
+    /// zero of its bias (module docs). As R → 0, H(d) → (πR²/σ)c₁(d), so
+    /// segment j's ⟨𝒞⟩ tends to (Φ/(4πσ)) a^{j+1} c_{j+1}(D):
+    /// μ(0) = Σ_lights (Φ/4π)∫e^{−σs} Σ_{m=1}^{n+1} a^m c_m(D(s)) ds, with
+    /// a c₁ in closed form and the rest from [`StartDensity::radial`]. An
+    /// independent route to the small-sphere model's mean of orders ≤ 1
+    /// (docs/model.md §3a: L₁ integrated over directions), which `tests`
+    /// compare with it. Domain: isotropic media, point lights not on the
+    /// camera line.
+    pub fn small_sphere_mean_every_order(
+        &self,
+        orders: mcrt_scene::ScatteringOrders,
+        opts: &Options,
+    ) -> Result<Estimate<T>, OracleError> {
+        use mcrt_scene::ScatteringOrders::{All, Limited};
+        self.order1_covered()?;
+        if self.phase != mcrt_scene::Phase::Isotropic || self.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
+            return Err(OracleError::Unsupported(
+                "the small-sphere mean of every order covers point lights in isotropic media".into(),
+            ));
+        }
+        let beyond = match orders {
+            Limited(0) => None,
+            Limited(n) => Some(StartDensity::new(&self.albedo, 2, Some(n + 1))?),
+            All => Some(StartDensity::new(&self.albedo, 2, None)?),
+        };
+        let sigma = &self.sigma;
+        self.with_line(|line| {
+            line.integral_nested("small-sphere ∫ of every order", opts, |x, o| {
+                let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
+                for light in &self.lights {
+                    let FiniteLight::Point(p) = light else { continue };
+                    let (big_d, _) = p.distance_to(self, x);
+                    let sd = sigma.clone() * big_d.clone();
+                    // (Φ/(4πσ))·a^m c_m(D), c_m(D) = σ²·(r C)₁(σD)/D: Φσ/(4πD)·(r C)₁.
+                    let front = p.flux.clone() * sigma.clone() / (x.pi() * x.lit(4.0) * big_d.clone());
+                    let first = self.albedo.clone() * (self.shift.clone() - sd.clone()).exp()
+                        / (x.pi() * x.lit(4.0) * sd.clone());
+                    let o2 = Options { abs_tol: (o.abs_tol / front.to_f64()).min(f64::MAX), ..o.clone() };
+                    let mut part = Estimate::known(first, x.lit(0.0), 0, o.rule);
+                    if let Some(beyond) = &beyond {
+                        part = part.plus(beyond.radial(&sd, &o2)?.scaled(&self.shift.exp()));
+                    }
+                    let part = part.scaled(&front);
+                    total = total.plus(part);
+                }
+                Ok(total)
+            })
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The tables of every order from 2 on (built for a pass at 10⁻⁶)
+    /// against the d-integral at 10⁻⁸ with the other rule: on both sides of
+    /// D = R, near the table's ends and far out, for R from 10⁻³ to 10,
+    /// albedo 0.5 and 0.99, a finite range and every order: each value
+    /// within the table's bar plus the reference's.
+    #[test]
+    fn the_multiple_table_is_within_its_bar() {
+        let opts = Options::rel(1e-6).declared();
+        for (albedo, last, r) in [(0.8, None, 0.2), (0.99, None, 1e-3), (0.5, Some(5), 10.0), (0.8, Some(2), 0.05)] {
+            let density = StartDensity::new(&albedo, 2, last).unwrap();
+            let (lo, hi) = (0.1 * r, 30.0 + 3.0 * r);
+            let reach = 2.0 * (hi + r) + 200.0;
+            let (tail, _) = TailTable::build(&density, &reach, &opts);
+            let tail = tail.expect("a tail table at 1e-6");
+            let decay = density.decay();
+            let g = |d: &f64, o: &Options| {
+                multiple_hits(&density, Some(&tail), &1.0, &r, d, &(decay * (d - r).max(0.0)), o)
+            };
+            let (table, _) = ScatteredTable::build_with(g, &decay, &r, &lo, &hi, &opts);
+            let table = table.expect("a table at 1e-6");
+            // The reference: the d-integral at 10⁻⁸ with the other rule and
+            // tables of its own (T by quadrature alone cancels at small D).
+            let fine = Options { rule: opts.rule.other(), ..Options::rel(1e-8).declared() };
+            let (fine_tail, _) = TailTable::build(&density, &reach, &Options::rel(1e-8).declared());
+            let mut worst = 0.0f64;
+            for d in [lo, 0.5 * r, 0.999 * r, 1.001 * r, 2.0 * r, 1.0, 7.0, 0.9 * hi] {
+                let Some((got, bar)) = table.hits(&1.0, &r, &d, &0.0) else { continue };
+                let direct = multiple_hits(&density, fine_tail.as_ref(), &1.0, &r, &d, &0.0, &fine).unwrap();
+                let off = (got / direct.value - 1.0).abs();
+                let allowed = bar + direct.error / direct.value + 1e-14;
+                worst = worst.max(off / allowed);
+                assert!(off <= allowed, "a {albedo}, {last:?}, R {r}, D {d}: off {off:e}, allowed {allowed:e}");
+            }
+            println!("a {albedo}, {last:?}, R {r}: bar {:.1e}, worst {worst:.2} of allowed", table.rel_error);
+        }
+    }
+}

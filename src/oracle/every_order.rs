@@ -1,0 +1,144 @@
+//! The exact mean of a scene with every scattering order (orders ≥ 2, or
+//! `"all"`), at its R and as R → 0 (`docs/model.md` §10): what the oracle
+//! computes of such a scene so far. Its Var L needs the same-path pairs of
+//! segments j < k ≥ 2 and the correlations of two spheres, which the model
+//! does not have yet (§10.3).
+
+use super::report::{reported, ValueWithBar};
+use crate::model::field::Field;
+use crate::model::finite::{FiniteField, Functional};
+use crate::model::OracleError;
+use crate::quad::Budget;
+use crate::quad::{Estimate, Options};
+use mcrt_scene::{ScatteringOrders, Scene};
+use serde::Serialize;
+
+/// The mean luminance of every simulated order, exact at the scene's R, the
+/// small-sphere mean it tends to as R → 0, and the bias between them.
+#[derive(Debug, Clone, Serialize)]
+pub struct EveryOrderMean {
+    /// The scene's `scattering_orders`, as written in its file.
+    pub orders: String,
+    /// The relative tolerance asked of every integral.
+    pub rel_tol: f64,
+    /// μ(R) = μ₀(R) + μ₁(R) + μ_{2..n}(R), with its quadrature bar.
+    pub mean: ValueWithBar,
+    /// μ(0), the small-sphere mean of every simulated order: the luminance
+    /// a renderer converges to as R → 0.
+    pub small_sphere_mean: ValueWithBar,
+    /// b(R) = μ(R) − μ(0).
+    pub bias: ValueWithBar,
+    /// The share of μ(R) of segments 2..=n (or all of them).
+    pub beyond_first: ValueWithBar,
+    /// Integrand evaluations spent.
+    pub evaluations: u64,
+    /// Why the report has no Var L (and `predict` no prediction).
+    pub variance_missing: &'static str,
+}
+
+/// Why an every-order report carries the mean only.
+pub const VARIANCE_NOT_MODELLED: &str = "not modelled for scattering_orders >= 2 yet: it needs the same-path pairs \
+     of segments j < k (k >= 2) meeting one sphere and the correlations of two spheres (docs/model.md §10.3); \
+     `predict` and `check` refuse the scene, and the tracer (`trace`) measures Var L";
+
+/// The default relative tolerance of [`every_order_mean`] (its tables
+/// need goals no finer than ~10⁻¹⁰ in f64; as for single-scattered light).
+pub const EVERY_ORDER_TOL: f64 = 1e-6;
+
+/// The mean of `scene` (scattering orders ≥ 2 or `"all"`, an isotropic
+/// medium, point lights off the camera line) in f64 to the relative
+/// tolerance `rel_tol` (default [`EVERY_ORDER_TOL`]; from 10⁻¹⁰ to 10⁻²)
+/// within `budget` (shared by its integrals: spent, the computation
+/// fails with that reason).
+///
+/// ```no_run
+/// use mcrt_noise::{oracle::every_order_mean, Scene};
+///
+/// let scene = Scene::from_toml_str(&std::fs::read_to_string("scenes/point-isotropic-all.toml")?)?;
+/// let m = every_order_mean(&scene, None, &mcrt_noise::quad::Budget::new(2_000_000_000))?;
+/// assert!(m.bias.value.abs() < 1e-2 * m.mean.value);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn every_order_mean(scene: &Scene, rel_tol: Option<f64>, budget: &Budget) -> Result<EveryOrderMean, OracleError> {
+    let rel_tol = rel_tol.unwrap_or(EVERY_ORDER_TOL);
+    if !(1e-10..=1e-2).contains(&rel_tol) {
+        return Err(OracleError::Unsupported(format!(
+            "--rel-tol = {rel_tol:e}: with scattering_orders >= 2 allowed from 1e-10 to 1e-2 (the tables of every \
+             order need goals no finer in f64)"
+        )));
+    }
+    if matches!(scene.effects.scattering_orders, ScatteringOrders::Limited(n) if n <= 1) {
+        return Err(OracleError::Unsupported(
+            "every_order_mean is for effects.scattering_orders ≥ 2 or \"all\"; orders 0 and 1 have the full oracle"
+                .into(),
+        ));
+    }
+    let highest = crate::model::finite::start_density::MAX_FINITE_ORDER - 1;
+    if let ScatteringOrders::Limited(n) = scene.effects.scattering_orders {
+        if n > highest {
+            return Err(OracleError::Unsupported(format!(
+                "effects.scattering_orders = {n}: allowed 0 ≤ n ≤ {highest} or \"all\" (beyond, the cut integral of \
+                 a finite order loses more than four digits to cancellation, docs/model.md §10.1; \"all\" has no \
+                 such limit)"
+            )));
+        }
+    }
+    // The small-sphere field of the first two segments carries what the
+    // finite-sphere geometry reads (σ, albedo, flux, the along-ray origin).
+    let mut first_two = scene.clone();
+    first_two.effects.scattering_orders = ScatteringOrders::Limited(1);
+    let field = Field::from_scene(&first_two, &0.0f64)?;
+    let ff = FiniteField::of_first_segments(scene, &field);
+    ff.every_order_covered()?;
+    let opts = Options::rel(rel_tol).with_budget(budget.clone()).declared();
+    let uncollided = ff.ray_total(Functional::Mean, &opts)?;
+    let single = ff.scattered_mean(&opts)?;
+    let beyond = ff.multiple_mean(&opts)?;
+    let small = ff.small_sphere_mean_every_order(scene.effects.scattering_orders, &opts)?;
+    let k = (-ff.shift).exp();
+    let evaluations = uncollided.evaluations + single.evaluations + beyond.evaluations + small.evaluations;
+    let exact = uncollided.plus(single).plus(beyond.clone());
+    let bias = Estimate::known(exact.value - small.value, exact.error + small.error, 0, opts.rule);
+    let orders = match scene.effects.scattering_orders {
+        ScatteringOrders::Limited(n) => n.to_string(),
+        ScatteringOrders::All => "all".into(),
+    };
+    Ok(EveryOrderMean {
+        orders,
+        rel_tol,
+        variance_missing: VARIANCE_NOT_MODELLED,
+        mean: reported(&(exact.value * k), &(exact.error * k)),
+        small_sphere_mean: reported(&(small.value * k), &(small.error * k)),
+        bias: reported(&(bias.value * k), &(bias.error * k)),
+        beyond_first: reported(&(beyond.value * k), &(beyond.error * k)),
+        evaluations,
+    })
+}
+
+impl std::fmt::Display for EveryOrderMean {
+    /// The report as the `oracle` command prints it.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let row = |f: &mut std::fmt::Formatter<'_>, what: &str, v: &ValueWithBar| {
+            writeln!(f, "  {what:<44} {:.10e} ± {:.1e}", v.value, v.error)
+        };
+        writeln!(
+            f,
+            "mcrt-noise oracle: scattering_orders = {}, f64, rel-tol {:e}: the mean only",
+            self.orders, self.rel_tol
+        )?;
+        row(f, "mean luminance μ(R), exact (finite-sphere)", &self.mean)?;
+        row(f, "  of which segments 2 and beyond", &self.beyond_first)?;
+        row(f, "small-sphere mean μ(0) (the R → 0 limit)", &self.small_sphere_mean)?;
+        row(f, "bias μ(R) − μ(0)", &self.bias)?;
+        writeln!(
+            f,
+            "  relative bias {:+.4} % ± {:.1e} %",
+            100.0 * self.bias.value / self.small_sphere_mean.value,
+            100.0
+                * (self.bias.error / self.small_sphere_mean.value.abs()
+                    + (self.bias.value * self.small_sphere_mean.error / self.small_sphere_mean.value.powi(2)).abs())
+        )?;
+        writeln!(f, "  evaluations: {}", self.evaluations)?;
+        writeln!(f, "Var L: {}.", self.variance_missing)
+    }
+}
