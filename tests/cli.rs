@@ -993,6 +993,27 @@ fn exit_codes_follow_the_documented_policy() {
     let order2 = order2.to_str().unwrap();
     let order12 = edited_scene("exit-order12", &[("scattering_orders = 0", "scattering_orders = 12")]);
     let order12 = order12.to_str().unwrap();
+    let hg_all = edited_scene(
+        "exit-hg-all",
+        &[
+            ("scattering_orders = 0", "scattering_orders = \"all\""),
+            ("kind = \"isotropic\"", "kind = \"henyey-greenstein\"\ng = 0.5"),
+        ],
+    );
+    let hg_all = hg_all.to_str().unwrap();
+    let lossless_all = edited_scene(
+        "exit-lossless-all",
+        &[("scattering_orders = 0", "scattering_orders = \"all\""), ("albedo = 0.8", "albedo = 1.0")],
+    );
+    let lossless_all = lossless_all.to_str().unwrap();
+    let on_ray_all = edited_scene(
+        "exit-on-ray-all",
+        &[
+            ("scattering_orders = 0", "scattering_orders = \"all\""),
+            ("position = [1.0, 0.0, 1.0]", "position = [0.0, 0.0, 1.0]"),
+        ],
+    );
+    let on_ray_all = on_ray_all.to_str().unwrap();
     let behind = edited_scene("exit-behind", &[("position = [1.0, 0.0, 1.0]", "position = [0.0, 0.0, -1.0]")]);
     let behind = behind.to_str().unwrap();
     let values = dir.join("values.txt");
@@ -1015,6 +1036,10 @@ fn exit_codes_follow_the_documented_policy() {
         (&["oracle", invalid], 2, "estimator.q = 1.5"),
         (&["oracle", order12], 2, "scattering_orders = 12"),
         (&["oracle", order2, "--precision", "128"], 2, "--precision"),
+        (&["oracle", order2, "--rel-tol", "1e-9"], 2, "--rel-tol = 1e-9"),
+        (&["oracle", hg_all, "--max-evals", "1000"], 2, "medium.phase.kind"),
+        (&["oracle", lossless_all, "--max-evals", "1000"], 2, "albedo = 1"),
+        (&["oracle", on_ray_all, "--max-evals", "1000"], 2, "lights[0].position"),
         (&["check", order2, "--values", values], 2, "oracle: unsupported"),
         (&["sweep", behind, "--radii", "1e-2,1e-3"], 2, "the R → 0 form of (23) does not exist for this scene"),
         (&["kernel", "--theta", "abc", "--radius", "1e-3"], 2, "--theta"),

@@ -72,8 +72,8 @@ impl Point {
 /// point of a grid covering orders 2, 5 and "all", albedo 0.5, 0.8 and
 /// 0.95, R 0.2 and 0.05, q 1 and 0.5, N_F and N_B from 1 to 200, one and
 /// two lights, a light 0.1 from the camera line: |z| ≤ 4, no allowance.
-/// (The grid's z are independent; eight at |z| ≤ 4 fail together by
-/// chance with probability below 5·10⁻⁴.)
+/// (The grid's z are independent: by chance any one of the eight has
+/// |z| > 4 with probability about 5·10⁻⁴.)
 #[test]
 fn the_tracer_agrees_with_the_exact_mean_of_every_order() {
     use ScatteringOrders::{All, Limited};
@@ -168,10 +168,15 @@ fn the_tracer_agrees_with_the_exact_mean_of_every_order() {
             seed: 28,
         },
     ];
-    for p in &points {
-        let (z, _, rel_se) = tracer_z(&p.scene(), p.seed, p.trials);
+    for (i, p) in points.iter().enumerate() {
+        let (z, z_small, rel_se) = tracer_z(&p.scene(), p.seed, p.trials);
         assert!(rel_se < 0.01, "{:?}: the tracer's se {rel_se:e} is too wide to test anything", p.orders);
         assert!(z.abs() <= 4.0, "{:?} albedo {} R {}: z = {z}", p.orders, p.albedo, p.radius);
+        // At orders ≤ 2, albedo 0.5, R = 0.2 the bias (1.2 %) is 11 standard
+        // errors: the small-sphere mean must be rejected there.
+        if i == 2 {
+            assert!(z_small > 6.0, "the small-sphere mean is not rejected: z = {z_small}");
+        }
     }
 }
 
@@ -209,7 +214,7 @@ fn the_small_sphere_mean_of_every_order_agrees_with_independent_routes() {
 /// R = 0.2 rise towards every order's, each gap below the flux the orders
 /// beyond n carry times the largest per-flux mean an order has had
 /// (a^{n+1}/(1 − a) · max_j μ_j/a^j, a bound the data justify, not a
-/// theorem), and order 9's within 1 % of every order's at albedo 0.5.
+/// theorem), and order 9's within 3·10⁻⁴ of every order's at albedo 0.5.
 #[test]
 fn finite_orders_converge_to_every_order() {
     let a = 0.5;
@@ -227,7 +232,32 @@ fn finite_orders_converge_to_every_order() {
         assert!(gap > -(all.mean.error + m.mean.error) && gap <= bound, "order {n}: gap {gap:e}, bound {bound:e}");
         previous = m.mean.value;
     }
-    assert!((all.mean.value - previous) / all.mean.value < 0.01);
+    assert!((all.mean.value - previous) / all.mean.value < 3e-4);
+}
+
+/// σ-scaling: with σ multiplied by 3 and every length divided by 3 (the
+/// light's position and R) the geometry in free paths is the same, and the
+/// mean, which carries 1/(πR²), is 9 times the original, within the bars.
+#[test]
+fn the_mean_scales_with_the_medium() {
+    for orders in [ScatteringOrders::All, ScatteringOrders::Limited(3)] {
+        let base = scene(orders, 0.8, 0.2);
+        let mut scaled = base.clone();
+        scaled.medium.sigma_ext = 3.0;
+        scaled.estimator.radius = 0.2 / 3.0;
+        scaled.lights =
+            vec![mcrt_scene::Light::Point { position: mcrt_scene::DVec3::new(1.0 / 3.0, 0.0, 1.0 / 3.0), flux: 1.0 }];
+        let (m, k) = (mean(&base), mean(&scaled));
+        for (what, a, b) in [
+            ("mean", m.mean, k.mean),
+            ("small-sphere", m.small_sphere_mean, k.small_sphere_mean),
+            ("beyond", m.beyond_first, k.beyond_first),
+        ] {
+            let off = (b.value - 9.0 * a.value).abs();
+            println!("{orders:?} {what}: {:.12e} vs 9 × {:.12e}, off {off:.1e}", b.value, a.value);
+            assert!(off <= b.error + 9.0 * a.error + 1e-14 * b.value, "{orders:?} {what}: {b:?} vs 9 × {a:?}");
+        }
+    }
 }
 
 /// Hard cases finish with a result within their bars: albedo 0.999 (the
@@ -252,15 +282,18 @@ fn hard_cases_of_every_order_finish() {
     }
 }
 
+/// The README scene with every order at R = 0.2 (N_F 200, N_B 8), two
+/// tracer runs of 10⁶ trials (seeds 41, 42; ~2 minutes): each agrees with
+/// the exact mean (|z| ≤ 4) at a standard error of ~0.05 % and rejects the
+/// small-sphere mean (z > 6; the bias is +0.61 %).
 #[test]
 #[ignore]
-fn measure_grid() {
-    use ScatteringOrders::Limited;
-    let _ = Limited(2);
+fn the_tracer_resolves_the_bias_of_every_order() {
     for seed in [41, 42] {
         let mut s = scene(ScatteringOrders::All, 0.8, 0.2);
         s.estimator.forward_rays = 200;
         s.estimator.camera_rays = 8;
-        tracer_z(&s, seed, 1_000_000);
+        let (z, z_small, _) = tracer_z(&s, seed, 1_000_000);
+        assert!(z.abs() <= 4.0 && z_small > 6.0, "seed {seed}: z {z}, small-sphere z {z_small}");
     }
 }

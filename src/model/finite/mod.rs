@@ -438,8 +438,6 @@ impl<T: Real> FiniteIntegrals<T> {
     }
 }
 
-/// c₀/σ: a lower bound of every light → sphere → camera path (see
-/// [`FiniteField::shift`]), 0 when no light can reach.
 /// The start density of the segments beyond the first of `scene`'s paths
 /// (segments 2..=n, or all of them), `None` for orders ≤ 1, or why it
 /// cannot be built (an order beyond the cut's reach, every order without
@@ -456,6 +454,8 @@ fn higher_orders<T: Real>(scene: &Scene, albedo: &T) -> Option<Result<start_dens
     }))
 }
 
+/// c₀/σ: a lower bound of every light → sphere → camera path (see
+/// [`FiniteField::shift`]), 0 when no light can reach.
 fn shortest_path(scene: &Scene, o: DVec3, u: DVec3, r: f64) -> f64 {
     let scattered = scene.effects.scattering_orders != ScatteringOrders::Limited(0);
     let paths = scene.lights.iter().filter_map(|light| match *light {

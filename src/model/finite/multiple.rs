@@ -46,11 +46,19 @@ pub(super) struct TailTable<T> {
     hi: T,
 }
 
-/// Gauss–Legendre nodes of a shell's ∫ρ₁: on [t₀, t₀ + w] with
-/// w ≤ t₀/2 the integrand is analytic in a Bernstein ellipse of
-/// ρ = 5 + √24 ≈ 9.9 (ρ₁ is analytic for Re r > 0), so 12 nodes leave
-/// ~ρ^{−24} ≈ 10^{−24}.
+/// Gauss–Legendre nodes per panel of a shell's ∫ρ₁. ρ₁ is a mixture of
+/// e^{−ur}, u ≥ ν (the pole) or u ≥ 1 (the cut; its weights change sign,
+/// so the rule's relative error below is per component), and 12 nodes
+/// integrate e^{−λr} over a panel of half-width h with a relative error
+/// that depends on c = λh: 10⁻²⁴ at c = 2, 3·10⁻¹⁴ at c = 6, 7.5·10⁻⁶ at
+/// c = 20 (mpmath). Panels are at most 2 wide (σ-units: c ≤ 1 for the
+/// pole and the cut's edge), and every component with larger u is
+/// suppressed on the shell by e^{−(u − 1)t₀}, t₀ ≥ 2·(panel width), against
+/// the slowest: the bar's 10⁻²⁰ covers the rule.
 const SHELL_NODES: usize = 12;
+
+/// Panels a shell may have before the adaptive rule serves instead.
+const SHELL_PANELS: usize = 16;
 
 /// Tail tables finer than this are not built (MPFR goals): the quadrature
 /// serves.
@@ -63,7 +71,7 @@ impl<T: CheckRule> TailTable<T> {
     /// and their bars carry T's relative bar times the sum: a 20th of their
     /// goal), at least [`FINEST_GOAL`]; or `None` (a finer goal, or the
     /// interpolation failed), and the evaluations spent.
-    fn build(density: &StartDensity<T>, hi: &T, opts: &Options) -> (Option<TailTable<T>>, u64) {
+    pub(super) fn build(density: &StartDensity<T>, hi: &T, opts: &Options) -> (Option<TailTable<T>>, u64) {
         let goal = opts.rel_tol / 2000.0;
         if goal < FINEST_GOAL {
             return (None, 0);
@@ -97,22 +105,33 @@ impl<T: CheckRule> TailTable<T> {
 
     /// (∫_{t₀}^{t₀+w} ρ₁ dr·e^{base}, relative bar) for a short shell
     /// (0 < w ≤ t₀/2, within the table), by [`SHELL_NODES`] Gauss–Legendre
-    /// nodes; `None` without the radial table or beyond it.
-    fn shell(&self, t0: &T, w: &T, base: &T) -> Option<(T, T)> {
+    /// nodes on each of at most [`SHELL_PANELS`] panels no wider than 2
+    /// (σ-units); `None` without the radial table, beyond it, or for a
+    /// shell that needs more panels.
+    fn shell(&self, t0: &T, w: &T, base: &T) -> Option<(T, T, u64)> {
         let radial = self.radial.as_ref()?;
-        let half = w.clone() * w.lit(0.5);
-        let mid = t0.clone() + half.clone();
-        if mid.clone() + half.clone() > self.hi || !(w.clone() * w.lit(2.0) <= *t0) {
+        let end = t0.clone() + w.clone();
+        if end > self.hi || !(w.clone() * w.lit(2.0) <= *t0) {
             return None;
         }
+        let panels = (w.to_f64() / 2.0).ceil().max(1.0);
+        if panels > SHELL_PANELS as f64 {
+            return None;
+        }
+        let step = w.clone() / w.lit(panels);
+        let half = step.clone() * w.lit(0.5);
         let mut sum = w.lit(0.0);
-        for (x, wt) in crate::quad::gauss_legendre(w, SHELL_NODES).iter() {
-            for r in [mid.clone() - half.clone() * x.clone(), mid.clone() + half.clone() * x.clone()] {
-                let term = wt.clone() * (radial.eval_ln(&r) + base.clone()).exp();
-                sum = sum + if x.is_zero() { term * w.lit(0.5) } else { term };
+        for k in 0..panels as usize {
+            let mid = t0.clone() + step.clone() * w.lit(k as f64) + half.clone();
+            for (x, wt) in crate::quad::gauss_legendre(w, SHELL_NODES).iter() {
+                for r in [mid.clone() - half.clone() * x.clone(), mid.clone() + half.clone() * x.clone()] {
+                    let term = wt.clone() * (radial.eval_ln(&r) + base.clone()).exp();
+                    sum = sum + if x.is_zero() { term * w.lit(0.5) } else { term };
+                }
             }
         }
-        Some((sum * half, radial.rel_error.clone() + w.lit(1e-22)))
+        let evaluations = (panels as u64) * 2 * SHELL_NODES as u64;
+        Some((sum * half, radial.rel_error.clone() + w.lit(1e-20), evaluations))
     }
 
     /// (∫_{t₀}^{t₀+w} ρ₁ dr·e^{base}) by adaptive quadrature of the radial
@@ -155,6 +174,24 @@ fn ln_tail<T: CheckRule>(density: &StartDensity<T>, table: Option<&TailTable<T>>
     density.ln_tail(t, opts)
 }
 
+/// A radial function of the distance d to the sphere's centre, as
+/// e^{−σ·reach}·rest with a relative bar: the hit chance H (reach the path
+/// to the surface along the cap's rim) or a function built on it.
+pub(super) struct Radial<T> {
+    pub reach: T,
+    pub rest: T,
+    pub rel: T,
+}
+
+/// A [`Radial`] of the distance d, computed with the options it is handed.
+pub(super) type RadialFn<'a, T> = dyn Fn(&T, &Options) -> Result<Radial<T>, crate::quad::Failure<T>> + Sync + 'a;
+
+/// H(d) as a [`Radial`] (exact: no bar).
+pub(super) fn hit_radial<T: CheckRule>(sigma: &T, r: &T, d: &T) -> Radial<T> {
+    let (reach, rest) = hit_chance_parts(sigma, r, d);
+    Radial { reach, rest, rel: d.lit(0.0) }
+}
+
 /// (C * H)(D)·e^{shift} for a sphere whose centre is D > 0 from the light
 /// (module docs), as one level inside a pass (its rule): σ the medium's, R
 /// the sphere's radius; `table` the pass's tail table, if any.
@@ -167,12 +204,30 @@ pub(super) fn multiple_hits<T: CheckRule>(
     shift: &T,
     opts: &Options,
 ) -> Outcome<T> {
+    let radial = |d: &T, _: &Options| Ok(hit_radial(sigma, r, d));
+    convolved(density, table, sigma, r, big_d, shift, &radial, opts)
+}
+
+/// (C * F)(D)·e^{shift} for a radial function F of the distance to the
+/// sphere's centre ([`Radial`], kinked at d = R like H), its relative bar
+/// carried into each sample: [`multiple_hits`] with F in place of H.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn convolved<T: CheckRule>(
+    density: &StartDensity<T>,
+    table: Option<&TailTable<T>>,
+    sigma: &T,
+    r: &T,
+    big_d: &T,
+    shift: &T,
+    radial: &RadialFn<'_, T>,
+    opts: &Options,
+) -> Outcome<T> {
     let ln_sigma = sigma.ln();
     let f = |d: &T, o: &Options| -> Outcome<T> {
         if d.is_zero() {
             return Ok(Estimate::known(d.lit(0.0), d.lit(0.0), 0, o.rule));
         }
-        let (reach, rest) = hit_chance_parts(sigma, r, d);
+        let Radial { reach, rest, rel: f_rel } = radial(d, o)?;
         let base = shift.clone() - sigma.clone() * reach + ln_sigma.clone();
         let front = d.clone() * rest;
         // A shell short against its radius: ∫ρ over it, not a difference of T.
@@ -180,9 +235,9 @@ pub(super) fn multiple_hits<T: CheckRule>(
             sigma.clone() * (big_d.clone() - d.clone()).abs(),
             sigma.clone() * d.lit(2.0) * d.clone().min_of(big_d.clone()),
         );
-        if let Some((v, rel)) = table.and_then(|tab| tab.shell(&t0, &width, &base)) {
+        if let Some((v, rel, used)) = table.and_then(|tab| tab.shell(&t0, &width, &base)) {
             let value = front * v;
-            return Ok(Estimate::known(value.clone(), value.abs() * rel, SHELL_NODES as u64, o.rule));
+            return Ok(Estimate::known(value.clone(), value.abs() * (rel + f_rel), used, o.rule));
         }
         let near = ln_tail(density, table, &(sigma.clone() * (big_d.clone() - d.clone()).abs()), o)?;
         let far = ln_tail(density, table, &(sigma.clone() * (big_d.clone() + d.clone())), o)?;
@@ -190,12 +245,14 @@ pub(super) fn multiple_hits<T: CheckRule>(
         // Two values of T that cancel by more than 4×: ∫ρ over the shell.
         if (tn.clone() + tf.clone()) > (tn.clone() - tf.clone()) * d.lit(4.0) {
             if let Some(e) = table.and_then(|tab| tab.wide_shell(&t0, &width, &base, o)) {
-                return Ok(e?.scaled(&front));
+                let e = e?.scaled(&front);
+                let error = e.error.clone() + e.value.abs() * f_rel;
+                return Ok(Estimate { error, ..e });
             }
         }
         let value = front.clone() * (tn.clone() - tf.clone());
         // Relative bars ρ of each T: the difference carries ρ_n T_n + ρ_f T_f.
-        let error = front * (tn * near.error + tf * far.error);
+        let error = front * (tn * near.error + tf * far.error) + value.abs() * f_rel;
         Ok(Estimate::known(value, error, near.evaluations + far.evaluations, o.rule))
     };
     // d = D (T's argument |D − d| turns), d = R (H's √-kink), R·10^k up to
@@ -254,7 +311,8 @@ impl<T: CheckRule> MultipleTables<T> {
                 let shift = decay.clone() * (d.clone() - ff.radius.clone()).max_of(d.lit(0.0));
                 multiple_hits(density, tail.as_ref(), &ff.sigma, &ff.radius, d, &shift, o)
             };
-            let (hits, used) = ScatteredTable::build_with(g, &decay, &ff.radius, &lo, &hi, opts);
+            let (hits, used) =
+                ScatteredTable::build_with(g, &decay, &ff.radius, &lo, &hi, super::scattered_table::LOWEST, opts);
             spent += used;
             (Some(MultipleTable { tail, hits }), spent)
         })
@@ -405,7 +463,9 @@ impl<T: CheckRule> FiniteField<T> {
                     let front = p.flux.clone() * sigma.clone() / (x.pi() * x.lit(4.0) * big_d.clone());
                     let first = self.albedo.clone() * (self.shift.clone() - sd.clone()).exp()
                         / (x.pi() * x.lit(4.0) * sd.clone());
-                    let o2 = Options { abs_tol: (o.abs_tol / front.to_f64()).min(f64::MAX), ..o.clone() };
+                    // The radial part is multiplied by front·e^{c₀} below.
+                    let scale = front.to_f64() * self.shift.exp().to_f64() * self.lights.len() as f64;
+                    let o2 = Options { abs_tol: (o.abs_tol / scale).min(f64::MAX), ..o.clone() };
                     let mut part = Estimate::known(first, x.lit(0.0), 0, o.rule);
                     if let Some(beyond) = &beyond {
                         part = part.plus(beyond.radial(&sd, &o2)?.scaled(&self.shift.exp()));
@@ -441,7 +501,8 @@ mod tests {
             let g = |d: &f64, o: &Options| {
                 multiple_hits(&density, Some(&tail), &1.0, &r, d, &(decay * (d - r).max(0.0)), o)
             };
-            let (table, _) = ScatteredTable::build_with(g, &decay, &r, &lo, &hi, &opts);
+            let (table, _) =
+                ScatteredTable::build_with(g, &decay, &r, &lo, &hi, super::super::scattered_table::LOWEST, &opts);
             let table = table.expect("a table at 1e-6");
             // The reference: the d-integral at 10⁻⁸ with the other rule and
             // tables of its own (T by quadrature alone cancels at small D).

@@ -31,11 +31,11 @@ use crate::quad::{CheckRule, Estimate, Options};
 use std::sync::Arc;
 
 /// Half-width of the window about D = R left to the quadrature, relative to R.
-const WINDOW: f64 = 1e-6;
+pub(super) const WINDOW: f64 = 1e-6;
 
 /// The table's lowest distance, relative to R (a light on or next to the
 /// camera line): below it the quadrature serves.
-const LOWEST: f64 = 1e-4;
+pub(super) const LOWEST: f64 = 1e-4;
 
 /// Goals finer than this get no table (MPFR): Chebyshev pieces of 32 nodes
 /// would need to be many and short, and the quadrature serves.
@@ -49,7 +49,8 @@ pub(super) struct ScatteredTable<T> {
     /// of them that the range meets), as (from, to, interpolant).
     parts: Vec<(T, T, Piecewise<T>)>,
     /// Relative bar of the interpolant ([`ScatteredTable::hits`] adds the
-    /// rounding of its exponent).
+    /// rounding of its exponent; a table built from another table's values
+    /// adds that table's bar here).
     pub rel_error: T,
     /// The rate the tabled function is multiplied back by beyond R (σ for
     /// I(D)).
@@ -66,7 +67,7 @@ impl<T: CheckRule> ScatteredTable<T> {
             let shift = sigma.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0));
             hits_over_distance(sigma, r, d, &shift, samples, true)
         };
-        Self::build_with(g, sigma, r, lo, hi, opts)
+        Self::build_with(g, sigma, r, lo, hi, LOWEST, opts)
     }
 
     /// A table of g(D) = F(D)·e^{decay·max(D − R, 0)}, g computed by `g(D,
@@ -80,10 +81,11 @@ impl<T: CheckRule> ScatteredTable<T> {
         r: &T,
         lo: &T,
         hi: &T,
+        lowest: f64,
         opts: &Options,
     ) -> (Option<ScatteredTable<T>>, u64) {
         let goal = opts.rel_tol / 10.0;
-        let lo = &lo.clone().max_of(r.clone() * r.lit(LOWEST));
+        let lo = &lo.clone().max_of(r.clone() * r.lit(lowest));
         if goal < FINEST_GOAL || !(hi > lo) {
             return (None, 0);
         }

@@ -110,6 +110,17 @@ impl<T: CheckRule> SecondHitTable<T> {
     /// or `None` when it cannot vouch for its bar (module docs), and the
     /// evaluations spent either way. Domain: R > 0, σ > 0.
     pub(super) fn build(sigma: &T, r: &T, opts: &Options) -> (Option<SecondHitTable<T>>, u64) {
+        Self::build_with(|w: &T, o: &Options| second_hit_after(sigma, r, w, o), r, opts)
+    }
+
+    /// A table of another function of w ∈ [0, R] with K's singular ends
+    /// (the every-order K of `multiple_pairs`), computed by `k(w, options)`,
+    /// with the same margins, grading and bar.
+    pub(super) fn build_with(
+        k: impl Fn(&T, &Options) -> Outcome<T>,
+        r: &T,
+        opts: &Options,
+    ) -> (Option<SecondHitTable<T>>, u64) {
         let goal = opts.rel_tol / 10.0;
         let samples = sample_options(r, goal, opts.rule, &opts.budget);
         let (lo, top) = (r.clone() * r.lit(MARGINS.0), r.clone() * r.lit(MARGINS.1));
@@ -123,12 +134,12 @@ impl<T: CheckRule> SecondHitTable<T> {
         let mut evaluations = 0;
         let mut gap = r.lit(0.0);
         for (end, edge) in [(r.lit(0.0), &lo), (r.clone(), &hi)] {
-            let at_end = match second_hit_after(sigma, r, &end, &samples) {
+            let at_end = match k(&end, &samples) {
                 Ok(e) => e,
                 Err(f) => return (None, evaluations + f.evaluations),
             };
             evaluations += at_end.evaluations;
-            let at_edge = match second_hit_after(sigma, r, edge, &samples) {
+            let at_edge = match k(edge, &samples) {
                 Ok(e) => e,
                 Err(f) => return (None, evaluations + f.evaluations),
             };
@@ -141,7 +152,7 @@ impl<T: CheckRule> SecondHitTable<T> {
         if gap.to_f64() > goal {
             return (None, evaluations);
         }
-        let interpolant = match Piecewise::build(|w| second_hit_after(sigma, r, w, &samples), &cuts, goal) {
+        let interpolant = match Piecewise::build(|w| k(w, &samples), &cuts, goal) {
             Ok(i) => i,
             Err(f) => return (None, evaluations + f.evaluations),
         };
