@@ -26,7 +26,7 @@
 //! rate νσ with every order, σ for a finite range).
 
 use super::point::PointLight;
-use super::scattered::hit_chance_parts;
+use super::scattered::{bipolar_cuts, hit_chance_parts};
 use super::scattered_table::ScatteredTable;
 use super::start_density::StartDensity;
 use super::{FiniteField, FiniteLight, OncePerPass};
@@ -255,16 +255,11 @@ pub(super) fn convolved<T: CheckRule>(
         let error = front * (tn * near.error + tf * far.error) + value.abs() * f_rel;
         Ok(Estimate::known(value, error, near.evaluations + far.evaluations, o.rule))
     };
-    // d = D (T's argument |D − d| turns), d = R (H's √-kink), R·10^k up to
-    // D (H falls like R²/d²), and decades about D.
-    // d = D/5 and 5D: where a shell becomes short enough for ∫ρ.
-    let mut cuts = vec![big_d.clone(), r.clone(), big_d.clone() / big_d.lit(5.0), big_d.clone() * big_d.lit(5.0)];
-    let gap = (big_d.clone() - r.clone()).abs();
-    if gap < *r && !gap.is_zero() {
-        cuts.extend(graded_about(big_d, &gap, r).into_iter().filter(|c| *c > gap.lit(0.0)));
-        cuts.extend(graded_about(r, &gap, r).into_iter().filter(|c| *c > gap.lit(0.0)));
-    }
-    cuts.extend(graded_about(&big_d.lit(0.0), r, big_d).into_iter().filter(|c| c > r));
+    // I(D)'s cuts (d = D, where T's argument |D − d| turns; d = R; R·10^k
+    // up to D), d = D/5 and 5D (where a shell becomes short enough for ∫ρ),
+    // and decades about D.
+    let mut cuts = bipolar_cuts(big_d, r);
+    cuts.extend([big_d.clone() / big_d.lit(5.0), big_d.clone() * big_d.lit(5.0)]);
     cuts.extend(
         graded_about(big_d, &(big_d.clone() * big_d.lit(1e-6)), big_d).into_iter().filter(|c| c > &big_d.lit(0.0)),
     );
@@ -412,13 +407,10 @@ impl<T: CheckRule> FiniteField<T> {
         let result = self.with_line(|line| {
             line.integral_nested("finite-sphere ∫⟨𝒞⟩ of segments ≥ 2", opts, |x, o| {
                 let share = Options { abs_tol: o.abs_tol / self.lights.len() as f64, ..o.clone() };
-                let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
-                for light in &self.lights {
-                    if let FiniteLight::Point(p) = light {
-                        total = total.plus(p.multiple_moment(self, density, &tables, x, &share)?);
-                    }
-                }
-                Ok(total)
+                self.sum_over_lights(x, o, |_, light| match light {
+                    FiniteLight::Point(p) => p.multiple_moment(self, density, &tables, x, &share),
+                    FiniteLight::Beam(_) => Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule)),
+                })
             })
         });
         tables.charge(result)
@@ -454,9 +446,10 @@ impl<T: CheckRule> FiniteField<T> {
         let sigma = &self.sigma;
         self.with_line(|line| {
             line.integral_nested("small-sphere ∫ of every order", opts, |x, o| {
-                let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
-                for light in &self.lights {
-                    let FiniteLight::Point(p) = light else { continue };
+                self.sum_over_lights(x, o, |_, light| {
+                    let FiniteLight::Point(p) = light else {
+                        return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule));
+                    };
                     let (big_d, _) = p.distance_to(self, x);
                     let sd = sigma.clone() * big_d.clone();
                     // (Φ/(4πσ))·a^m c_m(D), c_m(D) = σ²·(r C)₁(σD)/D: Φσ/(4πD)·(r C)₁.
@@ -470,10 +463,8 @@ impl<T: CheckRule> FiniteField<T> {
                     if let Some(beyond) = &beyond {
                         part = part.plus(beyond.radial(&sd, &o2)?.scaled(&self.shift.exp()));
                     }
-                    let part = part.scaled(&front);
-                    total = total.plus(part);
-                }
-                Ok(total)
+                    Ok(part.scaled(&front))
+                })
             })
         })
     }

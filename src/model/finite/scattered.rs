@@ -98,23 +98,8 @@ pub(super) fn hits_over_distance<T: CheckRule>(
         let far_part = (base - far.clone()).exp() * exp_int_e1_scaled(&far);
         d.clone() * rest * (near_part - far_part)
     };
-    // d = D (logarithmic), d = R (√-kink), and R·10^k up to D, where H
-    // falls like R²/d² over as many decades.
-    let mut cuts = vec![big_d.clone()];
-    if r != big_d {
-        cuts.push(r.clone());
-        // With D near R the two singular points nearly meet: each is a
-        // near-singularity of the pieces at the other, graded by decades of
-        // their gap (without, D = R(1 − 10⁻⁶) at 10⁻¹⁰ failed its
-        // cross-check, 10× apart from its bars).
-        let gap = (big_d.clone() - r.clone()).abs();
-        if gap < *r {
-            cuts.extend(crate::model::field::graded_about(big_d, &gap, r).into_iter().filter(|c| *c > gap.lit(0.0)));
-            cuts.extend(crate::model::field::graded_about(r, &gap, r).into_iter().filter(|c| *c > gap.lit(0.0)));
-        }
-    }
-    cuts.extend(crate::model::field::graded_about(&big_d.lit(0.0), r, big_d).into_iter().filter(|c| c > r));
-    let domain = Domain::semi_infinite(big_d.lit(0.0)).with_breakpoints(cuts).with_decay(sigma.clone());
+    let domain =
+        Domain::semi_infinite(big_d.lit(0.0)).with_breakpoints(bipolar_cuts(big_d, r)).with_decay(sigma.clone());
     // The result is the integral times σ/(2D): its absolute goal, before.
     let factor = sigma.clone() / (big_d.lit(2.0) * big_d.clone());
     let opts = &Options { abs_tol: (opts.abs_tol / factor.to_f64()).min(f64::MAX), ..opts.clone() };
@@ -124,6 +109,28 @@ pub(super) fn hits_over_distance<T: CheckRule>(
         integrate(f, &domain, opts)?
     };
     Ok(e.scaled(&factor))
+}
+
+/// The breakpoints in d of a bipolar integral ∫ d F(d) K(D, d) dd of a
+/// sphere's radial function F (kinked at d = R like H) against a kernel
+/// that turns at d = D ([`hits_over_distance`], `multiple::convolved`):
+/// d = D, d = R, and R·10^k up to D, where H falls like R²/d² over as many
+/// decades. With D near R the two points nearly meet and each is a
+/// near-singularity of the pieces at the other, graded by decades of
+/// their gap (without, I(D) at D = R(1 − 10⁻⁶) and 10⁻¹⁰ failed its
+/// cross-check, 10× apart from its bars).
+pub(super) fn bipolar_cuts<T: Real>(big_d: &T, r: &T) -> Vec<T> {
+    let mut cuts = vec![big_d.clone()];
+    if r != big_d {
+        cuts.push(r.clone());
+        let gap = (big_d.clone() - r.clone()).abs();
+        if gap < *r {
+            cuts.extend(crate::model::field::graded_about(big_d, &gap, r).into_iter().filter(|c| *c > gap.lit(0.0)));
+            cuts.extend(crate::model::field::graded_about(r, &gap, r).into_iter().filter(|c| *c > gap.lit(0.0)));
+        }
+    }
+    cuts.extend(crate::model::field::graded_about(&big_d.lit(0.0), r, big_d).into_iter().filter(|c| c > r));
+    cuts
 }
 
 impl<T: CheckRule> PointLight<T> {
