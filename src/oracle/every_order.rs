@@ -30,16 +30,23 @@ pub struct EveryOrderMean {
     pub bias: ValueWithBar,
     /// The share of μ(R) of segments 2..=n (or all of them).
     pub beyond_first: ValueWithBar,
+    /// Var L of one iteration, exact at R, where the model has it
+    /// (`"all"`, q = 1, N_B = 1: M₂/N_F + (1 − 1/N_F)P − μ²).
+    pub variance: Option<ValueWithBar>,
+    /// M₂ and P behind it (16), (17).
+    pub m2: Option<ValueWithBar>,
+    /// P = ∫σe^{−σs}⟨𝒞⟩² ds.
+    pub p: Option<ValueWithBar>,
     /// Integrand evaluations spent.
     pub evaluations: u64,
-    /// Why the report has no Var L (and `predict` no prediction).
-    pub variance_missing: &'static str,
+    /// Why the report has no Var L (and `predict` no prediction), if it has none.
+    pub variance_missing: Option<&'static str>,
 }
 
 /// Why an every-order report carries the mean only.
-pub const VARIANCE_NOT_MODELLED: &str = "not modelled for scattering_orders >= 2 yet: it needs the same-path pairs \
-     of segments j < k (k >= 2) meeting one sphere and the correlations of two spheres (docs/model.md §10.3); \
-     `predict` and `check` refuse the scene, and the tracer (`trace`) measures Var L";
+pub const VARIANCE_NOT_MODELLED: &str = "not modelled for this scene: only for scattering_orders = \"all\" at q = 1 and camera_rays = 1; \
+     other q and N_B need the correlations of two spheres of every order, finite orders >= 2 their same-path \
+     pairs (docs/model.md §10.3); `predict` and `check` refuse the scene, and the tracer (`trace`) measures Var L";
 
 /// The default relative tolerance of [`every_order_mean`] (allowed from
 /// 10⁻⁸: the tail tables need goals of 1/40000 of it, at least 10⁻¹³ in f64).
@@ -134,8 +141,28 @@ pub fn every_order_mean(scene: &Scene, rel_tol: Option<f64>, budget: &Budget) ->
     let beyond = ff.multiple_mean(&opts)?;
     let small = ff.small_sphere_mean_every_order(scene.effects.scattering_orders, &opts)?;
     let k = (-ff.shift).exp();
-    let evaluations = uncollided.evaluations + single.evaluations + beyond.evaluations + small.evaluations;
+    let mut evaluations = uncollided.evaluations + single.evaluations + beyond.evaluations + small.evaluations;
     let exact = uncollided.plus(single).plus(beyond.clone());
+    let est = &scene.estimator;
+    let with_variance = scene.effects.scattering_orders == ScatteringOrders::All && est.q == 1.0 && est.camera_rays == 1;
+    let (mut variance, mut m2_out, mut p_out) = (None, None, None);
+    if with_variance {
+        let pairs = ff.every_order_pairs(&opts)?;
+        let p = ff.every_order_p(&opts)?;
+        evaluations += pairs.evaluations + p.evaluations;
+        // Σ_j⟨𝒞_j²⟩ = c f⟨𝒞⟩ in an isotropic medium: every hit adds c f.
+        let cf = ff.per_hit_power(1, &ff.total_flux) / (4.0 * std::f64::consts::PI);
+        let m2 = Estimate::known(cf * exact.value, cf * exact.error, 0, opts.rule).plus(pairs);
+        let n_f = est.forward_rays as f64;
+        let (mu, mu_e) = (exact.value * k, exact.error * k);
+        let (m2v, m2e) = (m2.value * k, m2.error * k);
+        let (pv, pe) = (p.value * k, p.error * k);
+        let v = m2v / n_f + (1.0 - 1.0 / n_f) * pv - mu * mu;
+        let e = m2e / n_f + (1.0 - 1.0 / n_f) * pe + 2.0 * mu.abs() * mu_e + mu_e * mu_e;
+        variance = Some(reported(&v, &e));
+        m2_out = Some(reported(&m2v, &m2e));
+        p_out = Some(reported(&pv, &pe));
+    }
     let bias = Estimate::known(exact.value - small.value, exact.error + small.error, 0, opts.rule);
     let orders = match scene.effects.scattering_orders {
         ScatteringOrders::Limited(n) => n.to_string(),
@@ -144,7 +171,10 @@ pub fn every_order_mean(scene: &Scene, rel_tol: Option<f64>, budget: &Budget) ->
     Ok(EveryOrderMean {
         orders,
         rel_tol,
-        variance_missing: VARIANCE_NOT_MODELLED,
+        variance_missing: (!with_variance).then_some(VARIANCE_NOT_MODELLED),
+        variance,
+        m2: m2_out,
+        p: p_out,
         mean: reported(&(exact.value * k), &(exact.error * k)),
         small_sphere_mean: reported(&(small.value * k), &(small.error * k)),
         bias: reported(&(bias.value * k), &(bias.error * k)),
@@ -176,7 +206,15 @@ impl std::fmt::Display for EveryOrderMean {
                 * (self.bias.error / self.small_sphere_mean.value.abs()
                     + (self.bias.value * self.small_sphere_mean.error / self.small_sphere_mean.value.powi(2)).abs())
         )?;
+        if let (Some(v), Some(m2), Some(p)) = (&self.variance, &self.m2, &self.p) {
+            row(f, "Var L (one iteration), exact", v)?;
+            row(f, "  M₂ (16)", m2)?;
+            row(f, "  P (17)", p)?;
+        }
         writeln!(f, "  evaluations: {}", self.evaluations)?;
-        writeln!(f, "Var L: {}.", self.variance_missing)
+        match self.variance_missing {
+            Some(why) => writeln!(f, "Var L: {why}."),
+            None => Ok(()),
+        }
     }
 }

@@ -31,6 +31,7 @@ mod beam_ring;
 pub mod cross_segments;
 mod hit_cumulants;
 mod multiple;
+mod multiple_pairs;
 pub mod order1;
 pub mod point;
 pub mod ray;

@@ -1,0 +1,362 @@
+//! The same-path pairs of every order (isotropic media, point lights,
+//! every order: `docs/model.md` §10.3): how often one forward path hits one
+//! sphere with two of its segments j < k, which M₂ needs beside Σ_j⟨𝒞_j²⟩
+//! = c f ⟨𝒞⟩, so that Var L at q = 1 and N_B = 1 is exact at any R.
+//!
+//! A segment is a fresh isotropic source wherever it starts (the light for
+//! j = 0, an interaction point after), and everything after its end, if it
+//! scatters there (a), is a fresh source too, whose hits of the sphere at
+//! distance d′ are G(d′) = H + a·I + C′ * H (segments 0, 1 and ≥ 2 of a
+//! fresh path: §9.5, §10.2). So the pairs of a segment starting at
+//! distance d from the centre are
+//!
+//!   𝒦(d) = E[1{the segment hits}·a·G(|end − x|)] = ½∫_cap sin ψ e^{−σ d cos ψ} K_G(d sin ψ) dψ,
+//!   K_G(p) = ∫₀^∞ σe^{−σu} a·G(√(u² + p²)) du
+//!
+//! (u measured from the closest point; the cap is that of §9.6), and every
+//! segment of every order starts at δ_light + C_all, C_all = a c₁ + C′:
+//!
+//!   E[Σ_{j<k} hit_j hit_k] = 𝒦(D) + a·(c₁ * 𝒦)(D) + (C′ * 𝒦)(D),
+//!
+//! the last two by the bipolar integrals of §9.5 and §10.2 with 𝒦 in
+//! place of H. Four tables per pass, each from the one before, each
+//! sample carrying the bar of the table it reads: G(d′) over the distances
+//! a segment's end can have (`ScatteredTable`, decay νσ), K_G(w) over the
+//! sphere's cross-section (`SecondHitTable`, w = √(R² − p²)), 𝒦(d)
+//! (`ScatteredTable`, decay σ), and T of C′ (`multiple::TailTable`).
+//! Order 1's own term (§9.6) is the case G = H, C_all = 0.
+
+use super::multiple::{convolved, hit_radial, MultipleTables, Radial, RadialFn, TailTable};
+use super::point::cap_half_angle;
+use super::scattered::hits_over_distance;
+use super::scattered_table::ScatteredTable;
+use super::second_hit::SecondHitTable;
+use super::start_density::StartDensity;
+use super::{FiniteField, FiniteLight, OncePerPass};
+use crate::model::field::graded_about;
+use crate::model::OracleError;
+use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Failure, Options, Outcome};
+use crate::special::exp_int_e1_scaled;
+use std::sync::Arc;
+
+/// The tables of one pass (module docs).
+pub(super) struct PairTable<T> {
+    tail: Option<TailTable<T>>,
+    after: SecondHitTable<T>,
+    revisit: ScatteredTable<T>,
+}
+
+/// The pair tables of one computation, one per pass.
+pub(super) struct PairTables<T> {
+    passes: OncePerPass<PairTable<T>>,
+}
+
+impl<T> Default for PairTables<T> {
+    fn default() -> Self {
+        PairTables { passes: OncePerPass::default() }
+    }
+}
+
+/// A value of a [`ScatteredTable`] as a [`Radial`] (`decay` the table's
+/// rate), or `None` where it does not reach.
+fn from_table<T: CheckRule>(t: &ScatteredTable<T>, decay: &T, r: &T, d: &T) -> Option<Radial<T>> {
+    let reach_like = (d.clone() - r.clone()).max_of(d.lit(0.0));
+    let (g, rel) = t.hits(decay, r, d, &(decay.clone() * reach_like.clone()))?;
+    // g = F(d)·e^{decay·(d − R)⁺}; as e^{−σ·reach}·rest with σ·reach = decay·(d − R)⁺.
+    Some(Radial { reach: reach_like, rest: g, rel })
+}
+
+impl<T: CheckRule> PairTable<T> {
+    /// Builds the four tables for a pass with `opts` over the distances
+    /// [0, hi] (`None` if any cannot be built within its goal).
+    fn build(ff: &FiniteField<T>, density: &StartDensity<T>, hi: &T, opts: &Options) -> (Option<Self>, u64) {
+        let (sigma, r, a) = (&ff.sigma, &ff.radius, &ff.albedo);
+        let mut spent = 0;
+        let far = hi.clone() + r.clone() + sigma.lit(100.0) / sigma.clone();
+        let reach = sigma.clone() * far.clone() * sigma.lit(2.0) + sigma.lit(200.0);
+        let (tail, used) = TailTable::build(density, &reach, opts);
+        spent += used;
+        let nu = sigma.clone() * density.decay();
+        // G(d)·e^{νσ(d − R)⁺}.
+        let fresh_direct = |d: &T, o: &Options| -> Outcome<T> {
+            let shift = nu.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0));
+            let h = hit_radial(sigma, r, d);
+            let h = (shift.clone() - sigma.clone() * h.reach).exp() * h.rest;
+            let third = Options { abs_tol: o.abs_tol / 3.0, ..o.clone() };
+            let once = hits_over_distance(sigma, r, d, &shift, &third, true)?.scaled(a);
+            let more = super::multiple::multiple_hits(density, tail.as_ref(), sigma, r, d, &shift, &third)?;
+            Ok(once.plus(more).plus(Estimate::known(h, d.lit(0.0), 1, o.rule)))
+        };
+        let (fresh, used) = ScatteredTable::build_with(&fresh_direct, &nu, r, &d_zero(r), &far, FRESH_LOWEST, opts);
+        spent += used;
+        let Some(fresh) = fresh else { return (None, spent) };
+        // K_G(w) = ∫σe^{−σu} a G(√(u² + R² − w²)) du.
+        let after_of = |w: &T, o: &Options| -> Outcome<T> {
+            let p2 = (r.clone() - w.clone()) * (r.clone() + w.clone());
+            let f = |u: &T, io: &Options| -> Outcome<T> {
+                let d = (u.clone() * u.clone() + p2.clone()).sqrt();
+                let g = fresh_radial(&fresh, &nu, sigma, r, &d, &fresh_direct, io)?;
+                let v = a.clone() * sigma.clone() * (-(sigma.clone() * (u.clone() + g.reach))).exp() * g.rest;
+                Ok(Estimate::known(v.clone(), v.abs() * g.rel, 1, io.rule))
+            };
+            let zero = w.lit(0.0);
+            let mut cuts = vec![w.clone()];
+            cuts.extend(graded_about(&zero, r, &(w.lit(4.0) / sigma.clone())).into_iter().filter(|c| *c > zero));
+            cuts.extend(graded_about(w, &(r.clone() / w.lit(1e3)), r).into_iter().filter(|c| *c > zero));
+            let domain = Domain::semi_infinite(zero).with_breakpoints(cuts).with_decay(sigma.clone());
+            integrate_within_pass(f, &domain, o)
+        };
+        let (after, used) = SecondHitTable::build_with(after_of, r, opts);
+        spent += used;
+        let Some(mut after) = after else { return (None, spent) };
+        // K_G read G from its table without a bar: a relative bar of G is one of K_G.
+        after.rel_error = after.rel_error.clone() + fresh.rel_error.clone();
+        // 𝒦(d)·e^{σ(d − R)⁺}.
+        let revisit_of = |d: &T, o: &Options| {
+            revisit(sigma, r, &after, d, &(sigma.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0))), o, false)
+        };
+        let (revisit, used) = ScatteredTable::build_with(revisit_of, sigma, r, &d_zero(r), &far, super::scattered_table::LOWEST, opts);
+        spent += used;
+        let Some(mut revisit) = revisit else { return (None, spent) };
+        revisit.rel_error = revisit.rel_error.clone() + after.rel_error.clone();
+        (Some(PairTable { tail, after, revisit }), spent)
+    }
+}
+
+/// The G table's lowest distance, relative to R (I(D)'s): below, G − H is taken
+/// flat (module docs of [`fresh_radial`]).
+const FRESH_LOWEST: f64 = 1e-4;
+
+fn d_zero<T: CheckRule>(r: &T) -> T {
+    r.lit(0.0)
+}
+
+/// G(d) as a [`Radial`] with reach (νσ/σ)(d − R)⁺, from the table or by
+/// quadrature.
+fn fresh_radial<T: CheckRule>(
+    fresh: &ScatteredTable<T>,
+    nu: &T,
+    sigma: &T,
+    r: &T,
+    d: &T,
+    direct: &dyn Fn(&T, &Options) -> Outcome<T>,
+    o: &Options,
+) -> Result<Radial<T>, Failure<T>> {
+    let scale = nu.clone() / sigma.clone();
+    let reach = scale * (d.clone() - r.clone()).max_of(d.lit(0.0));
+    if let Some(g) = from_table(fresh, nu, r, d) {
+        // The table's bar is added to the whole table built on it.
+        return Ok(Radial { reach, rest: g.rest, rel: d.lit(0.0) });
+    }
+    // Within the table's window about d = R, where G's singular parts meet
+    // (and its quadrature costs millions of evaluations): G − H = a·I + C′ * H
+    // is radially decreasing (c₁, every c_m and H are, and so are their
+    // convolutions), so it lies between its values at the window's edges;
+    // H itself is closed.
+    let edge = r.clone() * r.lit(super::scattered_table::WINDOW);
+    if (d.clone() - r.clone()).abs() <= edge {
+        let hit = |x: &T| {
+            let h = hit_radial(sigma, r, x);
+            (-(sigma.clone() * h.reach)).exp() * h.rest
+        };
+        let value_at = |x: &T| {
+            from_table(fresh, nu, r, x).map(|g| g.rest * (-(nu.clone() * (x.clone() - r.clone()).max_of(x.lit(0.0)))).exp())
+        };
+        let (lo, hi) = (r.clone() - edge.clone(), r.clone() + edge.clone());
+        if let (Some(g_lo), Some(g_hi)) = (value_at(&lo), value_at(&hi)) {
+            let (s_lo, s_hi) = (g_lo - hit(&lo), g_hi - hit(&hi));
+            let mid = (s_lo.clone() + s_hi.clone()) * d.lit(0.5);
+            let half_gap = (s_lo - s_hi).abs() * d.lit(0.5);
+            let value = hit(d) + mid;
+            let rest = value.clone() * (nu.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0))).exp();
+            return Ok(Radial { reach, rest, rel: half_gap / value });
+        }
+    }
+    // Below the table (a segment's end within 10⁻⁴R of the centre):
+    // G − H is smooth and even about d = 0 to first order, so it is taken
+    // at the table's lowest distance, with twice its change over the
+    // decade above as the bar.
+    let lowest = r.clone() * r.lit(FRESH_LOWEST);
+    if *d < lowest {
+        let hit = |x: &T| {
+            let h = hit_radial(sigma, r, x);
+            (-(sigma.clone() * h.reach)).exp() * h.rest
+        };
+        let above = lowest.clone() * d.lit(10.0);
+        if let (Some(g0), Some(g1)) = (from_table(fresh, nu, r, &lowest), from_table(fresh, nu, r, &above)) {
+            let (s0, s1) = (g0.rest - hit(&lowest), g1.rest - hit(&above));
+            let value = hit(d) + s0.clone();
+            let bar = (s0 - s1).abs() * d.lit(2.0);
+            return Ok(Radial { reach, rest: value.clone(), rel: bar / value });
+        }
+    }
+    let e = direct(d, &Options { abs_tol: 0.0, ..o.clone() })?;
+    let rel = e.error.clone() / e.value.clone().abs();
+    Ok(Radial { reach, rest: e.value, rel })
+}
+
+/// 𝒦(d)·e^{shift} from the K_G table (module docs): ½∫ over the cap, in
+/// w = √(R² − p²) for d > R (sin ψ dψ = w dw/(d·√(d² − R² + w²))), in ψ
+/// for d ≤ R; the table's relative bar added.
+fn revisit<T: CheckRule>(
+    sigma: &T,
+    r: &T,
+    after: &SecondHitTable<T>,
+    d: &T,
+    shift: &T,
+    o: &Options,
+    with_table_bar: bool,
+) -> Outcome<T> {
+    let half = d.lit(0.5);
+    let e = if d > r {
+        let gap = (d.clone() - r.clone()) * (d.clone() + r.clone());
+        let f = |w: &T, io: &Options| -> Outcome<T> {
+            let reach = (gap.clone() + w.clone() * w.clone()).sqrt();
+            let v = w.clone() / (d.clone() * reach.clone()) * (shift.clone() - sigma.clone() * reach).exp() * after.eval(w);
+            Ok(Estimate::known(v, w.lit(0.0), 1, io.rule))
+        };
+        let domain = Domain::finite(d.lit(0.0), r.clone()).with_breakpoints(graded_about(&d.lit(0.0), &gap.sqrt(), r));
+        integrate_within_pass(f, &domain, o)?
+    } else {
+        let f = |psi: &T, io: &Options| -> Outcome<T> {
+            let p = d.clone() * psi.sin();
+            let w = ((r.clone() - p.clone()) * (r.clone() + p)).sqrt();
+            let v = psi.sin() * (shift.clone() - sigma.clone() * d.clone() * psi.cos()).exp() * after.eval(&w);
+            Ok(Estimate::known(v, w.lit(0.0), 1, io.rule))
+        };
+        integrate_within_pass(f, &Domain::finite(d.lit(0.0), cap_half_angle(d, r)), o)?
+    };
+    let table_bar = if with_table_bar { e.value.abs() * after.rel_error.clone() } else { e.value.lit(0.0) };
+    let error = e.error.clone() + table_bar;
+    Ok(Estimate { error, ..e }.scaled(&half))
+}
+
+/// (c₁ * F)(D)·e^{shift} = (σ/(2D))∫₀^∞ d F(d)[E₁(σ|D − d|) − E₁(σ(D + d))] dd
+/// (§9.5 with F in place of H), F's relative bar carried into each sample.
+fn c1_convolved<T: CheckRule>(
+    sigma: &T,
+    r: &T,
+    big_d: &T,
+    shift: &T,
+    radial: &RadialFn<'_, T>,
+    opts: &Options,
+) -> Outcome<T> {
+    let f = |d: &T, o: &Options| -> Outcome<T> {
+        let near = (big_d.clone() - d.clone()).abs() * sigma.clone();
+        if d.is_zero() || near.is_zero() {
+            return Ok(Estimate::known(d.lit(0.0), d.lit(0.0), 0, o.rule));
+        }
+        let far = (big_d.clone() + d.clone()) * sigma.clone();
+        let Radial { reach, rest, rel } = radial(d, o)?;
+        let base = shift.clone() - sigma.clone() * reach;
+        let near_part = (base.clone() - near.clone()).exp() * exp_int_e1_scaled(&near);
+        let far_part = (base - far.clone()).exp() * exp_int_e1_scaled(&far);
+        let v = d.clone() * rest * (near_part - far_part);
+        Ok(Estimate::known(v.clone(), v.abs() * rel, 1, o.rule))
+    };
+    let mut cuts = vec![big_d.clone(), r.clone()];
+    let gap = (big_d.clone() - r.clone()).abs();
+    if gap < *r && !gap.is_zero() {
+        cuts.extend(graded_about(big_d, &gap, r).into_iter().filter(|c| *c > gap.lit(0.0)));
+        cuts.extend(graded_about(r, &gap, r).into_iter().filter(|c| *c > gap.lit(0.0)));
+    }
+    cuts.extend(graded_about(&big_d.lit(0.0), r, big_d).into_iter().filter(|c| c > r));
+    let domain = Domain::semi_infinite(big_d.lit(0.0)).with_breakpoints(cuts).with_decay(sigma.clone());
+    let factor = sigma.clone() / (big_d.lit(2.0) * big_d.clone());
+    let opts = &Options { abs_tol: (opts.abs_tol / factor.to_f64()).min(f64::MAX), ..opts.clone() };
+    Ok(integrate_within_pass(f, &domain, opts)?.scaled(&factor))
+}
+
+impl<T: CheckRule> FiniteField<T> {
+    /// The pair tables of the pass with `opts`.
+    fn pair_tables(&self, tables: &PairTables<T>, density: &StartDensity<T>, opts: &Options) -> Option<Arc<PairTable<T>>> {
+        // The tables serve the outer goal (the pass's inner goal times the
+        // 20 of `integrate_nested`): four tables deep, each at a tenth of
+        // the goal before it, the pass's own goal would leave the brackets
+        // of G about d = R and d = 0 (~10⁻¹⁰) above the K_G table's samples'.
+        let table_opts = Options { rel_tol: (opts.rel_tol * 20.0).min(1e-3), ..opts.clone() };
+        tables.passes.get_or_build(&table_opts, || {
+            let Some((_, hi)) = super::scattered_table::distance_range(self) else { return (None, 0) };
+            PairTable::build(self, density, &hi, &table_opts)
+        })
+    }
+
+    /// ∫σe^{−σs}·2(c f)²Σ_lights(Φ/𝓕)E[Σ_{j<k} hit_j hit_k] ds·e^{c₀}: the
+    /// same-path pairs of every order in M₂ (module docs). Every order
+    /// only (`scattering_orders = "all"`); isotropic media, point lights.
+    pub fn every_order_pairs(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        let density = self.higher_orders()?;
+        if density.last_order().is_some() {
+            return Err(OracleError::Unsupported(
+                "the same-path pairs of a finite order n ≥ 2 are not modelled (only every order, \"all\"; \
+                 docs/model.md §10.3)"
+                    .into(),
+            ));
+        }
+        let tables = PairTables::default();
+        let (sigma, r) = (&self.sigma, &self.radius);
+        let f = r.lit(1.0) / (r.pi() * r.lit(4.0));
+        let result = self.with_line(|line| {
+            line.integral_nested("finite-sphere same-path pairs of every order", opts, |x, o| {
+                let Some(t) = self.pair_tables(&tables, density, o) else {
+                    return Err(Failure {
+                        reason: "the tables of every order's same-path pairs could not be built within the goal".into(),
+                        best_guess: None,
+                        error_estimate: None,
+                        evaluations: 0,
+                    });
+                };
+                // Table values without a bar (the table's relative bar is
+                // added to the sum below); the quadrature's with its own.
+                let radial = |d: &T, io: &Options| -> Result<Radial<T>, Failure<T>> {
+                    if let Some(k) = from_table(&t.revisit, sigma, r, d) {
+                        return Ok(Radial { rel: d.lit(0.0), ..k });
+                    }
+                    let reach = (d.clone() - r.clone()).max_of(d.lit(0.0));
+                    let io = Options { abs_tol: 0.0, ..io.clone() };
+                    let e = revisit(sigma, r, &t.after, d, &(sigma.clone() * reach.clone()), &io, true)?;
+                    let rel = e.error.clone() / e.value.clone().abs();
+                    Ok(Radial { reach, rest: e.value, rel })
+                };
+                let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
+                for light in &self.lights {
+                    let FiniteLight::Point(p) = light else { continue };
+                    let (big_d, _) = p.distance_to(self, x);
+                    let front = self.per_hit_power(2, &p.flux) * f.clone() * f.clone() * x.lit(2.0);
+                    let share = Options { abs_tol: (o.abs_tol / (3.0 * front.to_f64() * self.lights.len() as f64)).min(f64::MAX), ..o.clone() };
+                    let own = radial(&big_d, &share)?;
+                    let own_v = (self.shift.clone() - sigma.clone() * own.reach) .exp() * own.rest;
+                    let own = Estimate::known(own_v.clone(), own_v.abs() * own.rel, 1, o.rule);
+                    let once = c1_convolved(sigma, r, &big_d, &self.shift, &radial, &share)?.scaled(&self.albedo);
+                    let more = convolved(density, t.tail.as_ref(), sigma, r, &big_d, &self.shift, &radial, &share)?;
+                    total = total.plus(own.plus(once).plus(more).scaled(&front));
+                }
+                let error = total.error.clone() + total.value.abs() * t.revisit.rel_error.clone();
+                Ok(Estimate { error, ..total })
+            })
+        });
+        tables.passes.charge(result)
+    }
+
+    /// P = ∫σe^{−σs}⟨𝒞⟩² ds·e^{c₀} of every simulated order (⟨𝒞⟩ of
+    /// segments 0, 1 and ≥ 2: §9.2, §9.5, §10.2).
+    pub fn every_order_p(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        let density = self.higher_orders()?;
+        let scattered = super::scattered_table::ScatteredTables::default();
+        let multiple = MultipleTables::default();
+        let with_bar = |x: &T, _tol: f64, o: &Options| -> Outcome<T> {
+            let half = Options { abs_tol: o.abs_tol / 2.0, ..o.clone() };
+            let first = self.order1_mean_with_bar(x, &scattered, &half)?;
+            let mut rest = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
+            for light in &self.lights {
+                if let FiniteLight::Point(p) = light {
+                    rest = rest.plus(p.multiple_moment(self, density, &multiple, x, &half)?);
+                }
+            }
+            Ok(first.plus(rest))
+        };
+        let source = crate::model::along::MeanSource::WithBar(&with_bar);
+        let result = self.with_line(|line| line.p_single(&source, opts));
+        multiple.charge(scattered.charge(result))
+    }
+}
