@@ -486,7 +486,7 @@ fn oracle(
     if matches!(scene.effects.scattering_orders, mcrt_noise::ScatteringOrders::Limited(n) if n >= 2)
         || scene.effects.scattering_orders == mcrt_noise::ScatteringOrders::All
     {
-        return every_order_oracle(path, &scene, precision, rel_tol, budget, json);
+        return every_order_oracle(path, &scene, precision, rel_tol, budget, scope, json);
     }
     let report = mcrt_noise::oracle::run_within_scoped(&scene, precision, rel_tol, budget, scope)
         .map_err(|e| CliError::from(e).at(path.display()))?;
@@ -499,19 +499,29 @@ fn oracle(
 }
 
 /// `oracle` on a scene with scattering orders >= 2: the exact mean, its
-/// small-sphere limit and the bias (f64 only; docs/model.md §10).
+/// small-sphere limit and the bias, and Var L where the model has it
+/// (f64 only; docs/model.md §10).
 fn every_order_oracle(
     path: &std::path::Path,
     scene: &mcrt_noise::Scene,
     precision: Precision,
     rel_tol: Option<f64>,
     budget: &Budget,
+    scope: Scope,
     json: bool,
 ) -> Result<(), CliError> {
-    if precision != Precision::F64 {
+    if let Precision::Bits(bits) = precision {
         return Err(CliError::usage(format!(
-            "--precision: with effects.scattering_orders >= 2 the oracle computes in f64 only (allowed: f64); \
+            "--precision = {bits}: with effects.scattering_orders >= 2 the oracle computes in f64 only (allowed: f64); \
              scene {}",
+            path.display()
+        )));
+    }
+    if scope == Scope::FinitePairs {
+        return Err(CliError::usage(format!(
+            "--finite-pairs: with effects.scattering_orders >= 2 there are no correlations of two spheres to add \
+             (not modelled yet, docs/model.md §10.4); without the flag the oracle gives the exact mean, and Var L \
+             for \"all\" at q = 1 and camera_rays = 1; scene {}",
             path.display()
         )));
     }

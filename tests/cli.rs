@@ -191,6 +191,36 @@ fn oracle_json_of_an_order1_scene() {
     assert!(why.contains("--finite-pairs") && why.contains("q = 0.5, N_B = 8"), "{why}");
 }
 
+/// With every order at q = 1 and one camera ray the oracle gives Var L
+/// exact at R (docs/model.md §10.3) with M₂'s same-path pairs and P, each
+/// with a bar, and no `variance_missing`; the text report prints them.
+#[test]
+fn oracle_gives_the_variance_of_every_order_at_q_one() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml"))
+        .unwrap()
+        .replace("scattering_orders = 0", "scattering_orders = \"all\"")
+        .replace("radius = 0.01", "radius = 0.2")
+        .replace("q = 0.5", "q = 1.0")
+        .replace("forward_rays = 200", "forward_rays = 20")
+        .replace("camera_rays = 8", "camera_rays = 1");
+    let path = std::env::temp_dir().join(format!("mcrt-noise-all-q1-{}.toml", std::process::id()));
+    std::fs::write(&path, &text).unwrap();
+    let out = bin().args(["oracle", path.to_str().unwrap(), "--json", "--rel-tol", "1e-3"]).output().unwrap();
+    let text_out = bin().args(["oracle", path.to_str().unwrap(), "--rel-tol", "1e-3"]).output().unwrap();
+    std::fs::remove_file(&path).ok();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let get = |p: &str| v.pointer(p).and_then(|x| x.as_f64()).unwrap_or_else(|| panic!("{p} in {v}"));
+    let (var, bar) = (get("/variance/value"), get("/variance/error"));
+    assert!(var > 0.0 && bar > 0.0 && bar <= 1e-3 * var, "{v}");
+    let (m2, pairs, p) = (get("/m2/value"), get("/same_path_pairs/value"), get("/p/value"));
+    assert!(pairs > 0.0 && pairs < m2 && p > 0.0, "{v}");
+    assert!(v["variance_missing"].is_null(), "{v}");
+    let shown = String::from_utf8(text_out.stdout).unwrap();
+    assert!(shown.contains("Var L (one iteration), exact") && shown.contains("same-path pairs"), "{shown}");
+    assert!(!shown.contains("the mean only"), "{shown}");
+}
+
 /// With scattering_orders = 2 the oracle gives the exact mean, the
 /// small-sphere mean and the bias (docs/model.md §10), says why Var L is
 /// missing, and `predict` (through `check`'s prediction) refuses the scene
@@ -1035,7 +1065,8 @@ fn exit_codes_follow_the_documented_policy() {
         (&["trace", "/nonexistent/scene.toml", "--trials", "10"], 2, "/nonexistent/scene.toml"),
         (&["oracle", invalid], 2, "estimator.q = 1.5"),
         (&["oracle", order12], 2, "scattering_orders = 12"),
-        (&["oracle", order2, "--precision", "128"], 2, "--precision"),
+        (&["oracle", order2, "--precision", "128"], 2, "--precision = 128"),
+        (&["oracle", order2, "--finite-pairs", "--rel-tol", "1e-3"], 2, "--finite-pairs"),
         (&["oracle", order2, "--rel-tol", "1e-9"], 2, "--rel-tol = 1e-9"),
         (&["oracle", hg_all, "--max-evals", "1000"], 2, "medium.phase.kind"),
         (&["oracle", lossless_all, "--max-evals", "1000"], 2, "albedo = 1"),

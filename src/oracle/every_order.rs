@@ -1,8 +1,9 @@
 //! The exact mean of a scene with every scattering order (orders ≥ 2, or
-//! `"all"`), at its R and as R → 0 (`docs/model.md` §10): what the oracle
-//! computes of such a scene so far. Its Var L needs the same-path pairs of
-//! segments j < k ≥ 2 and the correlations of two spheres, which the model
-//! does not have yet (§10.3).
+//! `"all"`), at its R and as R → 0 (`docs/model.md` §10), and for `"all"`
+//! at q = 1 and N_B = 1 its exact Var L with the same-path pairs in M₂
+//! (§10.3). Other q and N_B need the correlations of two spheres of every
+//! order, finite orders their own pairs, which the model does not have
+//! yet (§10.4).
 
 use super::report::{reported, ValueWithBar};
 use crate::model::field::Field;
@@ -33,8 +34,13 @@ pub struct EveryOrderMean {
     /// Var L of one iteration, exact at R, where the model has it
     /// (`"all"`, q = 1, N_B = 1: M₂/N_F + (1 − 1/N_F)P − μ²).
     pub variance: Option<ValueWithBar>,
-    /// M₂ and P behind it (16), (17).
+    /// M₂ behind it (16): Σ_j⟨𝒞_j²⟩ + 2Σ_{j<k}⟨𝒞_j𝒞_k⟩ over one path's
+    /// segments at one sphere.
     pub m2: Option<ValueWithBar>,
+    /// The same-path pairs 2Σ_{j<k}⟨𝒞_j𝒞_k⟩ in M₂: one forward path hitting
+    /// one sphere with two of its segments (not a functional of the
+    /// forward field: the part the paper's §3 structure leaves out).
+    pub same_path_pairs: Option<ValueWithBar>,
     /// P = ∫σe^{−σs}⟨𝒞⟩² ds.
     pub p: Option<ValueWithBar>,
     /// Integrand evaluations spent.
@@ -44,9 +50,11 @@ pub struct EveryOrderMean {
 }
 
 /// Why an every-order report carries the mean only.
-pub const VARIANCE_NOT_MODELLED: &str = "not modelled for this scene: only for scattering_orders = \"all\" at q = 1 and camera_rays = 1; \
-     other q and N_B need the correlations of two spheres of every order, finite orders >= 2 their same-path \
-     pairs (docs/model.md §10.3); `predict` and `check` refuse the scene, and the tracer (`trace`) measures Var L";
+pub const VARIANCE_NOT_MODELLED: &str =
+    "not modelled for this scene yet: the oracle has it for scattering_orders = \"all\" \
+     at q = 1 and camera_rays = 1 only; other q and camera_rays need the correlations of two spheres of every order, \
+     finite orders >= 2 their own same-path pairs (docs/model.md §10.4); `predict` and `check` refuse the scene, and \
+     the tracer (`trace`) measures Var L";
 
 /// The default relative tolerance of [`every_order_mean`] (allowed from
 /// 10⁻⁸: the tail tables need goals of 1/40000 of it, at least 10⁻¹³ in f64).
@@ -93,7 +101,10 @@ fn every_order_scene_covered(scene: &Scene) -> Result<(), OracleError> {
 /// medium, point lights off the camera line) in f64 to the relative
 /// tolerance `rel_tol` (default [`EVERY_ORDER_TOL`]; from 10⁻⁸ to 10⁻²)
 /// within `budget` (shared by its integrals: spent, the computation
-/// fails with that reason).
+/// fails with that reason); with `"all"` at q = 1 and one camera ray also
+/// Var L, M₂ (with its same-path pairs) and P, exact at R (`docs/model.md`
+/// §10.3; ~10–20 s more on two cores at the default tolerance), else
+/// [`EveryOrderMean::variance_missing`] says why not.
 ///
 /// ```no_run
 /// use mcrt_noise::{oracle::every_order_mean, Scene};
@@ -137,21 +148,21 @@ pub fn every_order_mean(scene: &Scene, rel_tol: Option<f64>, budget: &Budget) ->
     ff.every_order_covered()?;
     let opts = Options::rel(rel_tol).with_budget(budget.clone()).declared();
     let uncollided = ff.ray_total(Functional::Mean, &opts)?;
-    let single = ff.scattered_mean(&opts)?;
-    let beyond = ff.multiple_mean(&opts)?;
+    let est = &scene.estimator;
+    let with_variance =
+        scene.effects.scattering_orders == ScatteringOrders::All && est.q == 1.0 && est.camera_rays == 1;
+    let (single, beyond, p) = ff.every_order_moments(&opts, with_variance)?;
     let small = ff.small_sphere_mean_every_order(scene.effects.scattering_orders, &opts)?;
     let k = (-ff.shift).exp();
     let mut evaluations = uncollided.evaluations + single.evaluations + beyond.evaluations + small.evaluations;
     let exact = uncollided.plus(single).plus(beyond.clone());
-    let est = &scene.estimator;
-    let with_variance = scene.effects.scattering_orders == ScatteringOrders::All && est.q == 1.0 && est.camera_rays == 1;
-    let (mut variance, mut m2_out, mut p_out) = (None, None, None);
-    if with_variance {
+    let (mut variance, mut m2_out, mut p_out, mut pairs_out) = (None, None, None, None);
+    if let Some(p) = p {
         let pairs = ff.every_order_pairs(&opts)?;
-        let p = ff.every_order_p(&opts)?;
         evaluations += pairs.evaluations + p.evaluations;
         // Σ_j⟨𝒞_j²⟩ = c f⟨𝒞⟩ in an isotropic medium: every hit adds c f.
         let cf = ff.per_hit_power(1, &ff.total_flux) / (4.0 * std::f64::consts::PI);
+        pairs_out = Some(reported(&(pairs.value * k), &(pairs.error * k)));
         let m2 = Estimate::known(cf * exact.value, cf * exact.error, 0, opts.rule).plus(pairs);
         let n_f = est.forward_rays as f64;
         let (mu, mu_e) = (exact.value * k, exact.error * k);
@@ -174,6 +185,7 @@ pub fn every_order_mean(scene: &Scene, rel_tol: Option<f64>, budget: &Budget) ->
         variance_missing: (!with_variance).then_some(VARIANCE_NOT_MODELLED),
         variance,
         m2: m2_out,
+        same_path_pairs: pairs_out,
         p: p_out,
         mean: reported(&(exact.value * k), &(exact.error * k)),
         small_sphere_mean: reported(&(small.value * k), &(small.error * k)),
@@ -189,11 +201,8 @@ impl std::fmt::Display for EveryOrderMean {
         let row = |f: &mut std::fmt::Formatter<'_>, what: &str, v: &ValueWithBar| {
             writeln!(f, "  {what:<44} {:.10e} ± {:.1e}", v.value, v.error)
         };
-        writeln!(
-            f,
-            "mcrt-noise oracle: scattering_orders = {}, f64, rel-tol {:e}: the mean only",
-            self.orders, self.rel_tol
-        )?;
+        let what = if self.variance_missing.is_some() { ": the mean only" } else { "" };
+        writeln!(f, "mcrt-noise oracle: scattering_orders = {}, f64, rel-tol {:e}{what}", self.orders, self.rel_tol)?;
         row(f, "mean luminance μ(R), exact (finite-sphere)", &self.mean)?;
         row(f, "  of which segments 2 and beyond", &self.beyond_first)?;
         row(f, "small-sphere mean μ(0) (the R → 0 limit)", &self.small_sphere_mean)?;
@@ -206,9 +215,10 @@ impl std::fmt::Display for EveryOrderMean {
                 * (self.bias.error / self.small_sphere_mean.value.abs()
                     + (self.bias.value * self.small_sphere_mean.error / self.small_sphere_mean.value.powi(2)).abs())
         )?;
-        if let (Some(v), Some(m2), Some(p)) = (&self.variance, &self.m2, &self.p) {
-            row(f, "Var L (one iteration), exact", v)?;
+        if let (Some(v), Some(m2), Some(pairs), Some(p)) = (&self.variance, &self.m2, &self.same_path_pairs, &self.p) {
+            row(f, "Var L (one iteration), exact (finite-sphere)", v)?;
             row(f, "  M₂ (16)", m2)?;
+            row(f, "    of which same-path pairs 2Σ⟨𝒞_j𝒞_k⟩", pairs)?;
             row(f, "  P (17)", p)?;
         }
         writeln!(f, "  evaluations: {}", self.evaluations)?;

@@ -60,6 +60,10 @@ const SHELL_NODES: usize = 12;
 /// Panels a shell may have before the adaptive rule serves instead.
 const SHELL_PANELS: usize = 16;
 
+/// νt beyond which a tail table does not reach (e^{−550} ≈ 10⁻²³⁹, with
+/// room for T's prefactor above f64's least normal number).
+const UNDERFLOW_REACH: f64 = 550.0;
+
 /// Tail tables finer than this are not built (MPFR goals): the quadrature
 /// serves.
 const FINEST_GOAL: f64 = 1e-13;
@@ -76,6 +80,11 @@ impl<T: CheckRule> TailTable<T> {
         if goal < FINEST_GOAL {
             return (None, 0);
         }
+        // T₁ ≤ e^{−νt}·T₁(0)-like: beyond ~550/ν it would underflow the
+        // f64 range the table's samples are computed in (at albedo 0.5,
+        // ν = 0.957, T₁(913) = 0 ended every table); ln_tail's quadrature
+        // serves out there.
+        let hi = &hi.clone().min_of(hi.lit(UNDERFLOW_REACH) / density.decay());
         let samples = sample_options(hi, goal, opts.rule, &opts.budget);
         // Decades towards t = 0 (where r C(r) is finite but T is not
         // analytic), then a geometric grading (ratio 2) outwards.
@@ -402,18 +411,27 @@ impl<T: CheckRule> FiniteField<T> {
     /// [`FiniteField::scattered_mean`] it is the exact mean of a scene with
     /// orders ≥ 2 at its R.
     pub fn multiple_mean(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
-        let density = self.higher_orders()?;
         let tables = MultipleTables::default();
-        let result = self.with_line(|line| {
+        tables.charge(self.multiple_mean_with(&tables, opts))
+    }
+
+    /// [`FiniteField::multiple_mean`] reading (and building) `tables`,
+    /// whose evaluations the caller charges.
+    pub(super) fn multiple_mean_with(
+        &self,
+        tables: &MultipleTables<T>,
+        opts: &Options,
+    ) -> Result<Estimate<T>, OracleError> {
+        let density = self.higher_orders()?;
+        self.with_line(|line| {
             line.integral_nested("finite-sphere ∫⟨𝒞⟩ of segments ≥ 2", opts, |x, o| {
                 let share = Options { abs_tol: o.abs_tol / self.lights.len() as f64, ..o.clone() };
                 self.sum_over_lights(x, o, |_, light| match light {
-                    FiniteLight::Point(p) => p.multiple_moment(self, density, &tables, x, &share),
+                    FiniteLight::Point(p) => p.multiple_moment(self, density, tables, x, &share),
                     FiniteLight::Beam(_) => Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule)),
                 })
             })
-        });
-        tables.charge(result)
+        })
     }
 
     /// μ(0)·e^{c₀} of the orders 0..=n (`orders`, or all): the

@@ -19,17 +19,19 @@
 //!   E[Σ_{j<k} hit_j hit_k] = 𝒦(D) + a·(c₁ * 𝒦)(D) + (C′ * 𝒦)(D),
 //!
 //! the last two by the bipolar integrals of §9.5 and §10.2 with 𝒦 in
-//! place of H. Four tables per pass, each from the one before, each
-//! sample carrying the bar of the table it reads: G(d′) over the distances
-//! a segment's end can have (`ScatteredTable`, decay νσ), K_G(w) over the
-//! sphere's cross-section (`SecondHitTable`, w = √(R² − p²)), 𝒦(d)
-//! (`ScatteredTable`, decay σ), and T of C′ (`multiple::TailTable`).
+//! place of H. Five tables per pass, each from the one before, each
+//! carrying the bar of the table it reads: G(d′) over [0, R + 50/σ]
+//! (`ScatteredTable`, decay νσ), K_G(w) over the sphere's cross-section
+//! (`SecondHitTable`, w = √(R² − p²)), 𝒦(d) (`ScatteredTable`, decay σ), T
+//! of C′ (`multiple::TailTable`), and the pair sum itself over the
+//! distances between the lights and the camera ray's spheres
+//! (`ScatteredTable`, decay νσ), which the camera-ray integral reads.
 //! Order 1's own term (§9.6) is the case G = H, C_all = 0.
 
 use super::multiple::{convolved, hit_radial, MultipleTables, Radial, RadialFn, TailTable};
 use super::point::cap_half_angle;
 use super::scattered::hits_over_distance;
-use super::scattered_table::ScatteredTable;
+use super::scattered_table::{ScatteredTable, ScatteredTables};
 use super::second_hit::SecondHitTable;
 use super::start_density::StartDensity;
 use super::{FiniteField, FiniteLight, OncePerPass};
@@ -44,6 +46,10 @@ pub(super) struct PairTable<T> {
     tail: Option<TailTable<T>>,
     after: SecondHitTable<T>,
     revisit: ScatteredTable<T>,
+    /// E[Σ_{j<k} hit_j hit_k](D)·e^{νσ(D − R)⁺} over the computation's
+    /// distances between lights and spheres, read by every camera-ray
+    /// point (`None` when it could not be built: the quadrature serves).
+    pairs: Option<ScatteredTable<T>>,
 }
 
 /// The pair tables of one computation, one per pass.
@@ -69,7 +75,7 @@ fn from_table<T: CheckRule>(t: &ScatteredTable<T>, decay: &T, r: &T, d: &T) -> O
 impl<T: CheckRule> PairTable<T> {
     /// Builds the four tables for a pass with `opts` over the distances
     /// [0, hi] (`None` if any cannot be built within its goal).
-    fn build(ff: &FiniteField<T>, density: &StartDensity<T>, hi: &T, opts: &Options) -> (Option<Self>, u64) {
+    fn build(ff: &FiniteField<T>, density: &StartDensity<T>, lo: &T, hi: &T, opts: &Options) -> (Option<Self>, u64) {
         let (sigma, r, a) = (&ff.sigma, &ff.radius, &ff.albedo);
         let mut spent = 0;
         let far = hi.clone() + r.clone() + sigma.lit(100.0) / sigma.clone();
@@ -87,7 +93,11 @@ impl<T: CheckRule> PairTable<T> {
             let more = super::multiple::multiple_hits(density, tail.as_ref(), sigma, r, d, &shift, &third)?;
             Ok(once.plus(more).plus(Estimate::known(h, d.lit(0.0), 1, o.rule)))
         };
-        let (fresh, used) = ScatteredTable::build_with(&fresh_direct, &nu, r, &d_zero(r), &far, FRESH_LOWEST, opts);
+        // K_G reads G at the ends of segments through the sphere, u beyond
+        // their closest point: within R + U of the centre except with
+        // chance e^{−σU} (below).
+        let reach_g = r.clone() + sigma.lit(FRESH_REACH) / sigma.clone();
+        let (fresh, used) = ScatteredTable::build_with(fresh_direct, &nu, r, &d_zero(r), &reach_g, FRESH_LOWEST, opts);
         spent += used;
         let Some(fresh) = fresh else { return (None, spent) };
         // K_G(w) = ∫σe^{−σu} a G(√(u² + R² − w²)) du.
@@ -95,6 +105,13 @@ impl<T: CheckRule> PairTable<T> {
             let p2 = (r.clone() - w.clone()) * (r.clone() + w.clone());
             let f = |u: &T, io: &Options| -> Outcome<T> {
                 let d = (u.clone() * u.clone() + p2.clone()).sqrt();
+                if d > reach_g {
+                    // Beyond the table: G ≤ 1/(1 − a), the expected number
+                    // of segments of a fresh path (each hits at most once).
+                    let bound =
+                        a.clone() * sigma.clone() * (-(sigma.clone() * u.clone())).exp() / (u.lit(1.0) - a.clone());
+                    return Ok(Estimate::known(u.lit(0.0), bound, 0, io.rule));
+                }
                 let g = fresh_radial(&fresh, &nu, sigma, r, &d, &fresh_direct, io)?;
                 let v = a.clone() * sigma.clone() * (-(sigma.clone() * (u.clone() + g.reach))).exp() * g.rest;
                 Ok(Estimate::known(v.clone(), v.abs() * g.rel, 1, io.rule))
@@ -115,13 +132,32 @@ impl<T: CheckRule> PairTable<T> {
         let revisit_of = |d: &T, o: &Options| {
             revisit(sigma, r, &after, d, &(sigma.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0))), o, false)
         };
-        let (revisit, used) = ScatteredTable::build_with(revisit_of, sigma, r, &d_zero(r), &far, super::scattered_table::LOWEST, opts);
+        let (revisit, used) =
+            ScatteredTable::build_with(revisit_of, sigma, r, &d_zero(r), &far, super::scattered_table::LOWEST, opts);
         spent += used;
         let Some(mut revisit) = revisit else { return (None, spent) };
         revisit.rel_error = revisit.rel_error.clone() + after.rel_error.clone();
-        (Some(PairTable { tail, after, revisit }), spent)
+        let mut table = PairTable { tail, after, revisit, pairs: None };
+        // The pair sum itself over the distances the camera ray puts between
+        // lights and spheres: each camera-ray point then reads one value
+        // instead of two convolutions (its samples read 𝒦 without a bar).
+        let pairs_of = |d: &T, o: &Options| {
+            pair_sum(sigma, r, a, density, &table, d, &(nu.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0))), o)
+        };
+        let (pairs, used) = ScatteredTable::build_with(pairs_of, &nu, r, lo, hi, super::scattered_table::LOWEST, opts);
+        spent += used;
+        table.pairs = pairs.map(|mut p| {
+            p.rel_error = p.rel_error.clone() + table.revisit.rel_error.clone();
+            p
+        });
+        (Some(table), spent)
     }
 }
+
+/// How far (free paths) beyond R the G table reaches: K_G's integrand
+/// beyond is below a·σe^{−σU}/(1 − a), e^{−50} ≈ 2·10⁻²², and is taken as
+/// zero with that bar.
+const FRESH_REACH: f64 = 50.0;
 
 /// The G table's lowest distance, relative to R (I(D)'s): below, G − H is taken
 /// flat (module docs of [`fresh_radial`]).
@@ -160,7 +196,8 @@ fn fresh_radial<T: CheckRule>(
             (-(sigma.clone() * h.reach)).exp() * h.rest
         };
         let value_at = |x: &T| {
-            from_table(fresh, nu, r, x).map(|g| g.rest * (-(nu.clone() * (x.clone() - r.clone()).max_of(x.lit(0.0)))).exp())
+            from_table(fresh, nu, r, x)
+                .map(|g| g.rest * (-(nu.clone() * (x.clone() - r.clone()).max_of(x.lit(0.0)))).exp())
         };
         let (lo, hi) = (r.clone() - edge.clone(), r.clone() + edge.clone());
         if let (Some(g_lo), Some(g_hi)) = (value_at(&lo), value_at(&hi)) {
@@ -212,7 +249,8 @@ fn revisit<T: CheckRule>(
         let gap = (d.clone() - r.clone()) * (d.clone() + r.clone());
         let f = |w: &T, io: &Options| -> Outcome<T> {
             let reach = (gap.clone() + w.clone() * w.clone()).sqrt();
-            let v = w.clone() / (d.clone() * reach.clone()) * (shift.clone() - sigma.clone() * reach).exp() * after.eval(w);
+            let v =
+                w.clone() / (d.clone() * reach.clone()) * (shift.clone() - sigma.clone() * reach).exp() * after.eval(w);
             Ok(Estimate::known(v, w.lit(0.0), 1, io.rule))
         };
         let domain = Domain::finite(d.lit(0.0), r.clone()).with_breakpoints(graded_about(&d.lit(0.0), &gap.sqrt(), r));
@@ -229,6 +267,40 @@ fn revisit<T: CheckRule>(
     let table_bar = if with_table_bar { e.value.abs() * after.rel_error.clone() } else { e.value.lit(0.0) };
     let error = e.error.clone() + table_bar;
     Ok(Estimate { error, ..e }.scaled(&half))
+}
+
+/// E[Σ_{j<k} hit_j hit_k]·e^{shift} for a sphere whose centre is D from a
+/// point light (module docs): 𝒦(D) + a(c₁ * 𝒦)(D) + (C′ * 𝒦)(D), 𝒦 from
+/// the pass's table without its bar (the caller adds it) or, where the
+/// table does not reach, by quadrature with its own.
+#[allow(clippy::too_many_arguments)]
+fn pair_sum<T: CheckRule>(
+    sigma: &T,
+    r: &T,
+    a: &T,
+    density: &StartDensity<T>,
+    t: &PairTable<T>,
+    big_d: &T,
+    shift: &T,
+    o: &Options,
+) -> Outcome<T> {
+    let radial = |d: &T, io: &Options| -> Result<Radial<T>, Failure<T>> {
+        if let Some(k) = from_table(&t.revisit, sigma, r, d) {
+            return Ok(Radial { rel: d.lit(0.0), ..k });
+        }
+        let reach = (d.clone() - r.clone()).max_of(d.lit(0.0));
+        let io = Options { abs_tol: 0.0, ..io.clone() };
+        let e = revisit(sigma, r, &t.after, d, &(sigma.clone() * reach.clone()), &io, true)?;
+        let rel = e.error.clone() / e.value.clone().abs();
+        Ok(Radial { reach, rest: e.value, rel })
+    };
+    let third = Options { abs_tol: o.abs_tol / 3.0, ..o.clone() };
+    let own = radial(big_d, &third)?;
+    let own_v = (shift.clone() - sigma.clone() * own.reach).exp() * own.rest;
+    let own = Estimate::known(own_v.clone(), own_v.abs() * own.rel, 1, o.rule);
+    let once = c1_convolved(sigma, r, big_d, shift, &radial, &third)?.scaled(a);
+    let more = convolved(density, t.tail.as_ref(), sigma, r, big_d, shift, &radial, &third)?;
+    Ok(own.plus(once).plus(more))
 }
 
 /// (c₁ * F)(D)·e^{shift} = (σ/(2D))∫₀^∞ d F(d)[E₁(σ|D − d|) − E₁(σ(D + d))] dd
@@ -269,15 +341,20 @@ fn c1_convolved<T: CheckRule>(
 
 impl<T: CheckRule> FiniteField<T> {
     /// The pair tables of the pass with `opts`.
-    fn pair_tables(&self, tables: &PairTables<T>, density: &StartDensity<T>, opts: &Options) -> Option<Arc<PairTable<T>>> {
+    fn pair_tables(
+        &self,
+        tables: &PairTables<T>,
+        density: &StartDensity<T>,
+        opts: &Options,
+    ) -> Option<Arc<PairTable<T>>> {
         // The tables serve the outer goal (the pass's inner goal times the
         // 20 of `integrate_nested`): four tables deep, each at a tenth of
         // the goal before it, the pass's own goal would leave the brackets
         // of G about d = R and d = 0 (~10⁻¹⁰) above the K_G table's samples'.
-        let table_opts = Options { rel_tol: (opts.rel_tol * 20.0).min(1e-3), ..opts.clone() };
+        let table_opts = Options { rel_tol: (opts.rel_tol * 5.0).min(1e-3), ..opts.clone() };
         tables.passes.get_or_build(&table_opts, || {
-            let Some((_, hi)) = super::scattered_table::distance_range(self) else { return (None, 0) };
-            PairTable::build(self, density, &hi, &table_opts)
+            let Some((lo, hi)) = super::scattered_table::distance_range(self) else { return (None, 0) };
+            PairTable::build(self, density, &lo, &hi, &table_opts)
         })
     }
 
@@ -306,33 +383,27 @@ impl<T: CheckRule> FiniteField<T> {
                         evaluations: 0,
                     });
                 };
-                // Table values without a bar (the table's relative bar is
-                // added to the sum below); the quadrature's with its own.
-                let radial = |d: &T, io: &Options| -> Result<Radial<T>, Failure<T>> {
-                    if let Some(k) = from_table(&t.revisit, sigma, r, d) {
-                        return Ok(Radial { rel: d.lit(0.0), ..k });
-                    }
-                    let reach = (d.clone() - r.clone()).max_of(d.lit(0.0));
-                    let io = Options { abs_tol: 0.0, ..io.clone() };
-                    let e = revisit(sigma, r, &t.after, d, &(sigma.clone() * reach.clone()), &io, true)?;
-                    let rel = e.error.clone() / e.value.clone().abs();
-                    Ok(Radial { reach, rest: e.value, rel })
-                };
                 let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
                 for light in &self.lights {
                     let FiniteLight::Point(p) = light else { continue };
                     let (big_d, _) = p.distance_to(self, x);
                     let front = self.per_hit_power(2, &p.flux) * f.clone() * f.clone() * x.lit(2.0);
-                    let share = Options { abs_tol: (o.abs_tol / (3.0 * front.to_f64() * self.lights.len() as f64)).min(f64::MAX), ..o.clone() };
-                    let own = radial(&big_d, &share)?;
-                    let own_v = (self.shift.clone() - sigma.clone() * own.reach) .exp() * own.rest;
-                    let own = Estimate::known(own_v.clone(), own_v.abs() * own.rel, 1, o.rule);
-                    let once = c1_convolved(sigma, r, &big_d, &self.shift, &radial, &share)?.scaled(&self.albedo);
-                    let more = convolved(density, t.tail.as_ref(), sigma, r, &big_d, &self.shift, &radial, &share)?;
-                    total = total.plus(own.plus(once).plus(more).scaled(&front));
+                    let from_pairs = t.pairs.as_ref().and_then(|tab| tab.hits(sigma, r, &big_d, &self.shift));
+                    let e = if let Some((v, rel)) = from_pairs {
+                        Estimate::known(v.clone(), v.abs() * rel, 1, o.rule)
+                    } else {
+                        let share = Options {
+                            abs_tol: (o.abs_tol / (front.to_f64() * self.lights.len() as f64)).min(f64::MAX),
+                            ..o.clone()
+                        };
+                        let e = pair_sum(sigma, r, &self.albedo, density, &t, &big_d, &self.shift, &share)?;
+                        // 𝒦 was read without its bar.
+                        let error = e.error.clone() + e.value.abs() * t.revisit.rel_error.clone();
+                        Estimate { error, ..e }
+                    };
+                    total = total.plus(e.scaled(&front));
                 }
-                let error = total.error.clone() + total.value.abs() * t.revisit.rel_error.clone();
-                Ok(Estimate { error, ..total })
+                Ok(total)
             })
         });
         tables.passes.charge(result)
@@ -341,22 +412,53 @@ impl<T: CheckRule> FiniteField<T> {
     /// P = ∫σe^{−σs}⟨𝒞⟩² ds·e^{c₀} of every simulated order (⟨𝒞⟩ of
     /// segments 0, 1 and ≥ 2: §9.2, §9.5, §10.2).
     pub fn every_order_p(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
-        let density = self.higher_orders()?;
-        let scattered = super::scattered_table::ScatteredTables::default();
+        let scattered = ScatteredTables::default();
         let multiple = MultipleTables::default();
+        let result = self.every_order_p_with(&scattered, &multiple, opts);
+        multiple.charge(scattered.charge(result))
+    }
+
+    /// The mean of segment 1 (§9.5), of segments ≥ 2 (§10.2) and, with
+    /// `with_p`, P of every simulated order, the three reading one set of
+    /// tables per pass (I(D) and (C * H)(D), built by whichever asks first
+    /// and charged to the two means): what [`FiniteField::scattered_mean`],
+    /// [`FiniteField::multiple_mean`] and [`FiniteField::every_order_p`]
+    /// give, for the cost of the tables once.
+    #[allow(clippy::type_complexity)]
+    pub fn every_order_moments(
+        &self,
+        opts: &Options,
+        with_p: bool,
+    ) -> Result<(Estimate<T>, Estimate<T>, Option<Estimate<T>>), OracleError> {
+        let scattered = ScatteredTables::default();
+        let multiple = MultipleTables::default();
+        let single = self.scattered_mean_with(&scattered, opts);
+        let beyond = self.multiple_mean_with(&multiple, opts);
+        let p = if with_p { Some(self.every_order_p_with(&scattered, &multiple, opts)?) } else { None };
+        Ok((scattered.charge(single)?, multiple.charge(beyond)?, p))
+    }
+
+    /// [`FiniteField::every_order_p`] reading (and building) the tables,
+    /// whose evaluations the caller charges.
+    fn every_order_p_with(
+        &self,
+        scattered: &ScatteredTables<T>,
+        multiple: &MultipleTables<T>,
+        opts: &Options,
+    ) -> Result<Estimate<T>, OracleError> {
+        let density = self.higher_orders()?;
         let with_bar = |x: &T, _tol: f64, o: &Options| -> Outcome<T> {
             let half = Options { abs_tol: o.abs_tol / 2.0, ..o.clone() };
-            let first = self.order1_mean_with_bar(x, &scattered, &half)?;
+            let first = self.order1_mean_with_bar(x, scattered, &half)?;
             let mut rest = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
             for light in &self.lights {
                 if let FiniteLight::Point(p) = light {
-                    rest = rest.plus(p.multiple_moment(self, density, &multiple, x, &half)?);
+                    rest = rest.plus(p.multiple_moment(self, density, multiple, x, &half)?);
                 }
             }
             Ok(first.plus(rest))
         };
         let source = crate::model::along::MeanSource::WithBar(&with_bar);
-        let result = self.with_line(|line| line.p_single(&source, opts));
-        multiple.charge(scattered.charge(result))
+        self.with_line(|line| line.p_single(&source, opts))
     }
 }
