@@ -40,7 +40,7 @@ struct BudgetArgs {
 enum Command {
     /// Parse and validate a scene; print it normalised (defaults filled in) or list its errors.
     Validate { scene: PathBuf },
-    /// Predict the pixel's mean and noise: exact (23), (24), their R → 0 forms, Var L (scattering orders 2–9 and "all": the exact mean and bias only)
+    /// Predict the pixel's mean and noise: exact (23), (24), their R → 0 forms, Var L (scattering orders 2–9 and "all": the exact mean and bias; "all" at q = 1 and camera_rays = 1 also Var L)
     Oracle {
         scene: PathBuf,
         /// `f64` or a number of MPFR bits.

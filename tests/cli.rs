@@ -221,6 +221,30 @@ fn oracle_gives_the_variance_of_every_order_at_q_one() {
     assert!(!shown.contains("the mean only"), "{shown}");
 }
 
+/// When Var L's integrals of every order spend the budget, the oracle still
+/// reports the mean (computed first) with exit 0, and says why Var L is
+/// missing.
+#[test]
+fn oracle_keeps_the_mean_of_every_order_when_the_variance_spends_the_budget() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml"))
+        .unwrap()
+        .replace("scattering_orders = 0", "scattering_orders = \"all\"")
+        .replace("radius = 0.01", "radius = 0.2")
+        .replace("q = 0.5", "q = 1.0")
+        .replace("forward_rays = 200", "forward_rays = 20")
+        .replace("camera_rays = 8", "camera_rays = 1");
+    let path = std::env::temp_dir().join(format!("mcrt-noise-all-budget-{}.toml", std::process::id()));
+    std::fs::write(&path, &text).unwrap();
+    let out = bin().args(["oracle", path.to_str().unwrap(), "--json", "--max-evals", "150000000"]).output().unwrap();
+    std::fs::remove_file(&path).ok();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(v.pointer("/mean/value").and_then(|x| x.as_f64()).is_some_and(|m| m > 0.0), "{v}");
+    assert!(v["variance"].is_null(), "{v}");
+    let why = v["variance_missing"].as_str().unwrap();
+    assert!(why.contains("budget") && why.contains("the mean above stands"), "{why}");
+}
+
 /// With scattering_orders = 2 the oracle gives the exact mean, the
 /// small-sphere mean and the bias (docs/model.md §10), says why Var L is
 /// missing, and `predict` (through `check`'s prediction) refuses the scene

@@ -46,7 +46,7 @@ pub struct EveryOrderMean {
     /// Integrand evaluations spent.
     pub evaluations: u64,
     /// Why the report has no Var L (and `predict` no prediction), if it has none.
-    pub variance_missing: Option<&'static str>,
+    pub variance_missing: Option<String>,
 }
 
 /// Why an every-order report carries the mean only.
@@ -59,6 +59,14 @@ pub const VARIANCE_NOT_MODELLED: &str =
 /// The default relative tolerance of [`every_order_mean`] (allowed from
 /// 10⁻⁸: the tail tables need goals of 1/40000 of it, at least 10⁻¹³ in f64).
 pub const EVERY_ORDER_TOL: f64 = 1e-6;
+
+/// The goal Var L's integrals of every order (P and the same-path pairs)
+/// run at when a finer one is asked: 10⁻⁴, where their chained tables meet
+/// their goals at every albedo measured (at 10⁻⁶ the cross-section table
+/// of K_G could not be built at albedo 0.95, R = 0.3: the bracket of G
+/// about d = R is then wider than its samples' goal) and Var L costs ~8 s
+/// on two cores. The bars reported are those computed, ~10⁻⁵ relative.
+pub const EVERY_ORDER_VARIANCE_TOL: f64 = 1e-4;
 
 /// Refuses, before any integral, what the model of every order does not
 /// cover: a Henyey–Greenstein medium, a beam, a point light on the camera
@@ -103,7 +111,8 @@ fn every_order_scene_covered(scene: &Scene) -> Result<(), OracleError> {
 /// within `budget` (shared by its integrals: spent, the computation
 /// fails with that reason); with `"all"` at q = 1 and one camera ray also
 /// Var L, M₂ (with its same-path pairs) and P, exact at R (`docs/model.md`
-/// §10.3; ~10–20 s more on two cores at the default tolerance), else
+/// §10.3; at a goal no tighter than [`EVERY_ORDER_VARIANCE_TOL`]; ~7 s more
+/// on two cores), else
 /// [`EveryOrderMean::variance_missing`] says why not.
 ///
 /// ```no_run
@@ -148,17 +157,30 @@ pub fn every_order_mean(scene: &Scene, rel_tol: Option<f64>, budget: &Budget) ->
     ff.every_order_covered()?;
     let opts = Options::rel(rel_tol).with_budget(budget.clone()).declared();
     let uncollided = ff.ray_total(Functional::Mean, &opts)?;
-    let est = &scene.estimator;
-    let with_variance =
-        scene.effects.scattering_orders == ScatteringOrders::All && est.q == 1.0 && est.camera_rays == 1;
-    let (single, beyond, p) = ff.every_order_moments(&opts, with_variance)?;
+    // Before Var L's integrals, which may spend the budget: the means stand.
     let small = ff.small_sphere_mean_every_order(scene.effects.scattering_orders, &opts)?;
+    let (single, beyond) = ff.every_order_means(&opts)?;
     let k = (-ff.shift).exp();
     let mut evaluations = uncollided.evaluations + single.evaluations + beyond.evaluations + small.evaluations;
     let exact = uncollided.plus(single).plus(beyond.clone());
+    let est = &scene.estimator;
+    let with_variance =
+        scene.effects.scattering_orders == ScatteringOrders::All && est.q == 1.0 && est.camera_rays == 1;
+    let second = with_variance.then(|| {
+        // P and the pairs at a goal no tighter than EVERY_ORDER_VARIANCE_TOL,
+        // their tables reaching the pairs' distances (a field of their own:
+        // the mean's tables need not).
+        let mut wide = FiniteField::of_first_segments(scene, &field);
+        wide.cover_pair_distances();
+        let goal = rel_tol.max(EVERY_ORDER_VARIANCE_TOL);
+        wide.every_order_second_moments(&Options::rel(goal).with_budget(budget.clone()).declared())
+    });
     let (mut variance, mut m2_out, mut p_out, mut pairs_out) = (None, None, None, None);
-    if let Some(p) = p {
-        let pairs = ff.every_order_pairs(&opts)?;
+    let mut variance_missing = (!with_variance).then(|| VARIANCE_NOT_MODELLED.to_string());
+    if let Some(Err(e)) = &second {
+        variance_missing = Some(format!("not computed: {e} (the mean above stands)"));
+    }
+    if let Some(Ok((p, pairs))) = second {
         evaluations += pairs.evaluations + p.evaluations;
         // Σ_j⟨𝒞_j²⟩ = c f⟨𝒞⟩ in an isotropic medium: every hit adds c f.
         let cf = ff.per_hit_power(1, &ff.total_flux) / (4.0 * std::f64::consts::PI);
@@ -182,7 +204,7 @@ pub fn every_order_mean(scene: &Scene, rel_tol: Option<f64>, budget: &Budget) ->
     Ok(EveryOrderMean {
         orders,
         rel_tol,
-        variance_missing: (!with_variance).then_some(VARIANCE_NOT_MODELLED),
+        variance_missing,
         variance,
         m2: m2_out,
         same_path_pairs: pairs_out,
@@ -222,7 +244,7 @@ impl std::fmt::Display for EveryOrderMean {
             row(f, "  P (17)", p)?;
         }
         writeln!(f, "  evaluations: {}", self.evaluations)?;
-        match self.variance_missing {
+        match &self.variance_missing {
             Some(why) => writeln!(f, "Var L: {why}."),
             None => Ok(()),
         }

@@ -106,6 +106,11 @@ pub struct FiniteField<T> {
     tables: tables::Tables<T>,
     /// The along-ray range of the tables ([`FiniteField::table_range`]).
     range: (T, T),
+    /// A distance from the centre the tables of I(D) and (C * H)(D) must
+    /// reach from 0 as well as the lights' distances: the ends of segments
+    /// through a sphere, where every order's same-path pairs read G
+    /// (`multiple_pairs`; [`FiniteField::cover_pair_distances`]).
+    pair_reach: Option<T>,
 }
 
 /// Phase function f at the scattering-angle cosine −μ (5), from 1 ∓ μ so
@@ -185,9 +190,24 @@ impl<T: CheckRule> FiniteField<T> {
             higher: higher_orders(scene, &field.albedo),
             tables: tables::Tables::default(),
             range: (like.lit(0.0), like.lit(0.0)),
+            pair_reach: None,
         };
         ff.range = ff.along_range();
         ff
+    }
+
+    /// Makes the tables of I(D) and (C * H)(D) reach from the centre out to
+    /// R + 50/σ as well, where Var L of every order reads G = H + aI +
+    /// C′ * H at the ends of segments through a sphere (`docs/model.md`
+    /// §10.3), so that one set of tables serves the mean and the pairs.
+    pub fn cover_pair_distances(&mut self) {
+        let reach = self.radius.clone() + self.sigma.lit(multiple_pairs::FRESH_REACH) / self.sigma.clone();
+        self.pair_reach = Some(reach);
+    }
+
+    /// The distance set by [`FiniteField::cover_pair_distances`], if any.
+    pub(super) fn pair_reach(&self) -> Option<&T> {
+        self.pair_reach.as_ref()
     }
 
     /// (albedo 𝓕/(πR²))^k (Φ/𝓕): the per-hit contribution 𝒞 = albedo f 𝓕/(πR²)

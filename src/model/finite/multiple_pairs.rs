@@ -41,6 +41,10 @@ use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Failure, O
 use crate::special::exp_int_e1_scaled;
 use std::sync::Arc;
 
+/// P and the same-path pairs of every order, or why they could not be
+/// computed ([`FiniteField::every_order_second_moments`]).
+pub type SecondMoments<T> = Result<(Estimate<T>, Estimate<T>), OracleError>;
+
 /// The tables of one pass (module docs).
 pub(super) struct PairTable<T> {
     tail: Option<TailTable<T>>,
@@ -63,19 +67,31 @@ impl<T> Default for PairTables<T> {
     }
 }
 
-/// A value of a [`ScatteredTable`] as a [`Radial`] (`decay` the table's
-/// rate), or `None` where it does not reach.
+/// A value of a [`ScatteredTable`] of decay rate σ as a [`Radial`]
+/// (reach (d − R)⁺, rest F(d)·e^{σ(d − R)⁺}), or `None` where it does not
+/// reach. For a table of another rate (G's own, νσ) only `rest`, F(d)·
+/// e^{decay·(d − R)⁺}, is meaningful: its callers read nothing else.
 fn from_table<T: CheckRule>(t: &ScatteredTable<T>, decay: &T, r: &T, d: &T) -> Option<Radial<T>> {
     let reach_like = (d.clone() - r.clone()).max_of(d.lit(0.0));
     let (g, rel) = t.hits(decay, r, d, &(decay.clone() * reach_like.clone()))?;
-    // g = F(d)·e^{decay·(d − R)⁺}; as e^{−σ·reach}·rest with σ·reach = decay·(d − R)⁺.
     Some(Radial { reach: reach_like, rest: g, rel })
 }
 
 impl<T: CheckRule> PairTable<T> {
-    /// Builds the four tables for a pass with `opts` over the distances
-    /// [0, hi] (`None` if any cannot be built within its goal).
-    fn build(ff: &FiniteField<T>, density: &StartDensity<T>, lo: &T, hi: &T, opts: &Options) -> (Option<Self>, u64) {
+    /// Builds the tables for a pass with `opts` (module docs), the pair
+    /// sum's over the lights' distances [lo, hi]; G from `mean_tables` (the
+    /// pass's I(D) and (C′ * H)(D), reaching [10⁻⁴R, R + 50/σ]) or, without
+    /// them, from a table of its own (`None` if any cannot be built within
+    /// its goal).
+    #[allow(clippy::too_many_arguments)]
+    fn build(
+        ff: &FiniteField<T>,
+        density: &StartDensity<T>,
+        lo: &T,
+        hi: &T,
+        mean_tables: Option<(&ScatteredTable<T>, &ScatteredTable<T>)>,
+        opts: &Options,
+    ) -> (Option<Self>, u64) {
         let (sigma, r, a) = (&ff.sigma, &ff.radius, &ff.albedo);
         let mut spent = 0;
         let far = hi.clone() + r.clone() + sigma.lit(100.0) / sigma.clone();
@@ -97,9 +113,39 @@ impl<T: CheckRule> PairTable<T> {
         // their closest point: within R + U of the centre except with
         // chance e^{−σU} (below).
         let reach_g = r.clone() + sigma.lit(FRESH_REACH) / sigma.clone();
-        let (fresh, used) = ScatteredTable::build_with(fresh_direct, &nu, r, &d_zero(r), &reach_g, FRESH_LOWEST, opts);
-        spent += used;
-        let Some(fresh) = fresh else { return (None, spent) };
+        // G from the mean's tables of I(D) and (C′ * H)(D) (the pass's own,
+        // built over [0, R + U] as well: `FiniteField::cover_pair_distances`),
+        // else from a table of its own.
+        let own = match mean_tables {
+            Some(_) => None,
+            None => {
+                let (own, used) =
+                    ScatteredTable::build_with(fresh_direct, &nu, r, &d_zero(r), &reach_g, FRESH_LOWEST, opts);
+                spent += used;
+                match own {
+                    Some(t) => Some(t),
+                    None => return (None, spent),
+                }
+            }
+        };
+        // G(d)·e^{νσ(d − R)⁺} where the tables reach, without their bar
+        // (`fresh_rel`, added to K_G's below).
+        let g_at = |d: &T| -> Option<T> {
+            if let Some(t) = &own {
+                return from_table(t, &nu, r, d).map(|g| g.rest);
+            }
+            let (once, more) = mean_tables?;
+            let shift = nu.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0));
+            let (i, _) = once.hits(sigma, r, d, &shift)?;
+            let (c, _) = more.hits(sigma, r, d, &shift)?;
+            let h = hit_radial(sigma, r, d);
+            Some((shift - sigma.clone() * h.reach).exp() * h.rest + a.clone() * i + c)
+        };
+        let fresh_rel = match (&own, mean_tables) {
+            (Some(t), _) => t.rel_error.clone(),
+            (None, Some((once, more))) => once.rel_error.clone().max_of(more.rel_error.clone()),
+            (None, None) => unreachable!("a table of its own is built without the mean's"),
+        };
         // K_G(w) = ∫σe^{−σu} a G(√(u² + R² − w²)) du.
         let after_of = |w: &T, o: &Options| -> Outcome<T> {
             let p2 = (r.clone() - w.clone()) * (r.clone() + w.clone());
@@ -112,7 +158,7 @@ impl<T: CheckRule> PairTable<T> {
                         a.clone() * sigma.clone() * (-(sigma.clone() * u.clone())).exp() / (u.lit(1.0) - a.clone());
                     return Ok(Estimate::known(u.lit(0.0), bound, 0, io.rule));
                 }
-                let g = fresh_radial(&fresh, &nu, sigma, r, &d, &fresh_direct, io)?;
+                let g = fresh_radial(&g_at, &nu, sigma, r, &d, &fresh_direct, io)?;
                 let v = a.clone() * sigma.clone() * (-(sigma.clone() * (u.clone() + g.reach))).exp() * g.rest;
                 Ok(Estimate::known(v.clone(), v.abs() * g.rel, 1, io.rule))
             };
@@ -127,7 +173,7 @@ impl<T: CheckRule> PairTable<T> {
         spent += used;
         let Some(mut after) = after else { return (None, spent) };
         // K_G read G from its table without a bar: a relative bar of G is one of K_G.
-        after.rel_error = after.rel_error.clone() + fresh.rel_error.clone();
+        after.rel_error = after.rel_error.clone() + fresh_rel;
         // 𝒦(d)·e^{σ(d − R)⁺}.
         let revisit_of = |d: &T, o: &Options| {
             revisit(sigma, r, &after, d, &(sigma.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0))), o, false)
@@ -157,7 +203,7 @@ impl<T: CheckRule> PairTable<T> {
 /// How far (free paths) beyond R the G table reaches: K_G's integrand
 /// beyond is below a·σe^{−σU}/(1 − a), e^{−50} ≈ 2·10⁻²², and is taken as
 /// zero with that bar.
-const FRESH_REACH: f64 = 50.0;
+pub(super) const FRESH_REACH: f64 = 50.0;
 
 /// The G table's lowest distance, relative to R (I(D)'s): below, G − H is taken
 /// flat (module docs of [`fresh_radial`]).
@@ -170,7 +216,7 @@ fn d_zero<T: CheckRule>(r: &T) -> T {
 /// G(d) as a [`Radial`] with reach (νσ/σ)(d − R)⁺, from the table or by
 /// quadrature.
 fn fresh_radial<T: CheckRule>(
-    fresh: &ScatteredTable<T>,
+    g_at: &dyn Fn(&T) -> Option<T>,
     nu: &T,
     sigma: &T,
     r: &T,
@@ -180,9 +226,9 @@ fn fresh_radial<T: CheckRule>(
 ) -> Result<Radial<T>, Failure<T>> {
     let scale = nu.clone() / sigma.clone();
     let reach = scale * (d.clone() - r.clone()).max_of(d.lit(0.0));
-    if let Some(g) = from_table(fresh, nu, r, d) {
-        // The table's bar is added to the whole table built on it.
-        return Ok(Radial { reach, rest: g.rest, rel: d.lit(0.0) });
+    if let Some(g) = g_at(d) {
+        // The tables' bar is added to the whole table built on them.
+        return Ok(Radial { reach, rest: g, rel: d.lit(0.0) });
     }
     // Within the table's window about d = R, where G's singular parts meet
     // (and its quadrature costs millions of evaluations): G − H = a·I + C′ * H
@@ -195,10 +241,7 @@ fn fresh_radial<T: CheckRule>(
             let h = hit_radial(sigma, r, x);
             (-(sigma.clone() * h.reach)).exp() * h.rest
         };
-        let value_at = |x: &T| {
-            from_table(fresh, nu, r, x)
-                .map(|g| g.rest * (-(nu.clone() * (x.clone() - r.clone()).max_of(x.lit(0.0)))).exp())
-        };
+        let value_at = |x: &T| g_at(x).map(|g| g * (-(nu.clone() * (x.clone() - r.clone()).max_of(x.lit(0.0)))).exp());
         let (lo, hi) = (r.clone() - edge.clone(), r.clone() + edge.clone());
         if let (Some(g_lo), Some(g_hi)) = (value_at(&lo), value_at(&hi)) {
             let (s_lo, s_hi) = (g_lo - hit(&lo), g_hi - hit(&hi));
@@ -220,8 +263,8 @@ fn fresh_radial<T: CheckRule>(
             (-(sigma.clone() * h.reach)).exp() * h.rest
         };
         let above = lowest.clone() * d.lit(10.0);
-        if let (Some(g0), Some(g1)) = (from_table(fresh, nu, r, &lowest), from_table(fresh, nu, r, &above)) {
-            let (s0, s1) = (g0.rest - hit(&lowest), g1.rest - hit(&above));
+        if let (Some(g0), Some(g1)) = (g_at(&lowest), g_at(&above)) {
+            let (s0, s1) = (g0 - hit(&lowest), g1 - hit(&above));
             let value = hit(d) + s0.clone();
             let bar = (s0 - s1).abs() * d.lit(2.0);
             return Ok(Radial { reach, rest: value.clone(), rel: bar / value });
@@ -344,17 +387,30 @@ impl<T: CheckRule> FiniteField<T> {
     fn pair_tables(
         &self,
         tables: &PairTables<T>,
+        mean: (&ScatteredTables<T>, &MultipleTables<T>),
         density: &StartDensity<T>,
         opts: &Options,
     ) -> Option<Arc<PairTable<T>>> {
+        // The mean's tables of the same pass (its rule and goal), G's parts
+        // where they reach from 0 (`cover_pair_distances`).
+        let once = mean.0.for_pass(self, opts);
+        let more = mean.1.for_pass(self, density, opts);
+        let covers = |t: &ScatteredTable<T>| {
+            self.pair_reach()
+                .is_some_and(|reach| t.reaches(&(self.radius.clone() * self.radius.lit(FRESH_LOWEST)), reach))
+        };
+        let both = match (&once, more.as_ref().and_then(|m| m.hits_table())) {
+            (Some(i), Some(c)) if covers(i) && covers(c) => Some((&**i, c)),
+            _ => None,
+        };
         // The tables serve the outer goal (the pass's inner goal times the
         // 20 of `integrate_nested`): four tables deep, each at a tenth of
         // the goal before it, the pass's own goal would leave the brackets
         // of G about d = R and d = 0 (~10⁻¹⁰) above the K_G table's samples'.
         let table_opts = Options { rel_tol: (opts.rel_tol * 5.0).min(1e-3), ..opts.clone() };
         tables.passes.get_or_build(&table_opts, || {
-            let Some((lo, hi)) = super::scattered_table::distance_range(self) else { return (None, 0) };
-            PairTable::build(self, density, &lo, &hi, &table_opts)
+            let Some((lo, hi)) = super::scattered_table::light_distance_range(self) else { return (None, 0) };
+            PairTable::build(self, density, &lo, &hi, both, &table_opts)
         })
     }
 
@@ -362,11 +418,24 @@ impl<T: CheckRule> FiniteField<T> {
     /// same-path pairs of every order in M₂ (module docs). Every order
     /// only (`scattering_orders = "all"`); isotropic media, point lights.
     pub fn every_order_pairs(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
+        let scattered = ScatteredTables::default();
+        let multiple = MultipleTables::default();
+        let result = self.every_order_pairs_with((&scattered, &multiple), opts);
+        multiple.charge(scattered.charge(result))
+    }
+
+    /// [`FiniteField::every_order_pairs`] reading (and building) the mean's
+    /// tables, whose evaluations the caller charges.
+    fn every_order_pairs_with(
+        &self,
+        mean: (&ScatteredTables<T>, &MultipleTables<T>),
+        opts: &Options,
+    ) -> Result<Estimate<T>, OracleError> {
         let density = self.higher_orders()?;
         if density.last_order().is_some() {
             return Err(OracleError::Unsupported(
                 "the same-path pairs of a finite order n ≥ 2 are not modelled (only every order, \"all\"; \
-                 docs/model.md §10.3)"
+                 docs/model.md §10.4)"
                     .into(),
             ));
         }
@@ -375,13 +444,12 @@ impl<T: CheckRule> FiniteField<T> {
         let f = r.lit(1.0) / (r.pi() * r.lit(4.0));
         let result = self.with_line(|line| {
             line.integral_nested("finite-sphere same-path pairs of every order", opts, |x, o| {
-                let Some(t) = self.pair_tables(&tables, density, o) else {
-                    return Err(Failure {
-                        reason: "the tables of every order's same-path pairs could not be built within the goal".into(),
-                        best_guess: None,
-                        error_estimate: None,
-                        evaluations: 0,
+                let Some(t) = self.pair_tables(&tables, mean, density, o) else {
+                    // A spent budget ends a table's build too: say so.
+                    let reason = o.budget.exhausted().unwrap_or_else(|| {
+                        "the tables of every order's same-path pairs could not be built within the goal".into()
                     });
+                    return Err(Failure { reason, best_guess: None, error_estimate: None, evaluations: 0 });
                 };
                 let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
                 for light in &self.lights {
@@ -418,24 +486,30 @@ impl<T: CheckRule> FiniteField<T> {
         multiple.charge(scattered.charge(result))
     }
 
-    /// The mean of segment 1 (§9.5), of segments ≥ 2 (§10.2) and, with
-    /// `with_p`, P of every simulated order, the three reading one set of
-    /// tables per pass (I(D) and (C * H)(D), built by whichever asks first
-    /// and charged to the two means): what [`FiniteField::scattered_mean`],
-    /// [`FiniteField::multiple_mean`] and [`FiniteField::every_order_p`]
-    /// give, for the cost of the tables once.
-    #[allow(clippy::type_complexity)]
-    pub fn every_order_moments(
-        &self,
-        opts: &Options,
-        with_p: bool,
-    ) -> Result<(Estimate<T>, Estimate<T>, Option<Estimate<T>>), OracleError> {
+    /// The mean of segment 1 (§9.5) and of segments ≥ 2 (§10.2), reading
+    /// one set of tables of I(D) and (C * H)(D) per pass: what
+    /// [`FiniteField::scattered_mean`] and [`FiniteField::multiple_mean`]
+    /// give.
+    pub fn every_order_means(&self, opts: &Options) -> Result<(Estimate<T>, Estimate<T>), OracleError> {
         let scattered = ScatteredTables::default();
         let multiple = MultipleTables::default();
         let single = self.scattered_mean_with(&scattered, opts);
         let beyond = self.multiple_mean_with(&multiple, opts);
-        let p = if with_p { Some(self.every_order_p_with(&scattered, &multiple, opts)?) } else { None };
-        Ok((scattered.charge(single)?, multiple.charge(beyond)?, p))
+        Ok((scattered.charge(single)?, multiple.charge(beyond)?))
+    }
+
+    /// P and the same-path pairs of every simulated order (what
+    /// [`FiniteField::every_order_p`] and [`FiniteField::every_order_pairs`]
+    /// give), reading one set of tables of I(D) and (C * H)(D) per pass,
+    /// built by P and charged to it. Call
+    /// [`FiniteField::cover_pair_distances`] first, or the pairs build their
+    /// own table of G.
+    pub fn every_order_second_moments(&self, opts: &Options) -> SecondMoments<T> {
+        let scattered = ScatteredTables::default();
+        let multiple = MultipleTables::default();
+        let p = self.every_order_p_with(&scattered, &multiple, opts);
+        let pairs = self.every_order_pairs_with((&scattered, &multiple), opts)?;
+        Ok((multiple.charge(scattered.charge(p))?, pairs))
     }
 
     /// [`FiniteField::every_order_p`] reading (and building) the tables,
@@ -460,5 +534,80 @@ impl<T: CheckRule> FiniteField<T> {
         };
         let source = crate::model::along::MeanSource::WithBar(&with_bar);
         self.with_line(|line| line.p_single(&source, opts))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::field::Field;
+    use mcrt_scene::{ScatteringOrders, Scene};
+
+    /// The README scene (`point-isotropic`: σ = 1, the light at (1, 0, 1))
+    /// with every order, q = 1, one camera ray, the albedo and R given, its
+    /// tables made to reach the pairs' distances (as `every_order_mean`
+    /// does).
+    fn every_order_field(albedo: f64, radius: f64) -> FiniteField<f64> {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml");
+        let mut s = Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        s.medium.albedo = albedo;
+        s.estimator.radius = radius;
+        s.estimator.q = 1.0;
+        s.estimator.camera_rays = 1;
+        s.effects.scattering_orders = ScatteringOrders::All;
+        let mut first = s.clone();
+        first.effects.scattering_orders = ScatteringOrders::Limited(1);
+        let field = Field::from_scene(&first, &0.0f64).unwrap();
+        let mut ff = FiniteField::of_first_segments(&s, &field);
+        ff.cover_pair_distances();
+        ff
+    }
+
+    /// The tables of 𝒦(d) and of the pair sum, built for a pass of a 10⁻⁴
+    /// computation (`EVERY_ORDER_VARIANCE_TOL`; G from the mean's tables),
+    /// against their one-level integrals at 10⁻⁹ (the pair sum's at 10⁻⁷)
+    /// with the other rule, each reading the table below
+    /// it as the table does: 𝒦 on both sides of d = R, near the centre and
+    /// far out; the pair sum across the light's distances from the camera
+    /// ray; albedo 0.5 and 0.95. Each value within the table's (chained)
+    /// bar plus the reference's.
+    #[test]
+    fn the_pair_tables_are_within_their_bars() {
+        for (albedo, r) in [(0.5, 0.2), (0.95, 0.3)] {
+            let ff = every_order_field(albedo, r);
+            let density = ff.higher_orders().unwrap();
+            // A pass's inner goal at 10⁻⁴ (`integrate_nested`'s 20).
+            let opts = Options::rel(1e-4 / 20.0).with_budget(crate::quad::Budget::new(20_000_000_000)).declared();
+            let (scattered, multiple, tables) =
+                (ScatteredTables::default(), MultipleTables::default(), PairTables::default());
+            let t = ff.pair_tables(&tables, (&scattered, &multiple), density, &opts).expect("pair tables at 1e-4");
+            let fine = Options { rule: opts.rule.other(), ..Options::rel(1e-9).declared() };
+            let mut worst = 0.0f64;
+            let mut check = |what: &str, d: f64, got: f64, bar: f64, direct: Estimate<f64>| {
+                let off = (got / direct.value - 1.0).abs();
+                let allowed = bar + direct.error / direct.value + 1e-14;
+                worst = worst.max(off / allowed);
+                assert!(off <= allowed, "a {albedo}, R {r}, {what} at {d}: off {off:e}, allowed {allowed:e}");
+            };
+            for d in [1e-3 * r, 0.5 * r, 0.999 * r, 1.001 * r, 2.0 * r, 1.5, 5.0] {
+                let Some((got, bar)) = t.revisit.hits(&1.0, &r, &d, &0.0) else { continue };
+                let direct = revisit(&1.0, &r, &t.after, &d, &0.0, &fine, false).unwrap();
+                check("𝒦", d, got, bar, direct);
+            }
+            let (lo, hi) = super::super::scattered_table::light_distance_range(&ff).unwrap();
+            let pairs = t.pairs.as_ref().expect("a pair-sum table");
+            for d in [lo * 1.001, 0.5 * (lo + hi), 0.9 * hi] {
+                let Some((got, bar)) = pairs.hits(&1.0, &r, &d, &0.0) else { continue };
+                // 10⁻⁷: the samples read T from the pass's tail table, whose
+                // bar (~10⁻⁸ of the sum here) a finer goal could not meet.
+                let coarser = Options { rel_tol: 1e-7, ..fine.clone() };
+                let direct = pair_sum(&1.0, &r, &albedo, density, &t, &d, &0.0, &coarser).unwrap();
+                check("pair sum", d, got, bar, direct);
+            }
+            println!(
+                "a {albedo}, R {r}: 𝒦 bar {:.1e}, pairs bar {:.1e}, worst {worst:.2} of allowed",
+                t.revisit.rel_error, pairs.rel_error
+            );
+        }
     }
 }

@@ -119,6 +119,14 @@ impl<T: CheckRule> ScatteredTable<T> {
         (Some(ScatteredTable { parts, rel_error, decay: decay.clone() }), evaluations)
     }
 
+    /// Whether the table's pieces reach from `lo` to `hi` (the window about
+    /// R apart).
+    pub(super) fn reaches(&self, lo: &T, hi: &T) -> bool {
+        let first = self.parts.first().map(|(from, _, _)| from <= lo);
+        let last = self.parts.last().map(|(_, to, _)| to >= hi);
+        first == Some(true) && last == Some(true)
+    }
+
     /// I(D)·e^{shift} and its relative bar — the table's
     /// ([`ScatteredTable::rel_error`]) plus the rounding of the exponent
     /// shift − σ·max(D − R, 0), 4ε(1 + |shift| + σ·max(D − R, 0)), which
@@ -172,8 +180,19 @@ impl<T: CheckRule> ScatteredTables<T> {
 }
 
 /// [min, max] of the distance between a point light and a camera-ray
-/// point of the table range, over the lights; `None` without point lights.
+/// point of the table range, over the lights, widened to [0, max] and the
+/// pairs' reach where every order's same-path pairs read the tables
+/// ([`FiniteField::cover_pair_distances`]); `None` without point lights.
 pub(super) fn distance_range<T: CheckRule>(ff: &FiniteField<T>) -> Option<(T, T)> {
+    match (light_distance_range(ff), ff.pair_reach()) {
+        (Some((lo, hi)), Some(reach)) => Some((lo.lit(0.0), hi.max_of(reach.clone()))),
+        (range, _) => range,
+    }
+}
+
+/// [min, max] of the distance between a point light and a camera-ray
+/// point of the table range, over the lights; `None` without point lights.
+pub(super) fn light_distance_range<T: CheckRule>(ff: &FiniteField<T>) -> Option<(T, T)> {
     let (x_lo, x_hi) = ff.table_range();
     let mut range: Option<(T, T)> = None;
     for light in &ff.lights {
