@@ -223,7 +223,8 @@ fn oracle_gives_the_variance_of_every_order_at_q_one() {
 
 /// When Var L's integrals of every order spend the budget, the oracle still
 /// reports the mean (computed first) with exit 0, and says why Var L is
-/// missing.
+/// missing. (1.5·10⁸ evaluations: the mean takes ~6.4·10⁷ of them, the
+/// whole report ~2.5·10⁸, measured 7 December 2026.)
 #[test]
 fn oracle_keeps_the_mean_of_every_order_when_the_variance_spends_the_budget() {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml"))

@@ -20,8 +20,12 @@ use serde::Serialize;
 pub struct EveryOrderMean {
     /// The scene's `scattering_orders`, as written in its file.
     pub orders: String,
-    /// The relative tolerance asked of every integral.
+    /// The relative tolerance asked of the mean's integrals.
     pub rel_tol: f64,
+    /// The relative tolerance Var L's integrals (P, the same-path pairs)
+    /// ran at, where they ran: `rel_tol` or [`EVERY_ORDER_VARIANCE_TOL`],
+    /// whichever is looser.
+    pub variance_rel_tol: Option<f64>,
     /// μ(R) = μ₀(R) + μ₁(R) + μ_{2..n}(R), with its quadrature bar.
     pub mean: ValueWithBar,
     /// μ(0), the small-sphere mean of every simulated order: the luminance
@@ -64,8 +68,9 @@ pub const EVERY_ORDER_TOL: f64 = 1e-6;
 /// run at when a finer one is asked: 10⁻⁴, where their chained tables meet
 /// their goals at every albedo measured (at 10⁻⁶ the cross-section table
 /// of K_G could not be built at albedo 0.95, R = 0.3: the bracket of G
-/// about d = R is then wider than its samples' goal) and Var L costs ~8 s
-/// on two cores. The bars reported are those computed, ~10⁻⁵ relative.
+/// about d = R is then wider than its samples' goal; at 10⁻³ Var L costs
+/// no less) and P and the pairs take ~7 s on two cores. The bars reported
+/// are those computed, ~10⁻⁶ relative on the README scene.
 pub const EVERY_ORDER_VARIANCE_TOL: f64 = 1e-4;
 
 /// Refuses, before any integral, what the model of every order does not
@@ -204,6 +209,7 @@ pub fn every_order_mean(scene: &Scene, rel_tol: Option<f64>, budget: &Budget) ->
     Ok(EveryOrderMean {
         orders,
         rel_tol,
+        variance_rel_tol: with_variance.then(|| rel_tol.max(EVERY_ORDER_VARIANCE_TOL)),
         variance_missing,
         variance,
         m2: m2_out,
@@ -223,7 +229,11 @@ impl std::fmt::Display for EveryOrderMean {
         let row = |f: &mut std::fmt::Formatter<'_>, what: &str, v: &ValueWithBar| {
             writeln!(f, "  {what:<44} {:.10e} ± {:.1e}", v.value, v.error)
         };
-        let what = if self.variance_missing.is_some() { ": the mean only" } else { "" };
+        let what = match (self.variance_missing.is_some(), self.variance_rel_tol) {
+            (false, Some(v)) if v != self.rel_tol => format!(" (Var L's integrals at {v:e})"),
+            (true, _) => ": the mean only".to_string(),
+            _ => String::new(),
+        };
         writeln!(f, "mcrt-noise oracle: scattering_orders = {}, f64, rel-tol {:e}{what}", self.orders, self.rel_tol)?;
         row(f, "mean luminance μ(R), exact (finite-sphere)", &self.mean)?;
         row(f, "  of which segments 2 and beyond", &self.beyond_first)?;

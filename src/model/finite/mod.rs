@@ -199,7 +199,7 @@ impl<T: CheckRule> FiniteField<T> {
     /// Makes the tables of I(D) and (C * H)(D) reach from the centre out to
     /// R + 50/σ as well, where Var L of every order reads G = H + aI +
     /// C′ * H at the ends of segments through a sphere (`docs/model.md`
-    /// §10.3), so that one set of tables serves the mean and the pairs.
+    /// §10.3), so that one set of tables serves P and the pairs.
     pub fn cover_pair_distances(&mut self) {
         let reach = self.radius.clone() + self.sigma.lit(multiple_pairs::FRESH_REACH) / self.sigma.clone();
         self.pair_reach = Some(reach);

@@ -19,9 +19,12 @@
 //!   E[Σ_{j<k} hit_j hit_k] = 𝒦(D) + a·(c₁ * 𝒦)(D) + (C′ * 𝒦)(D),
 //!
 //! the last two by the bipolar integrals of §9.5 and §10.2 with 𝒦 in
-//! place of H. Five tables per pass, each from the one before, each
-//! carrying the bar of the table it reads: G(d′) over [0, R + 50/σ]
-//! (`ScatteredTable`, decay νσ), K_G(w) over the sphere's cross-section
+//! place of H. Per pass, G(d′) over [10⁻⁴R, R + 50/σ] is read from the
+//! pass's tables of I(D) and (C′ * H)(D) — those P builds on the same
+//! field, made to reach there by `FiniteField::cover_pair_distances` (else
+//! a table of G of its own, `ScatteredTable`, decay νσ) — and four tables
+//! follow, each from the one before, each carrying the bar of the table
+//! it reads: K_G(w) over the sphere's cross-section
 //! (`SecondHitTable`, w = √(R² − p²)), 𝒦(d) (`ScatteredTable`, decay σ), T
 //! of C′ (`multiple::TailTable`), and the pair sum itself over the
 //! distances between the lights and the camera ray's spheres
@@ -54,6 +57,10 @@ pub(super) struct PairTable<T> {
     /// distances between lights and spheres, read by every camera-ray
     /// point (`None` when it could not be built: the quadrature serves).
     pairs: Option<ScatteredTable<T>>,
+    /// Whether G was read from the pass's I(D) and (C′ * H)(D) tables
+    /// (else from a table of its own): what the unit test asserts.
+    #[cfg_attr(not(test), allow(dead_code))]
+    g_from_shared: bool,
 }
 
 /// The pair tables of one computation, one per pass.
@@ -113,7 +120,7 @@ impl<T: CheckRule> PairTable<T> {
         // their closest point: within R + U of the centre except with
         // chance e^{−σU} (below).
         let reach_g = r.clone() + sigma.lit(FRESH_REACH) / sigma.clone();
-        // G from the mean's tables of I(D) and (C′ * H)(D) (the pass's own,
+        // G from the pass's tables of I(D) and (C′ * H)(D) (P's, on this field,
         // built over [0, R + U] as well: `FiniteField::cover_pair_distances`),
         // else from a table of its own.
         let own = match mean_tables {
@@ -144,7 +151,7 @@ impl<T: CheckRule> PairTable<T> {
         let fresh_rel = match (&own, mean_tables) {
             (Some(t), _) => t.rel_error.clone(),
             (None, Some((once, more))) => once.rel_error.clone().max_of(more.rel_error.clone()),
-            (None, None) => unreachable!("a table of its own is built without the mean's"),
+            (None, None) => unreachable!("a table of its own is built without the pass's"),
         };
         // K_G(w) = ∫σe^{−σu} a G(√(u² + R² − w²)) du.
         let after_of = |w: &T, o: &Options| -> Outcome<T> {
@@ -183,7 +190,7 @@ impl<T: CheckRule> PairTable<T> {
         spent += used;
         let Some(mut revisit) = revisit else { return (None, spent) };
         revisit.rel_error = revisit.rel_error.clone() + after.rel_error.clone();
-        let mut table = PairTable { tail, after, revisit, pairs: None };
+        let mut table = PairTable { tail, after, revisit, pairs: None, g_from_shared: mean_tables.is_some() };
         // The pair sum itself over the distances the camera ray puts between
         // lights and spheres: each camera-ray point then reads one value
         // instead of two convolutions (its samples read 𝒦 without a bar).
@@ -391,10 +398,12 @@ impl<T: CheckRule> FiniteField<T> {
         density: &StartDensity<T>,
         opts: &Options,
     ) -> Option<Arc<PairTable<T>>> {
-        // The mean's tables of the same pass (its rule and goal), G's parts
-        // where they reach from 0 (`cover_pair_distances`).
-        let once = mean.0.for_pass(self, opts);
-        let more = mean.1.for_pass(self, density, opts);
+        // The tables of I(D) and (C′ * H)(D) of the same pass (its rule and
+        // goal; P's on this field), G's parts where they reach from 0
+        // (`cover_pair_distances`; without it they are not asked for).
+        let wide = self.pair_reach().is_some();
+        let once = if wide { mean.0.for_pass(self, opts) } else { None };
+        let more = if wide { mean.1.for_pass(self, density, opts) } else { None };
         let covers = |t: &ScatteredTable<T>| {
             self.pair_reach()
                 .is_some_and(|reach| t.reaches(&(self.radius.clone() * self.radius.lit(FRESH_LOWEST)), reach))
@@ -424,7 +433,7 @@ impl<T: CheckRule> FiniteField<T> {
         multiple.charge(scattered.charge(result))
     }
 
-    /// [`FiniteField::every_order_pairs`] reading (and building) the mean's
+    /// [`FiniteField::every_order_pairs`] reading (and building) the
     /// tables, whose evaluations the caller charges.
     fn every_order_pairs_with(
         &self,
@@ -507,9 +516,11 @@ impl<T: CheckRule> FiniteField<T> {
     pub fn every_order_second_moments(&self, opts: &Options) -> SecondMoments<T> {
         let scattered = ScatteredTables::default();
         let multiple = MultipleTables::default();
-        let p = self.every_order_p_with(&scattered, &multiple, opts);
+        // A failed P ends it: the pairs alone would give no Var L.
+        let p = self.every_order_p_with(&scattered, &multiple, opts)?;
         let pairs = self.every_order_pairs_with((&scattered, &multiple), opts)?;
-        Ok((multiple.charge(scattered.charge(p))?, pairs))
+        // Every table, whichever asked first, charged to P.
+        Ok((multiple.charge(scattered.charge(Ok::<_, OracleError>(p)))?, pairs))
     }
 
     /// [`FiniteField::every_order_p`] reading (and building) the tables,
@@ -564,7 +575,8 @@ mod tests {
     }
 
     /// The tables of 𝒦(d) and of the pair sum, built for a pass of a 10⁻⁴
-    /// computation (`EVERY_ORDER_VARIANCE_TOL`; G from the mean's tables),
+    /// computation (`EVERY_ORDER_VARIANCE_TOL`; G from the pass's I(D) and
+    /// (C′ * H)(D) tables, asserted),
     /// against their one-level integrals at 10⁻⁹ (the pair sum's at 10⁻⁷)
     /// with the other rule, each reading the table below
     /// it as the table does: 𝒦 on both sides of d = R, near the centre and
@@ -581,6 +593,8 @@ mod tests {
             let (scattered, multiple, tables) =
                 (ScatteredTables::default(), MultipleTables::default(), PairTables::default());
             let t = ff.pair_tables(&tables, (&scattered, &multiple), density, &opts).expect("pair tables at 1e-4");
+            assert!(t.g_from_shared, "a {albedo}, R {r}: G did not come from the I(D) and (C′ * H)(D) tables");
+            let mut checked = 0;
             let fine = Options { rule: opts.rule.other(), ..Options::rel(1e-9).declared() };
             let mut worst = 0.0f64;
             let mut check = |what: &str, d: f64, got: f64, bar: f64, direct: Estimate<f64>| {
@@ -588,6 +602,7 @@ mod tests {
                 let allowed = bar + direct.error / direct.value + 1e-14;
                 worst = worst.max(off / allowed);
                 assert!(off <= allowed, "a {albedo}, R {r}, {what} at {d}: off {off:e}, allowed {allowed:e}");
+                checked += 1;
             };
             for d in [1e-3 * r, 0.5 * r, 0.999 * r, 1.001 * r, 2.0 * r, 1.5, 5.0] {
                 let Some((got, bar)) = t.revisit.hits(&1.0, &r, &d, &0.0) else { continue };
