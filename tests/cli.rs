@@ -191,11 +191,10 @@ fn oracle_json_of_an_order1_scene() {
     assert!(why.contains("--finite-pairs") && why.contains("q = 0.5, N_B = 8"), "{why}");
 }
 
-/// With every order at q = 1 and one camera ray the oracle gives Var L
-/// exact at R (docs/model.md §10.3) with M₂'s same-path pairs and P, each
-/// with a bar, and no `variance_missing`; the text report prints them.
-#[test]
-fn oracle_gives_the_variance_of_every_order_at_q_one() {
+/// The README scene with every order at q = 1, one camera ray, N_F 20 and
+/// R 0.2 (where the oracle computes Var L of every order), written to a
+/// temporary file named after `tag`; the caller removes it.
+fn every_order_q1_scene(tag: &str) -> std::path::PathBuf {
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml"))
         .unwrap()
         .replace("scattering_orders = 0", "scattering_orders = \"all\"")
@@ -203,8 +202,17 @@ fn oracle_gives_the_variance_of_every_order_at_q_one() {
         .replace("q = 0.5", "q = 1.0")
         .replace("forward_rays = 200", "forward_rays = 20")
         .replace("camera_rays = 8", "camera_rays = 1");
-    let path = std::env::temp_dir().join(format!("mcrt-noise-all-q1-{}.toml", std::process::id()));
+    let path = std::env::temp_dir().join(format!("mcrt-noise-{tag}-{}.toml", std::process::id()));
     std::fs::write(&path, &text).unwrap();
+    path
+}
+
+/// With every order at q = 1 and one camera ray the oracle gives Var L
+/// exact at R (docs/model.md §10.3) with M₂'s same-path pairs and P, each
+/// with a bar, and no `variance_missing`; the text report prints them.
+#[test]
+fn oracle_gives_the_variance_of_every_order_at_q_one() {
+    let path = every_order_q1_scene("all-q1");
     let out = bin().args(["oracle", path.to_str().unwrap(), "--json", "--rel-tol", "1e-3"]).output().unwrap();
     let text_out = bin().args(["oracle", path.to_str().unwrap(), "--rel-tol", "1e-3"]).output().unwrap();
     std::fs::remove_file(&path).ok();
@@ -227,15 +235,7 @@ fn oracle_gives_the_variance_of_every_order_at_q_one() {
 /// whole report ~2.5·10⁸, measured 7 December 2026.)
 #[test]
 fn oracle_keeps_the_mean_of_every_order_when_the_variance_spends_the_budget() {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml"))
-        .unwrap()
-        .replace("scattering_orders = 0", "scattering_orders = \"all\"")
-        .replace("radius = 0.01", "radius = 0.2")
-        .replace("q = 0.5", "q = 1.0")
-        .replace("forward_rays = 200", "forward_rays = 20")
-        .replace("camera_rays = 8", "camera_rays = 1");
-    let path = std::env::temp_dir().join(format!("mcrt-noise-all-budget-{}.toml", std::process::id()));
-    std::fs::write(&path, &text).unwrap();
+    let path = every_order_q1_scene("all-budget");
     let out = bin().args(["oracle", path.to_str().unwrap(), "--json", "--max-evals", "150000000"]).output().unwrap();
     std::fs::remove_file(&path).ok();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
