@@ -57,8 +57,8 @@
 
 // The public API of a renderer's test, first.
 pub use check::{
-    check, predict, CheckOptions, Model, PredictError, Predicted, Prediction, SampleError, Samples, SumsInequality,
-    Verdict,
+    check, predict, CheckOptions, Model, PredictError, Predicted, Prediction, PredictionReport, SampleError, Samples,
+    SumsInequality, Verdict,
 };
 pub use mcrt_scene::{Phase, ScatteringOrders, Scene, SceneBuilder, SceneError};
 

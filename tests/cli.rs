@@ -229,6 +229,33 @@ fn oracle_gives_the_variance_of_every_order_at_q_one() {
     assert!(!shown.contains("the mean only"), "{shown}");
 }
 
+/// `check` on every order (`"all"` at q = 1 and one camera ray): the
+/// tracer's values pass against the exact prediction (finite-sphere model,
+/// no model bar), and the same values scaled by 1.1 (mean 10 % high, Var L
+/// 21 %) fail, exit 1.
+#[test]
+fn check_of_every_order_passes_the_tracer_and_fails_values_off_by_ten_percent() {
+    let path = every_order_q1_scene("check-all-q1");
+    let scene = mcrt_noise::Scene::from_toml_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let dir = temp_dir("check-all");
+    let run = |scale: f64| {
+        let values = dir.join(format!("values-{scale}.txt"));
+        let lines: String = traced_values(&scene, 100_000, scale).iter().map(|v| format!("{v:e}\n")).collect();
+        std::fs::write(&values, lines).unwrap();
+        bin().arg("check").arg(&path).arg("--values").arg(&values).output().unwrap()
+    };
+    let (good, off) = (run(1.0), run(1.1));
+    std::fs::remove_file(&path).ok();
+    std::fs::remove_dir_all(&dir).ok();
+    let text = String::from_utf8_lossy(&good.stdout);
+    assert_eq!(good.status.code(), Some(0), "{text}{}", String::from_utf8_lossy(&good.stderr));
+    assert!(text.starts_with("PASS") && text.contains("finite-sphere model"), "{text}");
+    assert_eq!(text.matches("(quadrature), model exact").count(), 2, "{text}");
+    let text = String::from_utf8_lossy(&off.stdout);
+    assert_eq!(off.status.code(), Some(1), "{text}{}", String::from_utf8_lossy(&off.stderr));
+    assert!(text.starts_with("FAIL") && text.contains("mean"), "{text}");
+}
+
 /// When Var L's integrals of every order spend the budget, the oracle still
 /// reports the mean (computed first) with exit 0, and says why Var L is
 /// missing. (1.5·10⁸ evaluations: the mean takes ~6.4·10⁷ of them, the

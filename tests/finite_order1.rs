@@ -316,13 +316,13 @@ fn library_predicts_order1_exactly_at_one_sphere_per_camera_ray() {
     assert_eq!(prediction.model, Model::FiniteSphere);
     assert_eq!((prediction.mean.model_bar, prediction.variance.model_bar), (0.0, 0.0));
     assert!(prediction.bias.is_some(), "the bias of an order-1 scene is predicted");
-    let finite = prediction.report.finite.as_ref().unwrap();
+    let finite = prediction.report.up_to_order_one().unwrap().finite.as_ref().unwrap();
     assert_eq!(finite.covers, "uncollided and single-scattered");
     for (what, v) in [("mean", prediction.mean), ("Var L", prediction.variance)] {
         assert!(v.quadrature_bar <= 1e-6 * v.value, "{what}: {v:?}");
     }
     insta::with_settings!({snapshot_path => "../snapshots", prepend_module_to_snapshot => false}, {
-        insta::assert_snapshot!("finite_point-isotropic-order1-q1", common::finite_text(&prediction.report, 6));
+        insta::assert_snapshot!("finite_point-isotropic-order1-q1", common::finite_text(prediction.report.up_to_order_one().unwrap(), 6));
     });
 
     let tracer = Tracer::new(&s).unwrap();
@@ -334,7 +334,7 @@ fn library_predicts_order1_exactly_at_one_sphere_per_camera_ray() {
     println!("{verdict}");
     verdict.assert_pass();
     let var = samples.variance().unwrap();
-    let small = prediction.report.variance.as_ref().unwrap().exact;
+    let small = prediction.report.up_to_order_one().unwrap().variance.as_ref().unwrap().exact;
     let se = var.standard_error;
     let z_small = (var.value - small.value) / (se * se + small.error * small.error).sqrt();
     println!("small-sphere Var L {:.6e}: z {z_small:+.1} against the tracer", small.value);

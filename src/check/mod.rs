@@ -45,7 +45,9 @@ pub use options::{
     MIN_FALSE_ALARM_RATE, TAIL_SHARE,
 };
 pub use plan::{plan, Plan};
-pub use predict::{predict, predict_with, predict_within, Model, PredictError, Predicted, Prediction};
+pub use predict::{
+    predict, predict_with, predict_within, Model, PredictError, Predicted, Prediction, PredictionReport,
+};
 pub use realisable::SumsInequality;
 pub use samples::{Measured, SampleError, Samples};
 pub use shape::Shape;

@@ -1,7 +1,7 @@
 //! What the oracle predicts for a scene, with both of its bars.
 
 use crate::model::OracleError;
-use crate::oracle::{self, Precision, Report, ValueWithBar};
+use crate::oracle::{self, EveryOrderMean, Precision, Report, ValueWithBar};
 use crate::prec::{
     model_error_scale, FINITE_PAIRS_PREDICTION_TOL, MODEL_ERROR_RADIUS, SMALL_SPHERE_SCATTERED_ALLOWANCE,
     SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS,
@@ -18,7 +18,9 @@ pub enum Model {
     /// The finite-sphere model (`docs/model.md` §9): the estimator's exact
     /// moments at the scene's R, for uncollided light, and for
     /// single-scattered light in isotropic media (point lights and beams at
-    /// any q and N_B, in f64). Its model bar is 0.
+    /// any q and N_B, in f64), and for every scattering order (`"all"`,
+    /// point lights in an isotropic medium, q = 1, N_B = 1, in f64). Its
+    /// model bar is 0.
     FiniteSphere,
     /// The paper's small-sphere model (§4.3), exact only as R → 0; used for
     /// the other scenes with single-scattered light, with a measured model
@@ -95,11 +97,62 @@ pub struct Prediction {
     pub bias: Option<ValueWithBar>,
     /// Where the model bar comes from, in words.
     pub model_bar_basis: String,
-    /// The oracle's report (both models, the integrals, their bars), to
-    /// the extent the prediction needs ([`oracle::Scope::Prediction`]: with
-    /// q = 1 and N_B = 1 the small-sphere integrals of two spheres, which
-    /// Var L weighs 0, are not computed).
-    pub report: Report,
+    /// The oracle's report behind the numbers: for scattering orders 0 and
+    /// 1 both models, the integrals and their bars; for every order the
+    /// exact mean, Var L, M₂ with its same-path pairs, and P.
+    pub report: PredictionReport,
+}
+
+/// The oracle's report behind a [`Prediction`], by the scene's scattering
+/// orders.
+///
+/// ```
+/// use mcrt_noise::{predict, Scene};
+///
+/// let scene = Scene::builder()
+///     .medium(1.0, 0.8)
+///     .point_light([1.0, 0.0, 1.0], 1.0)
+///     .camera([0.0, 0.0, 0.0], [0.0, 0.0, 1.0])
+///     .estimator(0.2, 0.5, 20, 4)
+///     .build()?;
+/// let prediction = predict(&scene)?;
+/// let report = prediction.report.up_to_order_one().expect("uncollided light: orders 0 and 1");
+/// assert_eq!(report.finite.as_ref().unwrap().covers, "uncollided");
+/// assert!(prediction.report.every_order().is_none());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PredictionReport {
+    /// `scattering_orders` 0 or 1: the oracle's [`Report`] (both models,
+    /// the integrals, their bars), to the extent the prediction needs
+    /// ([`oracle::Scope::Prediction`]: with q = 1 and N_B = 1 the
+    /// small-sphere integrals of two spheres, which Var L weighs 0, are not
+    /// computed).
+    UpToOrderOne(Box<Report>),
+    /// `scattering_orders = "all"` (at q = 1 and one camera ray, where Var
+    /// L is modelled): the exact mean, its small-sphere limit, the bias,
+    /// Var L, M₂ with its same-path pairs and P ([`oracle::every_order_mean`],
+    /// `docs/model.md` §10).
+    EveryOrder(Box<EveryOrderMean>),
+}
+
+impl PredictionReport {
+    /// The report of a scene with scattering orders 0 or 1, if this is one.
+    pub fn up_to_order_one(&self) -> Option<&Report> {
+        match self {
+            PredictionReport::UpToOrderOne(r) => Some(r),
+            PredictionReport::EveryOrder(_) => None,
+        }
+    }
+
+    /// The report of a scene with every scattering order, if this is one.
+    pub fn every_order(&self) -> Option<&EveryOrderMean> {
+        match self {
+            PredictionReport::EveryOrder(r) => Some(r),
+            PredictionReport::UpToOrderOne(_) => None,
+        }
+    }
 }
 
 /// Why there is no prediction.
@@ -179,7 +232,12 @@ impl From<OracleError> for PredictError {
 /// carry the cross-segment terms of erratum E10, isotropic media, or where
 /// q = 1 and N_B = 1 weigh (23), (24) 0;
 /// [`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS`]
-/// elsewhere); larger R there, and orders ≥ 2, are refused.
+/// elsewhere); larger R there is refused.
+/// Every scattering order (`scattering_orders = "all"`) is predicted by the
+/// finite-sphere model of every order (`docs/model.md` §10.3, f64 only,
+/// model bar 0, the bias predicted) for point lights in an isotropic medium
+/// at q = 1 and N_B = 1, the only setting whose Var L it has; other scenes
+/// of orders ≥ 2 are refused before any integral, naming the fields.
 ///
 /// Cost: milliseconds for uncollided light in a release build; for single
 /// scattering ~1.5 s with q = 1 and N_B = 1 (isotropic medium, point
@@ -190,7 +248,8 @@ impl From<OracleError> for PredictError {
 /// ~61 s on `point-isotropic-order1`, minutes with a light near the camera
 /// line), about 5 minutes for point lights in a Henyey–Greenstein medium
 /// at q = 1 and N_B = 1 (4·10⁹ evaluations, at any R) and ~10–15 s in
-/// one at other q and N_B (`docs/library.md` gives the profile
+/// one at other q and N_B, ~11 s for every order (2.5·10⁸ evaluations on
+/// the README scene at R = 0.2; `docs/library.md` gives the profile
 /// settings a dependent crate needs for its debug tests).
 pub fn predict(scene: &Scene) -> Result<Prediction, PredictError> {
     predict_with(scene, Precision::F64, None)
@@ -245,6 +304,9 @@ pub fn predict_within(
         if !(tol > 0.0 && tol < 1.0) {
             return Err(PredictError::Unsupported(format!("rel_tol = {tol:e}: must be in (0, 1)")));
         }
+    }
+    if !matches!(scene.effects.scattering_orders, ScatteringOrders::Limited(0 | 1)) {
+        return predict_every_order(&scene, precision, rel_tol, budget);
     }
     let scattered = scene.effects.scattering_orders != ScatteringOrders::Limited(0);
     let radius = scene.estimator.radius;
@@ -352,8 +414,68 @@ pub fn predict_within(
         // On the small-sphere fallback the exact mean may still be there.
         bias: report.finite.as_ref().map(|f| f.bias).or_else(|| report.finite_mean.as_ref().and_then(|m| m.bias)),
         model_bar_basis: basis,
-        report,
+        report: PredictionReport::UpToOrderOne(Box::new(report)),
     })
+}
+
+/// The prediction of a scene with scattering orders ≥ 2 or `"all"`: the
+/// finite-sphere model of every order (`docs/model.md` §10, f64 only),
+/// exact at R, model bar 0, where it has Var L (`"all"` at q = 1 and one
+/// camera ray, isotropic medium, point lights); elsewhere refused with the
+/// oracle's reason. Var L's integrals that fail (a spent budget) fail the
+/// prediction with their error, its kind kept.
+fn predict_every_order(
+    scene: &Scene,
+    precision: Precision,
+    rel_tol: Option<f64>,
+    budget: &Budget,
+) -> Result<Prediction, PredictError> {
+    if let Precision::Bits(bits) = precision {
+        return Err(PredictError::Unsupported(format!(
+            "precision = {bits} bits: with effects.scattering_orders >= 2 the oracle computes in f64 only (allowed: \
+             f64)"
+        )));
+    }
+    // Refused before any integral where Var L is not modelled.
+    if !oracle::every_order_variance_modelled(scene) {
+        let orders = match scene.effects.scattering_orders {
+            ScatteringOrders::All => "\"all\"".to_string(),
+            ScatteringOrders::Limited(n) => n.to_string(),
+        };
+        return Err(PredictError::Oracle(OracleError::Unsupported(format!(
+            "effects.scattering_orders = {orders}, estimator.q = {}, estimator.camera_rays = {}: Var L {}",
+            scene.estimator.q,
+            scene.estimator.camera_rays,
+            oracle::VARIANCE_NOT_MODELLED
+        ))));
+    }
+    let (report, variance_error) = oracle::every_order_report(scene, rel_tol, budget)?;
+    if let Some(e) = variance_error {
+        return Err(PredictError::Oracle(e));
+    }
+    let Some(variance) = report.variance else {
+        return Err(PredictError::Oracle(OracleError::Unsupported(format!(
+            "Var L of every order: {}",
+            report.variance_missing.as_deref().unwrap_or("not computed")
+        ))));
+    };
+    let exact = |v: ValueWithBar| Predicted { value: v.value, quadrature_bar: v.error, model_bar: 0.0 };
+    Ok(Prediction {
+        model: Model::FiniteSphere,
+        mean: exact(report.mean),
+        variance: exact(variance),
+        bias: Some(report.bias),
+        model_bar_basis: every_order_basis(report.variance_rel_tol.unwrap_or(report.rel_tol)),
+        report: PredictionReport::EveryOrder(Box::new(report)),
+    })
+}
+
+fn every_order_basis(variance_tol: f64) -> String {
+    format!(
+        "none needed: the finite-sphere model of every scattering order is exact at this R (isotropic medium, \
+         point lights, q = 1, N_B = 1; M₂ with the same-path pairs of one forward path; docs/model.md §10.3); Var \
+         L's integrals are computed to a goal of {variance_tol:e}, within the quadrature bar"
+    )
 }
 
 /// What the basis adds where the small-sphere prediction takes the

@@ -110,6 +110,15 @@ fn every_order_scene_covered(scene: &Scene) -> Result<(), OracleError> {
     Ok(())
 }
 
+/// Whether the model of every order has Var L for `scene`: `"all"` at
+/// q = 1 and one camera ray (`docs/model.md` §10.3); other q and N_B need
+/// the correlations of two spheres of every order, finite orders their own
+/// same-path pairs (§10.4).
+pub(crate) fn every_order_variance_modelled(scene: &Scene) -> bool {
+    let est = &scene.estimator;
+    scene.effects.scattering_orders == ScatteringOrders::All && est.q == 1.0 && est.camera_rays == 1
+}
+
 /// The mean of `scene` (scattering orders ≥ 2 or `"all"`, an isotropic
 /// medium, point lights off the camera line) in f64 to the relative
 /// tolerance `rel_tol` (default [`EVERY_ORDER_TOL`]; from 10⁻⁸ to 10⁻²)
@@ -129,6 +138,17 @@ fn every_order_scene_covered(scene: &Scene) -> Result<(), OracleError> {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn every_order_mean(scene: &Scene, rel_tol: Option<f64>, budget: &Budget) -> Result<EveryOrderMean, OracleError> {
+    every_order_report(scene, rel_tol, budget).map(|(m, _)| m)
+}
+
+/// [`every_order_mean`] with the error that ended Var L's integrals, its
+/// kind kept (a spent budget is [`OracleError::Quadrature`]), where they
+/// ran and failed: `predict` passes it on.
+pub(crate) fn every_order_report(
+    scene: &Scene,
+    rel_tol: Option<f64>,
+    budget: &Budget,
+) -> Result<(EveryOrderMean, Option<OracleError>), OracleError> {
     let rel_tol = rel_tol.unwrap_or(EVERY_ORDER_TOL);
     if !(1e-8..=1e-2).contains(&rel_tol) {
         return Err(OracleError::Unsupported(format!(
@@ -168,9 +188,7 @@ pub fn every_order_mean(scene: &Scene, rel_tol: Option<f64>, budget: &Budget) ->
     let k = (-ff.shift).exp();
     let mut evaluations = uncollided.evaluations + single.evaluations + beyond.evaluations + small.evaluations;
     let exact = uncollided.plus(single).plus(beyond.clone());
-    let est = &scene.estimator;
-    let with_variance =
-        scene.effects.scattering_orders == ScatteringOrders::All && est.q == 1.0 && est.camera_rays == 1;
+    let with_variance = every_order_variance_modelled(scene);
     let second = with_variance.then(|| {
         // P and the pairs at a goal no tighter than EVERY_ORDER_VARIANCE_TOL,
         // their tables reaching the pairs' distances (a field of their own:
@@ -182,8 +200,10 @@ pub fn every_order_mean(scene: &Scene, rel_tol: Option<f64>, budget: &Budget) ->
     });
     let (mut variance, mut m2_out, mut p_out, mut pairs_out) = (None, None, None, None);
     let mut variance_missing = (!with_variance).then(|| VARIANCE_NOT_MODELLED.to_string());
+    let mut variance_error = None;
     if let Some(Err(e)) = &second {
         variance_missing = Some(format!("not computed: {e} (the mean above stands)"));
+        variance_error = Some(e.clone());
     }
     if let Some(Ok((p, pairs))) = second {
         evaluations += pairs.evaluations + p.evaluations;
@@ -191,7 +211,7 @@ pub fn every_order_mean(scene: &Scene, rel_tol: Option<f64>, budget: &Budget) ->
         let cf = ff.per_hit_power(1, &ff.total_flux) / (4.0 * std::f64::consts::PI);
         pairs_out = Some(reported(&(pairs.value * k), &(pairs.error * k)));
         let m2 = Estimate::known(cf * exact.value, cf * exact.error, 0, opts.rule).plus(pairs);
-        let n_f = est.forward_rays as f64;
+        let n_f = scene.estimator.forward_rays as f64;
         let (mu, mu_e) = (exact.value * k, exact.error * k);
         let (m2v, m2e) = (m2.value * k, m2.error * k);
         let (pv, pe) = (p.value * k, p.error * k);
@@ -206,7 +226,7 @@ pub fn every_order_mean(scene: &Scene, rel_tol: Option<f64>, budget: &Budget) ->
         ScatteringOrders::Limited(n) => n.to_string(),
         ScatteringOrders::All => "all".into(),
     };
-    Ok(EveryOrderMean {
+    let report = EveryOrderMean {
         orders,
         rel_tol,
         variance_rel_tol: with_variance.then(|| rel_tol.max(EVERY_ORDER_VARIANCE_TOL)),
@@ -220,7 +240,8 @@ pub fn every_order_mean(scene: &Scene, rel_tol: Option<f64>, budget: &Budget) ->
         bias: reported(&(bias.value * k), &(bias.error * k)),
         beyond_first: reported(&(beyond.value * k), &(beyond.error * k)),
         evaluations,
-    })
+    };
+    Ok((report, variance_error))
 }
 
 impl std::fmt::Display for EveryOrderMean {
