@@ -165,7 +165,7 @@ enum Command {
         #[arg(long, default_value = "scenes")]
         scenes: PathBuf,
     },
-    /// Choose q, R, N_F, N_B for the least predicted RMSE (bias and noise) after a time budget, beside q = 1, the cylinder limit, the scene's own parameters, the asymptotic rule's R and N_B = 1 (single-scattered light in an isotropic medium: R and N_F at q = 1, N_B = 1, beside the small-sphere model's choice at the scene's R).
+    /// Choose q, R, N_F, N_B for the least predicted RMSE (bias and noise) after a time budget, beside q = 1, the cylinder limit, the scene's own parameters, the asymptotic rule's R and N_B = 1 (single-scattered light in an isotropic medium: R and N_F at q = 1, N_B = 1, beside the small-sphere model's choice at the scene's R; every scattering order, "all", point lights in an isotropic medium: R and N_F at q = 1, N_B = 1, ~10 s per radius, minutes in all).
     Optimize {
         scene: PathBuf,
         /// Wall-time budget T in seconds of one core, in (0, 1e9].
@@ -177,10 +177,10 @@ enum Command {
         /// At most this many spheres per iteration (memory), in [1, 1e7].
         #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::max_spheres)]
         max_spheres: Option<f64>,
-        /// Radii searched, LO,HI (one argument), with σ_ext·LO < σ_ext·HI in [1e-12, 1e3] (default σ_ext·R in [1e-3, 0.5]); a scene with scattered light other than single scattering in an isotropic medium keeps its R, which must lie in the range.
+        /// Radii searched, LO,HI (one argument), with σ_ext·LO < σ_ext·HI in [1e-12, 1e3] (default σ_ext·R in [1e-3, 0.5]); R is searched for uncollided light and, at q = 1 and N_B = 1, for single-scattered light and every order (\"all\") in an isotropic medium; any other scene with scattered light keeps its R, which must lie in the range.
         #[arg(long, allow_hyphen_values = true, value_parser = cli::flags::radius_range)]
         radius_range: Option<(f64, f64)>,
-        /// Write SVG maps of the predicted RMSE over (q, R) and (q, N_B/N_F) into this directory (refused for single-scattered light in an isotropic medium, whose q and N_B are held at 1).
+        /// Write SVG maps of the predicted RMSE over (q, R) and (q, N_B/N_F) into this directory (refused for single-scattered light in an isotropic medium and for every scattering order, whose q and N_B are held at 1).
         #[arg(long)]
         maps: Option<PathBuf>,
         /// One JSON object instead of the text.
@@ -215,7 +215,7 @@ enum Command {
         #[arg(long, default_value = "scenes")]
         scenes: PathBuf,
     },
-    /// Regenerate docs/tracer-checks.md: tracer against oracle as R falls, and the tracer's speed.
+    /// Regenerate docs/tracer-checks.md: tracer against oracle as R falls and at every scattering order, and the tracer's speed.
     TracerChecks {
         #[arg(long, default_value = "docs/tracer-checks.md")]
         out: PathBuf,

@@ -55,6 +55,8 @@ fn expected_counts_match_the_tracers_counters() {
         with(scene("point-hg-forward"), 0.1, 0.1, 50, 16),
         with(scene("point-isotropic-order1"), 0.2, 0.05, 100, 4),
         with(scene("beam-isotropic"), 0.05, 0.02, 60, 8),
+        // every order: ~5 segments a ray at albedo 0.8
+        with(scene("point-isotropic-all"), 1.0, 0.2, 20, 1),
     ];
     for s in cases {
         let tracer = Tracer::new(&s).unwrap();
@@ -128,6 +130,84 @@ fn the_objectives_variance_is_the_oracles() {
             assert_eq!(m.bias.is_some(), model == "finite-sphere");
         }
     }
+}
+
+/// Every scattering order (`"all"`): `optimize` searches R and N_F at the
+/// standard method (q = 1, N_B = 1), where the finite-sphere model of every
+/// order has Var L; the model a radius gets is the prediction's (its Var L
+/// within the bars of both), with the bias, without pair integrals (Var L
+/// at q < 1 or N_B > 1 is `None`, never read as 0), and its small-sphere M₂
+/// (the asymptotic rule's, ∝ 1/R²) is c f μ(0) with c = albedo·Φ/(πR²) and
+/// f = 1/4π from the scene's numbers, below M₂ by the same-path pairs and
+/// the bias. (~25 s: the prediction and one radius.)
+#[test]
+fn every_order_is_searched_at_the_standard_method_with_the_predictions_model() {
+    use mcrt_noise::tuning::{radii::RadiusCache, Searched};
+    let s = with(scene("point-isotropic-all"), 1.0, 0.2, 20, 1);
+    assert_eq!(Searched::of(&s), Searched::StandardMethod);
+    let mut own = s.clone();
+    (own.estimator.q, own.estimator.camera_rays) = (0.5, 8);
+    assert_eq!(Searched::of(&own), Searched::StandardMethod);
+    own.effects.scattering_orders = mcrt_noise::ScatteringOrders::Limited(3);
+    assert_eq!(Searched::of(&own), Searched::HeldRadius);
+    let mut cache = RadiusCache::new(&own, mcrt_noise::quad::Budget::new(1), None);
+    let err = cache.at(0.2).unwrap_err().to_string();
+    assert!(err.contains("finite orders >= 2"), "refused before any integral: {err}");
+
+    let prediction = mcrt_noise::predict(&s).unwrap();
+    let mut cache = RadiusCache::new(&s, mcrt_noise::quad::Budget::new(1_000_000_000), None);
+    let m = cache.at(0.2).unwrap().model;
+    assert_eq!((m.model, m.radius), ("finite-sphere", 0.2));
+    let v = m.variance(1.0, 20.0, 1.0).unwrap();
+    let want = prediction.variance;
+    assert!((v.value - want.value).abs() <= v.error + want.quadrature_bar, "{v:?} against the prediction's {want:?}");
+    assert!(m.variance(0.5, 20.0, 1.0).is_none() && m.variance(1.0, 20.0, 2.0).is_none());
+    let bias = m.bias.unwrap();
+    let exact = prediction.bias.unwrap();
+    assert!((bias.value - exact.value).abs() <= bias.error + exact.error, "{bias:?} against {exact:?}");
+    let report = prediction.report.every_order().unwrap();
+    let pairs = report.same_path_pairs.unwrap().value;
+    let cf_mu = m.m2.value - pairs;
+    assert!(m.small_sphere_m2.value < cf_mu && cf_mu < m.m2.value, "{m:?}");
+    // c f μ(0) from the scene's own numbers: c = albedo·Φ/(πR²), f = 1/4π.
+    let pi = std::f64::consts::PI;
+    let want_small = s.medium.albedo * 1.0 / (pi * 0.2 * 0.2) / (4.0 * pi) * m.mean_at_zero.value;
+    let bar = m.small_sphere_m2.error + want_small * m.mean_at_zero.error / m.mean_at_zero.value;
+    assert!((m.small_sphere_m2.value - want_small).abs() <= bar, "{m:?} against c f μ(0) = {want_small:e} ± {bar:e}");
+}
+
+/// The whole search for every order on the README scene (`"all"`, R = 0.2,
+/// N_F = 20, q = 1, N_B = 1) with a 10 s budget at the reference costs:
+/// q = 1 and N_B = 1 held, R searched and not the scene's, the bias
+/// predicted, no radius evaluated better, the small-sphere comparison and
+/// q < 1 said not to be scored, the asymptotic rule scored. Minutes (~30
+/// radii at ~10 s): `cargo test --release --test tuning -- --ignored`.
+#[test]
+#[ignore = "every order: ~30 radii at ~10 s each, ~15 min in release mode"]
+fn every_order_is_searched_over_r() {
+    use mcrt_noise::tuning::Searched;
+    let s = with(scene("point-isotropic-all"), 1.0, 0.2, 20, 1);
+    let o = optimize(&s, &Options::new(10.0, CostTable::reference_machine())).unwrap();
+    assert_eq!((o.searched, o.model, o.bias_predicted), (Searched::StandardMethod, "finite-sphere", true));
+    assert_eq!(o.scattering_orders, "all");
+    let b = o.best;
+    let p = b.parameters;
+    println!("best {p:?}: {:?}", b.rmse);
+    assert_eq!((p.q, p.camera_rays), (1.0, 1), "{p:?}");
+    assert!(o.radius_range.0 <= p.radius && p.radius <= o.radius_range.1 && p.radius != s.estimator.radius);
+    assert!(b.rmse.relative_bias.is_some_and(|x| x > 0.0));
+    let standard = Constraints { q: Some(1.0), camera_rays: Some(1), ..Constraints::free(10.0, None) };
+    for r in &o.radii {
+        if let Some(x) = r.best(&s, &CostTable::reference_machine(), &standard) {
+            assert!(x.rmse.relative >= b.rmse.relative * (1.0 - 1e-12), "R = {}: {x:?}", r.model.radius);
+        }
+    }
+    let named = |n: &str| o.alternatives.iter().find(|a| a.name.starts_with(n)).unwrap();
+    assert!(named("q, N_F, N_B free at the scene's R").scored.is_err());
+    assert!(named("q < 1 or N_B > 1").scored.as_ref().is_err_and(|e| e.contains("§10.4")));
+    assert!(named("R of the asymptotic rule").scored.is_ok(), "{:?}", named("R of the asymptotic rule"));
+    let text = mcrt_noise::reports::optimum::text("all", &o);
+    assert!(text.contains("for every scattering order") && !text.contains("single-scattered"), "{text}");
 }
 
 /// Costs that make the search's structure visible: every count costs.

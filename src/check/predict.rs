@@ -91,9 +91,11 @@ pub struct Prediction {
     /// finite-sphere model, and with the small-sphere model wherever
     /// `report.finite_mean` has it (a scene whose finite-sphere
     /// correlations or M₂, P failed, or in MPFR; point lights in a
-    /// Henyey–Greenstein medium). There `mean` is that exact μ(R), model
+    /// Henyey–Greenstein medium), and always for every scattering order
+    /// (`"all"`). There `mean` is that exact μ(R), model
     /// bar 0 (since 5 December 2026; it was the small-sphere μ(0) with its
-    /// allowance), so μ(0) = mean − bias.
+    /// allowance), so μ(0) = mean − bias. (`report.finite_mean` is
+    /// `prediction.report.up_to_order_one()?.finite_mean`.)
     pub bias: Option<ValueWithBar>,
     /// Where the model bar comes from, in words.
     pub model_bar_basis: String,
@@ -121,8 +123,12 @@ pub struct Prediction {
 /// assert!(prediction.report.every_order().is_none());
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
+///
+/// Serialized externally tagged: `{"up-to-order-one": {…}}` or
+/// `{"every-order": {…}}`.
 #[derive(Debug, Clone, Serialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum PredictionReport {
     /// `scattering_orders` 0 or 1: the oracle's [`Report`] (both models,
     /// the integrals, their bars), to the extent the prediction needs
@@ -248,7 +254,7 @@ impl From<OracleError> for PredictError {
 /// ~61 s on `point-isotropic-order1`, minutes with a light near the camera
 /// line), about 5 minutes for point lights in a Henyey–Greenstein medium
 /// at q = 1 and N_B = 1 (4·10⁹ evaluations, at any R) and ~10–15 s in
-/// one at other q and N_B, ~11 s for every order (2.5·10⁸ evaluations on
+/// one at other q and N_B, ~9 s for every order (2.5·10⁸ evaluations on
 /// the README scene at R = 0.2; `docs/library.md` gives the profile
 /// settings a dependent crate needs for its debug tests).
 pub fn predict(scene: &Scene) -> Result<Prediction, PredictError> {
@@ -283,7 +289,11 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
 /// term of a Henyey–Greenstein medium is: [`oracle::prediction_scope`]).
 /// Those correlations (or that term) run last: if they spend the budget the small-sphere
 /// model with its allowance serves for R ≤ 0.1, and beyond the failure is
-/// returned ([`PredictError::Oracle`]).
+/// returned ([`PredictError::Oracle`]). With every scattering order there
+/// is no fallback: a spent budget fails the prediction
+/// ([`PredictError::Oracle`] with the quadrature's error; the default
+/// budget, 10⁹ evaluations, is ~4 times what the README scene needs), and
+/// `rel_tol` must lie in [`oracle::EVERY_ORDER_TOL_RANGE`].
 ///
 /// ```
 /// use mcrt_noise::{check::predict_within, oracle::Precision, quad::Budget, Scene};
@@ -430,24 +440,39 @@ fn predict_every_order(
     rel_tol: Option<f64>,
     budget: &Budget,
 ) -> Result<Prediction, PredictError> {
-    if let Precision::Bits(bits) = precision {
-        return Err(PredictError::Unsupported(format!(
-            "precision = {bits} bits: with effects.scattering_orders >= 2 the oracle computes in f64 only (allowed: \
-             f64)"
-        )));
-    }
-    // Refused before any integral where Var L is not modelled.
+    let orders = match scene.effects.scattering_orders {
+        ScatteringOrders::All => "\"all\"".to_string(),
+        ScatteringOrders::Limited(n) => n.to_string(),
+    };
+    // Refused before any integral: what the model of every order does not
+    // cover (its medium, lights), then where it has no Var L, then MPFR and
+    // a goal outside its range.
+    oracle::every_order_scene_covered(scene)?;
     if !oracle::every_order_variance_modelled(scene) {
-        let orders = match scene.effects.scattering_orders {
-            ScatteringOrders::All => "\"all\"".to_string(),
-            ScatteringOrders::Limited(n) => n.to_string(),
-        };
         return Err(PredictError::Oracle(OracleError::Unsupported(format!(
-            "effects.scattering_orders = {orders}, estimator.q = {}, estimator.camera_rays = {}: Var L {}",
-            scene.estimator.q,
-            scene.estimator.camera_rays,
-            oracle::VARIANCE_NOT_MODELLED
+            "effects.scattering_orders = {orders}, estimator.q = {}, estimator.camera_rays = {}: Var L of every \
+             order is modelled for scattering_orders = \"all\" with estimator.q = 1 and estimator.camera_rays = 1 \
+             only (allowed); other q and camera_rays need the correlations of two spheres of every order, finite \
+             orders >= 2 their own same-path pairs (docs/model.md §10.4). The exact mean and bias of this scene: \
+             `oracle::every_order_mean` (`mcrt-noise oracle`); its Var L: the tracer (`mcrt-noise trace`)",
+            scene.estimator.q, scene.estimator.camera_rays
         ))));
+    }
+    if let Precision::Bits(bits) = precision {
+        return Err(PredictError::Oracle(OracleError::Unsupported(format!(
+            "precision = {bits} bits: with effects.scattering_orders = {orders} the oracle computes in f64 only \
+             (allowed: f64)"
+        ))));
+    }
+    if let Some(tol) = rel_tol {
+        let (lo, hi) = oracle::EVERY_ORDER_TOL_RANGE;
+        if !(lo..=hi).contains(&tol) {
+            return Err(PredictError::Unsupported(format!(
+                "rel_tol = {tol:e}: with effects.scattering_orders = {orders} must be in [{lo:e}, {hi:e}] (the tables \
+                 of every order need goals no finer in f64; Var L's integrals run at {:e} or looser)",
+                oracle::EVERY_ORDER_VARIANCE_TOL
+            )));
+        }
     }
     let (report, variance_error) = oracle::every_order_report(scene, rel_tol, budget)?;
     if let Some(e) = variance_error {

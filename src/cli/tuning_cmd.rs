@@ -69,9 +69,19 @@ pub fn optimize_cmd(a: &OptimizeArgs<'_>, load: impl Fn(&PathBuf) -> Result<Scen
     let scene = load(&a.scene.to_path_buf())?;
     if let (Some(dir), Searched::StandardMethod) = (a.maps, Searched::of(&scene)) {
         return Err(CliError::usage(format!(
-            "--maps {}: the maps vary q and N_B, which optimize holds at 1 for this scene's single-scattered light \
-             (the finite-sphere model gives its Var L at q = 1 and N_B = 1 only: docs/model.md §9.7); omit --maps",
-            dir.display()
+            "--maps {}: the maps vary q and N_B, which optimize holds at 1 for this scene's {} (the finite-sphere \
+             model gives its Var L at q = 1 and N_B = 1 only: docs/model.md {}); omit --maps",
+            dir.display(),
+            if scene.effects.scattering_orders == mcrt_noise::ScatteringOrders::Limited(1) {
+                "single-scattered light"
+            } else {
+                "scattered light of every order"
+            },
+            if scene.effects.scattering_orders == mcrt_noise::ScatteringOrders::Limited(1) {
+                "§9.7"
+            } else {
+                "§10.4"
+            }
         )));
     }
     if let Some(dir) = a.maps {

@@ -154,7 +154,8 @@ impl<T: Real> Field<T> {
                     "effects.scattering_orders = {shown}: the noise model (Var L) covers orders 0 (uncollided) and 1 \
                      (single-scattered forward light) only; allowed: 0 or 1. For orders 2 to 9 and \"all\" `mcrt-noise \
                      oracle` gives the exact mean and the bias (point lights, isotropic media; docs/model.md §10), with \
-                     \"all\" at q = 1 and camera_rays = 1 also the exact Var L (§10.3), and the tracer runs every order"
+                     \"all\" at q = 1 and camera_rays = 1 also the exact Var L (§10.3; `predict`, `check` and \
+                     `optimize` take that scene), and the tracer runs every order"
                 )));
             }
         };

@@ -57,19 +57,24 @@ pub struct EveryOrderMean {
 pub const VARIANCE_NOT_MODELLED: &str =
     "not modelled for this scene yet: the oracle has it for scattering_orders = \"all\" \
      at q = 1 and camera_rays = 1 only; other q and camera_rays need the correlations of two spheres of every order, \
-     finite orders >= 2 their own same-path pairs (docs/model.md §10.4); `predict` and `check` refuse the scene, and \
-     the tracer (`trace`) measures Var L";
+     finite orders >= 2 their own same-path pairs (docs/model.md §10.4); `predict`, `check` and `optimize` refuse the \
+     scene, and the tracer (`trace`) measures Var L";
 
 /// The default relative tolerance of [`every_order_mean`] (allowed from
 /// 10⁻⁸: the tail tables need goals of 1/40000 of it, at least 10⁻¹³ in f64).
 pub const EVERY_ORDER_TOL: f64 = 1e-6;
+
+/// The relative tolerances [`every_order_mean`] accepts: from 10⁻⁸ (its
+/// tail tables need goals of 1/40000 of it, at least 10⁻¹³ in f64) to 10⁻².
+pub const EVERY_ORDER_TOL_RANGE: (f64, f64) = (1e-8, 1e-2);
 
 /// The goal Var L's integrals of every order (P and the same-path pairs)
 /// run at when a finer one is asked: 10⁻⁴, where their chained tables meet
 /// their goals at every albedo measured (at 10⁻⁶ the cross-section table
 /// of K_G could not be built at albedo 0.95, R = 0.3: the bracket of G
 /// about d = R is then wider than its samples' goal; at 10⁻³ Var L costs
-/// no less) and P and the pairs take ~7 s on two cores. The bars reported
+/// no less) and P and the pairs take ~7 s of one core, beside the mean's
+/// integrals (~9 s in all on two cores). The bars reported
 /// are those computed, ~10⁻⁶ relative on the README scene.
 pub const EVERY_ORDER_VARIANCE_TOL: f64 = 1e-4;
 
@@ -77,7 +82,7 @@ pub const EVERY_ORDER_VARIANCE_TOL: f64 = 1e-4;
 /// cover: a Henyey–Greenstein medium, a beam, a point light on the camera
 /// line ahead of the camera (the small-sphere mean diverges there like
 /// ∫ds/(s − z)²).
-fn every_order_scene_covered(scene: &Scene) -> Result<(), OracleError> {
+pub(crate) fn every_order_scene_covered(scene: &Scene) -> Result<(), OracleError> {
     if scene.medium.phase != mcrt_scene::Phase::Isotropic {
         return Err(OracleError::Unsupported(format!(
             "effects.scattering_orders >= 2 with medium.phase = {:?}: the model of every order covers isotropic \
@@ -125,7 +130,8 @@ pub(crate) fn every_order_variance_modelled(scene: &Scene) -> bool {
 /// within `budget` (shared by its integrals: spent, the computation
 /// fails with that reason); with `"all"` at q = 1 and one camera ray also
 /// Var L, M₂ (with its same-path pairs) and P, exact at R (`docs/model.md`
-/// §10.3; at a goal no tighter than [`EVERY_ORDER_VARIANCE_TOL`]; ~7 s more
+/// §10.3; at a goal no tighter than [`EVERY_ORDER_VARIANCE_TOL`], beside the
+/// mean's integrals on a budget of their own charged after; ~9 s in all
 /// on two cores), else
 /// [`EveryOrderMean::variance_missing`] says why not.
 ///
@@ -150,10 +156,11 @@ pub(crate) fn every_order_report(
     budget: &Budget,
 ) -> Result<(EveryOrderMean, Option<OracleError>), OracleError> {
     let rel_tol = rel_tol.unwrap_or(EVERY_ORDER_TOL);
-    if !(1e-8..=1e-2).contains(&rel_tol) {
+    let (lo, hi) = EVERY_ORDER_TOL_RANGE;
+    if !(lo..=hi).contains(&rel_tol) {
         return Err(OracleError::Unsupported(format!(
-            "--rel-tol = {rel_tol:e}: with scattering_orders >= 2 allowed from 1e-8 to 1e-2 (the tables of every \
-             order need goals no finer in f64)"
+            "--rel-tol = {rel_tol:e} (`rel_tol` in the library): with scattering_orders >= 2 allowed from {lo:e} to \
+             {hi:e} (the tables of every order need goals no finer in f64)"
         )));
     }
     every_order_scene_covered(scene)?;
@@ -181,29 +188,50 @@ pub(crate) fn every_order_report(
     let ff = FiniteField::of_first_segments(scene, &field);
     ff.every_order_covered()?;
     let opts = Options::rel(rel_tol).with_budget(budget.clone()).declared();
-    let uncollided = ff.ray_total(Functional::Mean, &opts)?;
-    // Before Var L's integrals, which may spend the budget: the means stand.
-    let small = ff.small_sphere_mean_every_order(scene.effects.scattering_orders, &opts)?;
-    let (single, beyond) = ff.every_order_means(&opts)?;
+    let with_variance = every_order_variance_modelled(scene);
+    // Var L's integrals run beside the means (which stand if they fail), on
+    // a budget of their own with the same limit and deadline, charged to
+    // `budget` after both: where, run after the means, they would have
+    // spent its evaluations, they are reported as having spent them, so
+    // the outcome does not depend on the threads' timing. (A deadline,
+    // `--time-limit`, is wall time and shared: there the two compete for
+    // the cores, and the means can miss a deadline they would have met
+    // alone.)
+    let own = budget.renewed();
+    let (means, second) = rayon::join(
+        || -> Result<_, OracleError> {
+            let uncollided = ff.ray_total(Functional::Mean, &opts)?;
+            let small = ff.small_sphere_mean_every_order(scene.effects.scattering_orders, &opts)?;
+            let (single, beyond) = ff.every_order_means(&opts)?;
+            Ok((uncollided, small, single, beyond))
+        },
+        || {
+            with_variance.then(|| {
+                // P and the pairs at a goal no tighter than
+                // EVERY_ORDER_VARIANCE_TOL, their tables reaching the pairs'
+                // distances (a field of their own: the mean's tables need not).
+                let mut wide = FiniteField::of_first_segments(scene, &field);
+                wide.cover_pair_distances();
+                let goal = rel_tol.max(EVERY_ORDER_VARIANCE_TOL);
+                wide.every_order_second_moments(&Options::rel(goal).with_budget(own.clone()).declared())
+            })
+        },
+    );
+    // Charged before the means' failure, if any, is returned.
+    let before = budget.used();
+    budget.charge(own.used());
+    let (uncollided, small, single, beyond) = means?;
+    let second = second.map(|r| spent_after_the_means(r, budget, &own, before));
     let k = (-ff.shift).exp();
     let mut evaluations = uncollided.evaluations + single.evaluations + beyond.evaluations + small.evaluations;
     let exact = uncollided.plus(single).plus(beyond.clone());
-    let with_variance = every_order_variance_modelled(scene);
-    let second = with_variance.then(|| {
-        // P and the pairs at a goal no tighter than EVERY_ORDER_VARIANCE_TOL,
-        // their tables reaching the pairs' distances (a field of their own:
-        // the mean's tables need not).
-        let mut wide = FiniteField::of_first_segments(scene, &field);
-        wide.cover_pair_distances();
-        let goal = rel_tol.max(EVERY_ORDER_VARIANCE_TOL);
-        wide.every_order_second_moments(&Options::rel(goal).with_budget(budget.clone()).declared())
-    });
     let (mut variance, mut m2_out, mut p_out, mut pairs_out) = (None, None, None, None);
     let mut variance_missing = (!with_variance).then(|| VARIANCE_NOT_MODELLED.to_string());
     let mut variance_error = None;
     if let Some(Err(e)) = &second {
+        let e = e.clone().unshifted(ff.shift);
         variance_missing = Some(format!("not computed: {e} (the mean above stands)"));
-        variance_error = Some(e.clone());
+        variance_error = Some(e);
     }
     if let Some(Ok((p, pairs))) = second {
         evaluations += pairs.evaluations + p.evaluations;
@@ -244,6 +272,40 @@ pub(crate) fn every_order_report(
     Ok((report, variance_error))
 }
 
+/// Var L's integrals, run beside the means on their own budget `own` and
+/// already charged to the computation's `budget` (which had `before` used
+/// without them): past its limit, or with their own budget spent, they
+/// have spent the computation's (as they would have, run after the means),
+/// whatever they returned, and the reason counts both.
+fn spent_after_the_means<T>(
+    result: Result<T, OracleError>,
+    budget: &Budget,
+    own: &Budget,
+    before: u64,
+) -> Result<T, OracleError> {
+    // Their own evaluations spent (not a deadline, which is reported as it is).
+    let own_spent = own.used() >= own.limit();
+    if budget.used() <= budget.limit() && !own_spent {
+        return result;
+    }
+    match result {
+        Err(e) if !own_spent => Err(e),
+        _ => Err(OracleError::Quadrature {
+            what: "Var L's integrals of every order (P, the same-path pairs)",
+            reason: format!(
+                "the computation's evaluation budget of {} is spent ({} evaluations: the means (and what ran before \
+                 them) {before}, Var L's integrals, run beside them, {}{})",
+                budget.limit(),
+                budget.used(),
+                own.used(),
+                if own_spent { ", stopped there" } else { "" }
+            ),
+            guess: None,
+            evaluations: own.used(),
+        }),
+    }
+}
+
 impl std::fmt::Display for EveryOrderMean {
     /// The report as the `oracle` command prints it.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -279,5 +341,36 @@ impl std::fmt::Display for EveryOrderMean {
             Some(why) => writeln!(f, "Var L: {why}."),
             None => Ok(()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Var L's integrals charged after the means: within the limit their
+    /// result stands; past it, or with their own budget spent, they have
+    /// spent the computation's, whatever they returned, and the reason
+    /// counts both; their other failures stand as they are.
+    #[test]
+    fn var_l_beside_the_means_spends_the_budget_as_if_run_after_them() {
+        let run = |means: u64, var: u64, result: Result<u8, OracleError>| {
+            let budget = Budget::new(1000);
+            budget.charge(means);
+            let own = budget.renewed();
+            own.charge(var);
+            let _ = own.exhausted();
+            let before = budget.used();
+            budget.charge(own.used());
+            spent_after_the_means(result, &budget, &own, before)
+        };
+        assert_eq!(run(400, 600, Ok(7)).unwrap(), 7);
+        let over = run(400, 601, Ok(7)).unwrap_err().to_string();
+        assert!(over.contains("budget of 1000 is spent (1001 evaluations: the means"), "{over}");
+        assert!(over.contains("400, Var L's integrals, run beside them, 601)"), "{over}");
+        let stopped = run(10, 1000, Err(OracleError::Unsupported("spent".into()))).unwrap_err().to_string();
+        assert!(stopped.contains("1000, stopped there") && stopped.contains("(1010 evaluations"), "{stopped}");
+        let other = run(600, 600, Err(OracleError::Unsupported("a table failed".into()))).unwrap_err();
+        assert_eq!(other, OracleError::Unsupported("a table failed".into()));
     }
 }

@@ -31,9 +31,10 @@ mod every_order;
 mod order_one;
 mod report;
 pub use every_order::{
-    every_order_mean, EveryOrderMean, EVERY_ORDER_TOL, EVERY_ORDER_VARIANCE_TOL, VARIANCE_NOT_MODELLED,
+    every_order_mean, EveryOrderMean, EVERY_ORDER_TOL, EVERY_ORDER_TOL_RANGE, EVERY_ORDER_VARIANCE_TOL,
+    VARIANCE_NOT_MODELLED,
 };
-pub(crate) use every_order::{every_order_report, every_order_variance_modelled};
+pub(crate) use every_order::{every_order_report, every_order_scene_covered, every_order_variance_modelled};
 pub(crate) use order_one::pairs_weigh_nothing;
 pub use order_one::{
     finite_hg_moments_cover, finite_pairs_cover, finite_sphere_covers, finite_sphere_covers_the_standard_method,

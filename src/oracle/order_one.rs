@@ -134,8 +134,10 @@ pub fn finite_hg_moments_cover(scene: &Scene) -> bool {
 
 /// Whether the finite-sphere model covers `scene` once q = 1 and N_B = 1
 /// (the standard method: one sphere per camera ray, one camera ray) at any
-/// R: uncollided light, and single-scattered light in an isotropic medium
-/// (point lights and beams). `tuning::optimize` searches R there.
+/// R: uncollided light, single-scattered light in an isotropic medium
+/// (point lights and beams), and every scattering order (`"all"`: point
+/// lights off the camera line in an isotropic medium, `docs/model.md`
+/// §10.3). `tuning::optimize` searches R there.
 ///
 /// ```
 /// use mcrt_noise::{oracle::finite_sphere_covers_the_standard_method, Scene};
@@ -150,14 +152,24 @@ pub fn finite_hg_moments_cover(scene: &Scene) -> bool {
 /// assert!(finite_sphere_covers_the_standard_method(&scene));
 /// scene.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g: 0.5 };
 /// assert!(!finite_sphere_covers_the_standard_method(&scene));
+/// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::All;
+/// assert!(!finite_sphere_covers_the_standard_method(&scene));
+/// scene.medium.phase = mcrt_scene::Phase::Isotropic;
+/// assert!(finite_sphere_covers_the_standard_method(&scene));
+/// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(3);
+/// assert!(!finite_sphere_covers_the_standard_method(&scene)); // no pairs of finite orders yet
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn finite_sphere_covers_the_standard_method(scene: &Scene) -> bool {
-    use mcrt_scene::ScatteringOrders::Limited;
+    use mcrt_scene::ScatteringOrders::{All, Limited};
     match scene.effects.scattering_orders {
         Limited(0) => true,
         Limited(1) => scattered_covered(scene),
-        _ => false,
+        All => {
+            let a = scene.medium.albedo;
+            a > 0.0 && a < 1.0 && super::every_order::every_order_scene_covered(scene).is_ok()
+        }
+        Limited(_) => false,
     }
 }
 

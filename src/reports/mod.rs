@@ -8,6 +8,7 @@ pub mod check_calibration;
 pub mod choosing;
 pub mod compare;
 pub mod cost;
+pub mod every_order_checks;
 pub mod heatmap;
 pub mod model_error;
 pub mod optimum;

@@ -67,7 +67,9 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
     let memory = o.max_spheres.map_or(String::new(), |m| format!(", at most {m} spheres per iteration"));
     writeln!(s, "{scene_label}: budget {} s of one core{memory}", o.budget).unwrap();
     writeln!(s, "costs: {}", o.costs.source).unwrap();
-    if o.searched == Searched::StandardMethod {
+    if o.searched == Searched::StandardMethod && !matches!(o.scattering_orders.as_str(), "0" | "1") {
+        writeln!(s, "model: finite-sphere, exact at every R for every scattering order at q = 1 and N_B = 1 (the standard method), the only q and N_B where it gives Var L of every order (other q and N_B need the correlations of two spheres of every order, not yet in the oracle: docs/model.md §10.4): bias b(R) predicted; q = 1 and N_B = 1 held, R searched over [{:.3e}, {:.3e}]", o.radius_range.0, o.radius_range.1).unwrap();
+    } else if o.searched == Searched::StandardMethod {
         writeln!(s, "model: finite-sphere, exact at every R for uncollided and single-scattered light at q = 1 and N_B = 1 (the standard method), the only q and N_B where it gives Var L of single-scattered light (other q and N_B need the correlations of two spheres, not yet in the oracle: docs/model.md §9.7): bias b(R) predicted; q = 1 and N_B = 1 held, R searched over [{:.3e}, {:.3e}]", o.radius_range.0, o.radius_range.1).unwrap();
     } else if o.bias_predicted {
         writeln!(s, "model: finite-sphere (exact at every R for uncollided light): bias b(R) predicted; R searched over [{:.3e}, {:.3e}]", o.radius_range.0, o.radius_range.1).unwrap();
@@ -87,7 +89,10 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
     let label = if standard { "best at q = 1, N_B = 1 (finite-sphere model, exact)" } else { "best" };
     writeln!(s, "{label}: {}", line(&o.best, None)).unwrap();
     writeln!(s).unwrap();
-    if standard {
+    let every_order = !matches!(o.scattering_orders.as_str(), "0" | "1");
+    if standard && every_order {
+        writeln!(s, "beside it (ratio: its RMSE over the best's, every one by the finite-sphere model of every order at q = 1, N_B = 1; the small-sphere model has no Var L of every order):").unwrap();
+    } else if standard {
         writeln!(s, "beside it (ratio: its RMSE over the best's; a ratio below 1 is a prediction of the small-sphere model, whose own error at the scene's R is not in its bar):").unwrap();
     } else {
         writeln!(s, "beside it (ratio: its RMSE over the best's; the cylinder limit is another integration volume, with its own cost, and may beat the spheres):").unwrap();
@@ -108,7 +113,9 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
         .filter(|a| a.scored.as_ref().is_ok_and(|x| x.rmse.relative < o.best.rmse.relative))
         .map(|a| a.name.as_str())
         .collect();
-    if standard && !below.is_empty() {
+    if standard && every_order && !below.is_empty() {
+        writeln!(s, "\nbelow the best: {} (by the same exact model: the search over R — a grid of 4 radii per decade, then golden section about its best — missed it)", below.join("; ")).unwrap();
+    } else if standard && !below.is_empty() {
         writeln!(s, "\nbelow the best: {} (the small-sphere model predicts less error with other q and N_B at the scene's R; the finite-sphere model does not yet give Var L there, so the gap is not proven)", below.join("; ")).unwrap();
     }
     if let Some(Ok(q1)) = o.alternatives.iter().find(|a| a.name.starts_with("q = 1")).map(|a| a.scored.as_ref()) {
@@ -122,7 +129,11 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
     }
     writeln!(s, "\nsensitivity: each parameter's contiguous range around the optimum with RMSE within 10 % of the best, the others at the optimum:")
         .unwrap();
-    let held = "held at 1 (the finite-sphere model of single-scattered light)";
+    let held = if matches!(o.scattering_orders.as_str(), "0" | "1") {
+        "held at 1 (the finite-sphere model of single-scattered light)"
+    } else {
+        "held at 1 (the finite-sphere model of every scattering order)"
+    };
     match &o.sensitivity.q {
         Some(q) => writeln!(s, "{}", range("q", q, false)).unwrap(),
         None => writeln!(s, "  q    {held}").unwrap(),

@@ -107,6 +107,17 @@ pub(crate) fn beside_the_standard_method(
                       scene's";
     let mut out = Vec::new();
     let standard = own.q == 1.0 && own.camera_rays == 1;
+    // Every order: the small-sphere model has no Var L of it, and the
+    // finite-sphere model none at q < 1 or N_B > 1.
+    let small = match (super::every_order(scene), small) {
+        (true, _) if !standard => Err(format!(
+            "not scored: Var L of every scattering order is modelled at q = 1 and N_B = 1 only (docs/model.md \
+             §10.4), and the small-sphere model has none (the paper's is of orders 0 and 1); the tracer measures \
+             it (q = {}, N_B = {} here)",
+            own.q, own.camera_rays
+        )),
+        (_, small) => small,
+    };
     let (scored, note) = if standard {
         let at = cache.at(own.radius)?;
         (at.scored_at(scene, &opts.costs, &Constraints { q: Some(1.0), camera_rays: Some(1), ..free }, &own), "")
@@ -136,13 +147,17 @@ pub(crate) fn beside_the_standard_method(
         }),
         note: small_note.into(),
     });
+    let why = if super::every_order(scene) {
+        "not scored: the correlations of two spheres of every scattering order (C₂₃, Q, C₂₄), which several \
+         spheres per camera ray, the cylinder limit and N_B > 1 need, are not modelled yet (docs/model.md §10.4)"
+    } else {
+        "not scored: the finite-sphere correlations of two spheres of single-scattered light (C₂₃, Q, C₂₄), which \
+         several spheres per camera ray, the cylinder limit and N_B > 1 need, take minutes at 10⁻³ (docs/model.md \
+         §9.7; `oracle --finite-pairs`), too long to score alternatives with"
+    };
     out.push(Alternative {
         name: "q < 1 or N_B > 1 by the finite-sphere model".into(),
-        scored: Err("not scored: the finite-sphere correlations of two spheres of single-scattered light \
-                     (C₂₃, Q, C₂₄), which several spheres per camera ray, the cylinder limit and N_B > 1 need, \
-                     take minutes at 10⁻³ (docs/model.md §9.7; `oracle --finite-pairs`), too long to score \
-                     alternatives with"
-            .into()),
+        scored: Err(why.into()),
         note: String::new(),
     });
     Ok(out)

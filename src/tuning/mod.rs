@@ -22,11 +22,13 @@
 //! ([`Searched`]): every (q, R, N_F, N_B) for uncollided light; R and N_F
 //! with q = 1 and N_B = 1 (the standard method) for single-scattered light
 //! in an isotropic medium, whose Var L at other q and N_B needs pair
-//! integrals not yet in the oracle (`docs/model.md` §9.7), with the
-//! small-sphere model's (q, N_F, N_B) at the scene's R beside it; elsewhere
-//! (Henyey–Greenstein media, higher orders) the bias is not predicted, R is
-//! held at the scene's and only (q, N_F, N_B) are chosen, for the noise
-//! alone.
+//! integrals too slow to score a search with (`docs/model.md` §9.7), with the
+//! small-sphere model's (q, N_F, N_B) at the scene's R beside it, and for
+//! every scattering order (`"all"`, point lights in an isotropic medium,
+//! §10.3: ~10 s a radius, minutes a search), with no small-sphere model
+//! beside it; elsewhere (Henyey–Greenstein media at order 1) the bias is
+//! not predicted, R is held at the scene's and only (q, N_F, N_B) are
+//! chosen, for the noise alone; finite orders ≥ 2 are refused (no Var L).
 
 pub mod alternatives;
 pub mod calibration;
@@ -79,10 +81,11 @@ pub enum Searched {
     /// Uncollided light: every (q, R, N_F, N_B), by the finite-sphere model.
     Everything,
     /// Single-scattered light in an isotropic medium (point lights and
-    /// beams): the finite-sphere model gives Var L at q = 1 and N_B = 1
-    /// only, so R and N_F are searched there (bias predicted), and the
-    /// small-sphere model's (q, N_F, N_B) at the scene's R is an
-    /// alternative.
+    /// beams), and every scattering order (`"all"`, point lights in an
+    /// isotropic medium): the finite-sphere model gives Var L at q = 1 and
+    /// N_B = 1 only (in a search), so R and N_F are searched there (bias
+    /// predicted), and for single scattering the small-sphere model's
+    /// (q, N_F, N_B) at the scene's R is an alternative.
     StandardMethod,
     /// Other scattered light: the small-sphere model; R held at the
     /// scene's, the bias not predicted, (q, N_F, N_B) chosen for the noise.
@@ -159,6 +162,9 @@ pub struct Optimum {
     pub model: &'static str,
     /// Which parameters were searched.
     pub searched: Searched,
+    /// The scene's `scattering_orders` as in its file (`"0"`, `"1"`,
+    /// `"all"`, …): what light the model covers.
+    pub scattering_orders: String,
     /// Whether the bias b(R) is predicted at every R searched (finite-sphere
     /// model). Where R is held it may still be known at the scene's R
     /// (`best.rmse.relative_bias`: the exact mean of single-scattered light
@@ -212,6 +218,11 @@ pub fn optimize_with(scene: &Scene, opts: &Options, cache: &mut RadiusCache) -> 
         ));
     }
     let searched = cache.searched();
+    // Every order the model does not cover (or has no Var L of) is refused
+    // first, before any integral, not told to move its R.
+    if searched == Searched::HeldRadius && every_order(scene) {
+        cache.at(scene.estimator.radius)?;
+    }
     if searched == Searched::HeldRadius {
         check_held_radius(scene, opts.radius_range)?;
     }
@@ -242,6 +253,7 @@ pub fn optimize_with(scene: &Scene, opts: &Options, cache: &mut RadiusCache) -> 
     Ok(Optimum {
         model: own.model.model,
         searched,
+        scattering_orders: orders_label(scene),
         bias_predicted,
         budget: opts.budget,
         max_spheres: opts.max_spheres,
@@ -271,6 +283,20 @@ impl Searched {
             _ => free,
         }
     }
+}
+
+/// The scene's `scattering_orders` as written in its file.
+fn orders_label(scene: &Scene) -> String {
+    match scene.effects.scattering_orders {
+        mcrt_scene::ScatteringOrders::Limited(n) => n.to_string(),
+        mcrt_scene::ScatteringOrders::All => "all".into(),
+    }
+}
+
+/// Whether `scene` has scattering orders beyond the first (2 to 9 or
+/// `"all"`), whose model is `docs/model.md` §10.
+pub(crate) fn every_order(scene: &Scene) -> bool {
+    !matches!(scene.effects.scattering_orders, mcrt_scene::ScatteringOrders::Limited(0 | 1))
 }
 
 fn check_options(opts: &Options) -> Result<(), TuningError> {
@@ -318,7 +344,7 @@ fn check_held_radius(scene: &Scene, range: Option<(f64, f64)>) -> Result<(), Tun
         Some((lo, hi)) if !(lo..=hi).contains(&r) => Err(TuningError::Option(format!(
             "--radius-range {lo:e},{hi:e}: the scene has scattered light the finite-sphere model does not cover \
              (effects.scattering_orders = {}, medium.phase = {}; it covers single scattering in an isotropic \
-             medium, whose R is searched), so its bias is not predicted, R cannot be searched and is held at the \
+             medium and every order, \"all\", with point lights in one, whose R is searched), so its bias is not predicted, R cannot be searched and is held at the \
              scene's estimator.radius = {r}, outside the range; set estimator.radius within it, or omit \
              --radius-range",
             match scene.effects.scattering_orders {

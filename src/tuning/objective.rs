@@ -85,6 +85,57 @@ impl ModelAtRadius {
         Self::small_sphere_from_report(r)
     }
 
+    /// The finite-sphere model of every scattering order at q = 1 and
+    /// N_B = 1 ([`crate::oracle::every_order_mean`] of a `"all"` scene at
+    /// `radius`, `docs/model.md` §10.3): μ(R), M₂ with its same-path pairs, P and the
+    /// bias, exact at R; no pair integrals (other q and N_B are not
+    /// modelled), so [`ModelAtRadius::variance`] is `None` there. The
+    /// small-sphere M₂ of the asymptotic rule, ∝ 1/R², is c f μ(0): M₂
+    /// less its same-path pairs is c f μ(R) in an isotropic medium (every
+    /// hit adds c f), scaled by μ(0)/μ(R). An error where the report has
+    /// no Var L, giving its reason.
+    ///
+    /// ```no_run
+    /// use mcrt_noise::{oracle::every_order_mean, quad::Budget, tuning::objective::ModelAtRadius};
+    /// let mut scene = mcrt_noise::Scene::from_toml_str(&std::fs::read_to_string("scenes/point-isotropic-all.toml")?)?;
+    /// (scene.estimator.q, scene.estimator.camera_rays) = (1.0, 1);
+    /// let report = every_order_mean(&scene, Some(1e-4), &Budget::new(1_000_000_000))?;
+    /// let model = ModelAtRadius::from_every_order(&report, scene.estimator.radius)?;
+    /// assert!(model.bias.is_some() && model.variance(1.0, 20.0, 1.0).is_some());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    pub fn from_every_order(
+        m: &crate::oracle::EveryOrderMean,
+        radius: f64,
+    ) -> Result<ModelAtRadius, crate::model::OracleError> {
+        let (Some(m2), Some(p), Some(pairs)) = (m.m2, m.p, m.same_path_pairs) else {
+            return Err(crate::model::OracleError::Unsupported(format!(
+                "Var L of every order: {}",
+                m.variance_missing.as_deref().unwrap_or("not computed")
+            )));
+        };
+        let (mu, mu0) = (m.mean, m.small_sphere_mean);
+        let single = m2.value - pairs.value;
+        let ratio = mu0.value / mu.value;
+        let small_sphere_m2 = ValueWithBar {
+            value: single * ratio,
+            error: (m2.error + pairs.error) * ratio + single * ratio * (mu0.error / mu0.value + mu.error / mu.value),
+        };
+        Ok(ModelAtRadius {
+            radius,
+            model: "finite-sphere",
+            mean: mu,
+            mean_at_zero: mu0,
+            bias: Some(m.bias),
+            m2,
+            c23: None,
+            p,
+            q_pair: None,
+            c24: None,
+            small_sphere_m2,
+        })
+    }
+
     /// The small-sphere model's integrals from an oracle report, whatever
     /// else it has, with the bias b(R) where the report has the
     /// finite-sphere mean (`finite_mean`) or model; an error where the report lacks

@@ -13,6 +13,11 @@
 //! integrals other q and N_B would need, to [`SCATTERED_REL_TOL`], each run
 //! with a budget of its own of the cache's size and deadline
 //! ([`Budget::renewed`]: one such run can cost a third of the default).
+//! For every scattering order (`"all"`) the same, by
+//! [`crate::oracle::every_order_mean`] (μ, M₂ with its same-path pairs, P,
+//! the bias; Var L's integrals at 10⁻⁴ whatever the goal, ~8–14 s and
+//! 1.4–2.5·10⁸ evaluations a radius on the README scene from R = 10⁻³ to
+//! 0.5).
 
 use super::objective::ModelAtRadius;
 use super::rates::{Rates, PILOT_RAYS};
@@ -21,7 +26,7 @@ use super::Searched;
 use crate::model::OracleError;
 use crate::oracle::{run_within_scoped, Precision, Scope};
 use crate::quad::Budget;
-use mcrt_scene::Scene;
+use mcrt_scene::{ScatteringOrders, Scene};
 use std::collections::BTreeMap;
 
 /// The oracle's relative tolerance for scenes with single-scattered light
@@ -132,9 +137,29 @@ impl<'s> RadiusCache<'s> {
         } else {
             &self.budget
         };
-        let report = run_within_scoped(&scene, Precision::F64, self.rel_tol, budget, scope)
+        let model = if super::every_order(&scene) {
+            every_order_model(&scene, self.rel_tol, budget, self.small_sphere_only)?
+        } else {
+            self.report_model(&scene, budget, scope, standard)?
+        };
+        let rates = Rates::estimate(&scene, self.pilot_rays).map_err(|e| super::TuningError::Radius(r, e))?;
+        let x = Radius { model, rates };
+        self.map.insert(r.to_bits(), x);
+        Ok(x)
+    }
+
+    /// The model at `scene`'s R from the oracle's report (orders 0 and 1).
+    fn report_model(
+        &self,
+        scene: &Scene,
+        budget: &Budget,
+        scope: Scope,
+        standard: bool,
+    ) -> Result<ModelAtRadius, super::TuningError> {
+        let r = scene.estimator.radius;
+        let report = run_within_scoped(scene, Precision::F64, self.rel_tol, budget, scope)
             .map_err(super::TuningError::Oracle)?;
-        let model = if self.small_sphere_only {
+        if self.small_sphere_only {
             ModelAtRadius::small_sphere_from_report(&report)
         } else if standard && report.finite.is_none() {
             // Its failure (a computed one, NOT CONVERGED) as it is; else why it was not used.
@@ -148,11 +173,7 @@ impl<'s> RadiusCache<'s> {
         } else {
             ModelAtRadius::from_report(&report)
         }
-        .map_err(super::TuningError::Oracle)?;
-        let rates = Rates::estimate(&scene, self.pilot_rays).map_err(|e| super::TuningError::Radius(r, e))?;
-        let x = Radius { model, rates };
-        self.map.insert(r.to_bits(), x);
-        Ok(x)
+        .map_err(super::TuningError::Oracle)
     }
 
     /// Every radius evaluated so far, ascending.
@@ -161,6 +182,45 @@ impl<'s> RadiusCache<'s> {
         v.sort_by(|a, b| a.model.radius.total_cmp(&b.model.radius));
         v
     }
+}
+
+/// The model of every scattering order at `scene`'s R (q = 1, N_B = 1 set
+/// by the caller; [`ModelAtRadius::from_every_order`]); the small-sphere
+/// comparison has no Var L of every order (the paper's model is of orders 0
+/// and 1) and is refused, saying so.
+fn every_order_model(
+    scene: &Scene,
+    rel_tol: Option<f64>,
+    budget: &Budget,
+    small_sphere_only: bool,
+) -> Result<ModelAtRadius, super::TuningError> {
+    if small_sphere_only {
+        return Err(super::TuningError::Oracle(OracleError::Unsupported(
+            "the small-sphere model has no Var L of every scattering order (the paper's §3a model is of orders 0 \
+             and 1; docs/model.md §10)"
+                .into(),
+        )));
+    }
+    // Refused before any integral: what the model of every order does not
+    // cover (its medium, lights), then where it has no Var L.
+    crate::oracle::every_order_scene_covered(scene)?;
+    if !crate::oracle::every_order_variance_modelled(scene) {
+        let orders = match scene.effects.scattering_orders {
+            ScatteringOrders::All => "\"all\"".to_string(),
+            ScatteringOrders::Limited(n) => n.to_string(),
+        };
+        return Err(super::TuningError::Oracle(OracleError::Unsupported(format!(
+            "effects.scattering_orders = {orders} (estimator.q = {}, estimator.camera_rays = {}): Var L {}",
+            scene.estimator.q,
+            scene.estimator.camera_rays,
+            crate::oracle::VARIANCE_NOT_MODELLED
+        ))));
+    }
+    let (report, failed) = crate::oracle::every_order_report(scene, rel_tol, budget)?;
+    if let Some(e) = failed {
+        return Err(super::TuningError::Oracle(e));
+    }
+    Ok(ModelAtRadius::from_every_order(&report, scene.estimator.radius)?)
 }
 
 impl From<OracleError> for super::TuningError {
