@@ -177,7 +177,7 @@ enum Command {
         /// At most this many spheres per iteration (memory), in [1, 1e7].
         #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::max_spheres)]
         max_spheres: Option<f64>,
-        /// Radii searched, LO,HI (one argument), with σ_ext·LO < σ_ext·HI in [1e-12, 1e3] (default σ_ext·R in [1e-3, 0.5]); R is searched for uncollided light and, at q = 1 and N_B = 1, for single-scattered light and every order (\"all\") in an isotropic medium; any other scene with scattered light keeps its R, which must lie in the range.
+        /// Radii searched, LO,HI (one argument), with σ_ext·LO < σ_ext·HI in [1e-12, 1e3] (default σ_ext·R in [1e-3, 0.5]); R is searched for uncollided light and, at q = 1 and N_B = 1, for single-scattered light and every order ("all") in an isotropic medium; any other scene with scattered light keeps its R, which must lie in the range.
         #[arg(long, allow_hyphen_values = true, value_parser = cli::flags::radius_range)]
         radius_range: Option<(f64, f64)>,
         /// Write SVG maps of the predicted RMSE over (q, R) and (q, N_B/N_F) into this directory (refused for single-scattered light in an isotropic medium and for every scattering order, whose q and N_B are held at 1).

@@ -57,8 +57,9 @@ pub struct EveryOrderMean {
 pub const VARIANCE_NOT_MODELLED: &str =
     "not modelled for this scene yet: the oracle has it for scattering_orders = \"all\" \
      at q = 1 and camera_rays = 1 only; other q and camera_rays need the correlations of two spheres of every order, \
-     finite orders >= 2 their own same-path pairs (docs/model.md §10.4); `predict`, `check` and `optimize` refuse the \
-     scene, and the tracer (`trace`) measures Var L";
+     finite orders >= 2 their own same-path pairs (docs/model.md §10.4); `predict` and `check` refuse the scene \
+     (`optimize` searches \"all\" at q = 1 and camera_rays = 1, and refuses finite orders), and the tracer (`trace`) \
+     measures Var L";
 
 /// The default relative tolerance of [`every_order_mean`] (allowed from
 /// 10⁻⁸: the tail tables need goals of 1/40000 of it, at least 10⁻¹³ in f64).
@@ -220,7 +221,7 @@ pub(crate) fn every_order_report(
     // Charged before the means' failure, if any, is returned.
     let before = budget.used();
     budget.charge(own.used());
-    let (uncollided, small, single, beyond) = means?;
+    let (uncollided, small, single, beyond) = means.map_err(|e| e.unshifted(ff.shift))?;
     let second = second.map(|r| spent_after_the_means(r, budget, &own, before));
     let k = (-ff.shift).exp();
     let mut evaluations = uncollided.evaluations + single.evaluations + beyond.evaluations + small.evaluations;

@@ -156,6 +156,9 @@ pub fn finite_hg_moments_cover(scene: &Scene) -> bool {
 /// assert!(!finite_sphere_covers_the_standard_method(&scene));
 /// scene.medium.phase = mcrt_scene::Phase::Isotropic;
 /// assert!(finite_sphere_covers_the_standard_method(&scene));
+/// scene.medium.albedo = 1.0;
+/// assert!(!finite_sphere_covers_the_standard_method(&scene)); // the orders never end
+/// scene.medium.albedo = 0.8;
 /// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(3);
 /// assert!(!finite_sphere_covers_the_standard_method(&scene)); // no pairs of finite orders yet
 /// # Ok::<(), Box<dyn std::error::Error>>(())

@@ -202,8 +202,16 @@ fn every_order_model(
         )));
     }
     // Refused before any integral: what the model of every order does not
-    // cover (its medium, lights), then where it has no Var L.
+    // cover (its medium, lights, an albedo of 0 or 1), then where it has no
+    // Var L.
     crate::oracle::every_order_scene_covered(scene)?;
+    let albedo = scene.medium.albedo;
+    if !(albedo > 0.0 && albedo < 1.0) {
+        return Err(super::TuningError::Oracle(OracleError::Unsupported(format!(
+            "medium.albedo = {albedo}: with effects.scattering_orders >= 2 optimize needs 0 < albedo < 1 (at 0 no \
+             light scatters: use scattering_orders = 0; at 1 the orders never end, docs/model.md §10.1)"
+        ))));
+    }
     if !crate::oracle::every_order_variance_modelled(scene) {
         let orders = match scene.effects.scattering_orders {
             ScatteringOrders::All => "\"all\"".to_string(),
