@@ -40,7 +40,7 @@ struct BudgetArgs {
 enum Command {
     /// Parse and validate a scene; print it normalised (defaults filled in) or list its errors.
     Validate { scene: PathBuf },
-    /// Predict the pixel's mean and noise: exact (23), (24), their R → 0 forms, Var L (scattering orders 2–9 and "all": the exact mean and bias; "all" at q = 1 and camera_rays = 1 also Var L)
+    /// Predict the pixel's mean and noise: exact (23), (24), their R → 0 forms, Var L (scattering orders 2–9 and "all": the exact mean and bias; at q = 1 and camera_rays = 1 also Var L)
     Oracle {
         scene: PathBuf,
         /// `f64` or a number of MPFR bits.
@@ -165,7 +165,7 @@ enum Command {
         #[arg(long, default_value = "scenes")]
         scenes: PathBuf,
     },
-    /// Choose q, R, N_F, N_B for the least predicted RMSE (bias and noise) after a time budget, beside q = 1, the cylinder limit, the scene's own parameters, the asymptotic rule's R and N_B = 1 (single-scattered light in an isotropic medium: R and N_F at q = 1, N_B = 1, beside the small-sphere model's choice at the scene's R; every scattering order, "all", point lights in an isotropic medium: R and N_F at q = 1, N_B = 1, ~10 s per radius, minutes in all).
+    /// Choose q, R, N_F, N_B for the least predicted RMSE (bias and noise) after a time budget, beside q = 1, the cylinder limit, the scene's own parameters, the asymptotic rule's R and N_B = 1 (single-scattered light in an isotropic medium: R and N_F at q = 1, N_B = 1, beside the small-sphere model's choice at the scene's R; scattering orders 2–9 and "all", point lights in an isotropic medium: R and N_F at q = 1, N_B = 1, ~10 s per radius for "all", ~30 s for order 5, minutes in all).
     Optimize {
         scene: PathBuf,
         /// Wall-time budget T in seconds of one core, in (0, 1e9].
@@ -177,7 +177,7 @@ enum Command {
         /// At most this many spheres per iteration (memory), in [1, 1e7].
         #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::max_spheres)]
         max_spheres: Option<f64>,
-        /// Radii searched, LO,HI (one argument), with σ_ext·LO < σ_ext·HI in [1e-12, 1e3] (default σ_ext·R in [1e-3, 0.5]); R is searched for uncollided light and, at q = 1 and N_B = 1, for single-scattered light and every order ("all") in an isotropic medium; any other scene with scattered light keeps its R, which must lie in the range.
+        /// Radii searched, LO,HI (one argument), with σ_ext·LO < σ_ext·HI in [1e-12, 1e3] (default σ_ext·R in [1e-3, 0.5]); R is searched for uncollided light and, at q = 1 and N_B = 1, for single-scattered light and orders 2–9 and "all" in an isotropic medium; any other scene with scattered light keeps its R, which must lie in the range.
         #[arg(long, allow_hyphen_values = true, value_parser = cli::flags::radius_range)]
         radius_range: Option<(f64, f64)>,
         /// Write SVG maps of the predicted RMSE over (q, R) and (q, N_B/N_F) into this directory (refused for single-scattered light in an isotropic medium and for every scattering order, whose q and N_B are held at 1).
@@ -521,7 +521,7 @@ fn every_order_oracle(
         return Err(CliError::usage(format!(
             "--finite-pairs: with effects.scattering_orders >= 2 there are no correlations of two spheres to add \
              (not modelled yet, docs/model.md §10.4); without the flag the oracle gives the exact mean, and Var L \
-             for \"all\" at q = 1 and camera_rays = 1; scene {}",
+             at q = 1 and camera_rays = 1; scene {}",
             path.display()
         )));
     }

@@ -74,6 +74,15 @@ pub const FINITE_HG_MEAN_TOL: f64 = 1e-3;
 /// back to the small-sphere model with its allowance, or fails).
 pub const FINITE_PAIRS_PREDICTION_EVALUATIONS: u64 = 3_000_000_000;
 
+/// The evaluation budget of a prediction of scattering orders ≥ 2 or
+/// `"all"` (`oracle::every_order_mean` with Var L, `docs/model.md` §10.3):
+/// three times the 10⁹ default, since a finite order n builds a table of
+/// the hits of each order 2..n − 1 for its same-path pairs (7 December
+/// 2026, two cores, the README scene at albedo 0.5, R = 0.2, N_F = 1:
+/// `"all"` 2·10⁸ evaluations and 10 s, order 3 10 s, order 6 34 s, order
+/// 9 1.4·10⁹ and 63 s).
+pub const EVERY_ORDER_PREDICTION_EVALUATIONS: u64 = 3_000_000_000;
+
 /// The evaluation budget of a prediction of single-scattered light from
 /// point lights in a Henyey–Greenstein medium at q = 1 and N_B = 1, exact
 /// at any R (`oracle::Scope::ExactPrediction`: μ, M₂ with the same-path

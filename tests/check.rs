@@ -154,9 +154,9 @@ fn predict_validates_a_hand_assembled_scene_and_refuses_what_it_cannot_vouch_for
     scattered.medium.phase = mcrt_noise::Phase::HenyeyGreenstein { g: 0.5 };
     let err = predict(&scattered).unwrap_err().to_string();
     assert!(err.contains("estimator.radius = 0.2") && err.contains("R ≤ 0.1"), "{err}");
-    // Every order where its Var L is not modelled (q < 1, N_B > 1, finite
-    // orders ≥ 2): refused before any integral, naming the fields; in MPFR
-    // (f64 only), naming the precision.
+    // Every order where its Var L is not modelled (q < 1, N_B > 1):
+    // refused before any integral, naming the fields; in MPFR (f64 only),
+    // naming the precision.
     let mut all = self::scene();
     all.effects.scattering_orders = mcrt_noise::ScatteringOrders::All;
     // (a budget of one evaluation: anything computed first would spend it)
@@ -165,14 +165,15 @@ fn predict_validates_a_hand_assembled_scene_and_refuses_what_it_cannot_vouch_for
         .unwrap_err()
         .to_string();
     assert!(err.contains("effects.scattering_orders = \"all\", estimator.q = 0.5, estimator.camera_rays = 4"), "{err}");
+    assert!(err.contains("correlations of two spheres of every order"), "{err}");
     all.effects.scattering_orders = mcrt_noise::ScatteringOrders::Limited(3);
-    (all.estimator.q, all.estimator.camera_rays) = (1.0, 1);
     let refusal = |scene: &Scene, precision, rel_tol| {
         mcrt_noise::check::predict_within(scene, precision, rel_tol, &one).unwrap_err().to_string()
     };
     let f64_ = mcrt_noise::oracle::Precision::F64;
     let err = refusal(&all, f64_, None);
-    assert!(err.contains("effects.scattering_orders = 3") && err.contains("finite orders >= 2"), "{err}");
+    assert!(err.contains("effects.scattering_orders = 3, estimator.q = 0.5, estimator.camera_rays = 4"), "{err}");
+    (all.estimator.q, all.estimator.camera_rays) = (1.0, 1);
     all.effects.scattering_orders = mcrt_noise::ScatteringOrders::All;
     let err = refusal(&all, mcrt_noise::oracle::Precision::Bits(128), None);
     assert!(err.contains("precision = 128 bits") && err.contains("f64 only"), "{err}");

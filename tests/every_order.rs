@@ -26,16 +26,28 @@ fn mean(s: &Scene) -> EveryOrderMean {
 }
 
 /// (z of the tracer against the exact mean, z against the small-sphere
-/// mean, the tracer's relative se).
+/// mean, the tracer's relative se); where the oracle has Var L (q = 1,
+/// N_B = 1) its z against the tracer's too, asserted within 4 (no
+/// allowance).
 fn tracer_z(s: &Scene, seed: u64, trials: u64) -> (f64, f64, f64) {
     let m = mean(s);
-    let t = trace(&Tracer::new(s).unwrap(), seed, 0..trials, HitMethod::Sorted, &|_| {}).summary().unwrap().mean;
+    let summary = trace(&Tracer::new(s).unwrap(), seed, 0..trials, HitMethod::Sorted, &|_| {}).summary().unwrap();
+    let t = summary.mean;
     let z = (t.value - m.mean.value) / (t.se * t.se + m.mean.error * m.mean.error).sqrt();
     let z_small = (t.value - m.small_sphere_mean.value) / (t.se * t.se + m.small_sphere_mean.error.powi(2)).sqrt();
     println!(
         "{:?} albedo {} R {}: exact {:.7e} ± {:.1e} (bias {:+.3e}), tracer {:.7e} ± {:.1e}: z {z:+.2}, small-sphere z {z_small:+.1}",
         s.effects.scattering_orders, s.medium.albedo, s.estimator.radius, m.mean.value, m.mean.error, m.bias.value, t.value, t.se
     );
+    if let Some(v) = m.variance {
+        let tv = summary.variance;
+        let z_var = (tv.value - v.value) / (tv.se * tv.se + v.error * v.error).sqrt();
+        println!(
+            "  Var L exact {:.7e} ± {:.1e}, tracer {:.7e} ± {:.1e}: z {z_var:+.2}",
+            v.value, v.error, tv.value, tv.se
+        );
+        assert!(z_var.abs() <= 4.0, "{:?}: Var L z = {z_var}", s.effects.scattering_orders);
+    }
     (z, z_small, t.se / t.value)
 }
 
@@ -74,9 +86,10 @@ impl Point {
 /// The tracer's mean agrees with the exact mean of every order at each
 /// point of a grid covering orders 2, 5 and "all", albedo 0.5, 0.8 and
 /// 0.95, R 0.2 and 0.05, q 1 and 0.5, N_F and N_B from 1 to 200, one and
-/// two lights, a light 0.1 from the camera line: |z| ≤ 4, no allowance.
-/// (The grid's z are independent: by chance any one of the eight has
-/// |z| > 4 with probability about 5·10⁻⁴.)
+/// two lights, a light 0.1 from the camera line: |z| ≤ 4, no allowance;
+/// at the three points with q = 1 and N_B = 1 (`"all"`, orders 5 and 2)
+/// Var L too. (The grid's z are independent: by chance any one of the
+/// eleven has |z| > 4 with probability about 7·10⁻⁴.)
 #[test]
 fn the_tracer_agrees_with_the_exact_mean_of_every_order() {
     use ScatteringOrders::{All, Limited};

@@ -149,10 +149,12 @@ fn every_order_is_searched_at_the_standard_method_with_the_predictions_model() {
     (own.estimator.q, own.estimator.camera_rays) = (0.5, 8);
     assert_eq!(Searched::of(&own), Searched::StandardMethod);
     own.effects.scattering_orders = mcrt_noise::ScatteringOrders::Limited(3);
+    assert_eq!(Searched::of(&own), Searched::StandardMethod);
+    own.medium.phase = mcrt_noise::Phase::HenyeyGreenstein { g: 0.5 };
     assert_eq!(Searched::of(&own), Searched::HeldRadius);
     let mut cache = RadiusCache::new(&own, mcrt_noise::quad::Budget::new(1), None);
     let err = cache.at(0.2).unwrap_err().to_string();
-    assert!(err.contains("finite orders >= 2"), "refused before any integral: {err}");
+    assert!(err.contains("medium.phase") && err.contains("isotropic media only"), "refused before any integral: {err}");
 
     let prediction = mcrt_noise::predict(&s).unwrap();
     let mut cache = RadiusCache::new(&s, mcrt_noise::quad::Budget::new(1_000_000_000), None);

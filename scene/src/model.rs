@@ -148,6 +148,39 @@ pub enum ScatteringOrders {
     All,
 }
 
+impl ScatteringOrders {
+    /// As a scene file writes it (`effects.scattering_orders`): `"all"`
+    /// quoted, a number bare; for messages that name the field's value.
+    ///
+    /// ```
+    /// use mcrt_scene::ScatteringOrders;
+    /// assert_eq!(ScatteringOrders::All.as_toml(), "\"all\"");
+    /// assert_eq!(ScatteringOrders::Limited(3).as_toml(), "3");
+    /// ```
+    pub fn as_toml(&self) -> String {
+        match self {
+            ScatteringOrders::Limited(n) => n.to_string(),
+            ScatteringOrders::All => "\"all\"".into(),
+        }
+    }
+}
+
+/// `all` or the number, unquoted (what a report's field holds).
+///
+/// ```
+/// use mcrt_scene::ScatteringOrders;
+/// assert_eq!(ScatteringOrders::All.to_string(), "all");
+/// assert_eq!(ScatteringOrders::Limited(2).to_string(), "2");
+/// ```
+impl std::fmt::Display for ScatteringOrders {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ScatteringOrders::Limited(n) => write!(f, "{n}"),
+            ScatteringOrders::All => f.write_str("all"),
+        }
+    }
+}
+
 impl Scene {
     /// Total flux 𝓕 of all lights (paper eq. (5)).
     pub fn total_flux(&self) -> f64 {

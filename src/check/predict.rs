@@ -18,8 +18,8 @@ pub enum Model {
     /// The finite-sphere model (`docs/model.md` §9): the estimator's exact
     /// moments at the scene's R, for uncollided light, and for
     /// single-scattered light in isotropic media (point lights and beams at
-    /// any q and N_B, in f64), and for every scattering order (`"all"`,
-    /// point lights in an isotropic medium, q = 1, N_B = 1, in f64). Its
+    /// any q and N_B, in f64), and for scattering orders 2 to 9 and `"all"`
+    /// (point lights in an isotropic medium, q = 1, N_B = 1, in f64). Its
     /// model bar is 0.
     FiniteSphere,
     /// The paper's small-sphere model (§4.3), exact only as R → 0; used for
@@ -91,8 +91,8 @@ pub struct Prediction {
     /// finite-sphere model, and with the small-sphere model wherever
     /// `report.finite_mean` has it (a scene whose finite-sphere
     /// correlations or M₂, P failed, or in MPFR; point lights in a
-    /// Henyey–Greenstein medium), and always for every scattering order
-    /// (`"all"`). There `mean` is that exact μ(R), model
+    /// Henyey–Greenstein medium), and always for scattering orders ≥ 2 and
+    /// `"all"`. There `mean` is that exact μ(R), model
     /// bar 0 (since 5 December 2026; it was the small-sphere μ(0) with its
     /// allowance), so μ(0) = mean − bias. (`report.finite_mean` is
     /// `prediction.report.up_to_order_one()?.finite_mean`.)
@@ -136,8 +136,8 @@ pub enum PredictionReport {
     /// small-sphere integrals of two spheres, which Var L weighs 0, are not
     /// computed).
     UpToOrderOne(Box<Report>),
-    /// `scattering_orders = "all"` (at q = 1 and one camera ray, where Var
-    /// L is modelled): the exact mean, its small-sphere limit, the bias,
+    /// `scattering_orders` from 2 to 9 or `"all"` (at q = 1 and one camera
+    /// ray, where Var L is modelled): the exact mean, its small-sphere limit, the bias,
     /// Var L, M₂ with its same-path pairs and P ([`oracle::every_order_mean`],
     /// `docs/model.md` §10).
     EveryOrder(Box<EveryOrderMean>),
@@ -239,11 +239,11 @@ impl From<OracleError> for PredictError {
 /// q = 1 and N_B = 1 weigh (23), (24) 0;
 /// [`crate::prec::SMALL_SPHERE_SCATTERED_ALLOWANCE_WITHOUT_CROSS`]
 /// elsewhere); larger R there is refused.
-/// Every scattering order (`scattering_orders = "all"`) is predicted by the
-/// finite-sphere model of every order (`docs/model.md` §10.3, f64 only,
-/// model bar 0, the bias predicted) for point lights in an isotropic medium
-/// at q = 1 and N_B = 1, the only setting whose Var L it has; other scenes
-/// of orders ≥ 2 are refused before any integral, naming the fields.
+/// Scattering orders 2 to 9 and `"all"` are predicted by the finite-sphere
+/// model of every order (`docs/model.md` §10.3, f64 only, model bar 0, the
+/// bias predicted) for point lights in an isotropic medium at q = 1 and
+/// N_B = 1, the only setting whose Var L it has; at other q and N_B they
+/// are refused before any integral, naming the fields.
 ///
 /// Cost: milliseconds for uncollided light in a release build; for single
 /// scattering ~1.5 s with q = 1 and N_B = 1 (isotropic medium, point
@@ -286,13 +286,16 @@ pub fn predict_with(scene: &Scene, precision: Precision, rel_tol: Option<f64>) -
 /// [`crate::prec::FINITE_PAIRS_PREDICTION_EVALUATIONS`] where the
 /// finite-sphere correlations of single-scattered light are computed, or
 /// [`crate::prec::FINITE_HG_PREDICTION_EVALUATIONS`] where the same-path
-/// term of a Henyey–Greenstein medium is: [`oracle::prediction_scope`]).
+/// term of a Henyey–Greenstein medium is, or
+/// [`crate::prec::EVERY_ORDER_PREDICTION_EVALUATIONS`] for orders ≥ 2:
+/// [`oracle::prediction_scope`]).
 /// Those correlations (or that term) run last: if they spend the budget the small-sphere
 /// model with its allowance serves for R ≤ 0.1, and beyond the failure is
 /// returned ([`PredictError::Oracle`]). With every scattering order there
 /// is no fallback: a spent budget fails the prediction
 /// ([`PredictError::Oracle`] with the quadrature's error; the default
-/// budget, 10⁹ evaluations, is ~4 times what the README scene needs), and
+/// budget, 3·10⁹ evaluations, is ~13 times what the README scene with
+/// `"all"` needs and twice what order 9 at N_F = 1 does), and
 /// `rel_tol` must lie in [`oracle::EVERY_ORDER_TOL_RANGE`].
 ///
 /// ```
@@ -315,7 +318,7 @@ pub fn predict_within(
             return Err(PredictError::Unsupported(format!("rel_tol = {tol:e}: must be in (0, 1)")));
         }
     }
-    if !matches!(scene.effects.scattering_orders, ScatteringOrders::Limited(0 | 1)) {
+    if oracle::orders_beyond_the_first(&scene) {
         return predict_every_order(&scene, precision, rel_tol, budget);
     }
     let scattered = scene.effects.scattering_orders != ScatteringOrders::Limited(0);
@@ -430,9 +433,9 @@ pub fn predict_within(
 
 /// The prediction of a scene with scattering orders ≥ 2 or `"all"`: the
 /// finite-sphere model of every order (`docs/model.md` §10, f64 only),
-/// exact at R, model bar 0, where it has Var L (`"all"` at q = 1 and one
-/// camera ray, isotropic medium, point lights); elsewhere refused with the
-/// oracle's reason. Var L's integrals that fail (a spent budget) fail the
+/// exact at R, model bar 0, where it has Var L (q = 1 and one camera ray,
+/// isotropic medium, point lights); elsewhere refused with the oracle's
+/// reason. Var L's integrals that fail (a spent budget) fail the
 /// prediction with their error, its kind kept.
 fn predict_every_order(
     scene: &Scene,
@@ -440,24 +443,11 @@ fn predict_every_order(
     rel_tol: Option<f64>,
     budget: &Budget,
 ) -> Result<Prediction, PredictError> {
-    let orders = match scene.effects.scattering_orders {
-        ScatteringOrders::All => "\"all\"".to_string(),
-        ScatteringOrders::Limited(n) => n.to_string(),
-    };
+    let orders = scene.effects.scattering_orders.as_toml();
     // Refused before any integral: what the model of every order does not
-    // cover (its medium, lights), then where it has no Var L, then MPFR and
-    // a goal outside its range.
-    oracle::every_order_scene_covered(scene)?;
-    if !oracle::every_order_variance_modelled(scene) {
-        return Err(PredictError::Oracle(OracleError::Unsupported(format!(
-            "effects.scattering_orders = {orders}, estimator.q = {}, estimator.camera_rays = {}: Var L of every \
-             order is modelled for scattering_orders = \"all\" with estimator.q = 1 and estimator.camera_rays = 1 \
-             only (allowed); other q and camera_rays need the correlations of two spheres of every order, finite \
-             orders >= 2 their own same-path pairs (docs/model.md §10.4). The exact mean and bias of this scene: \
-             `oracle::every_order_mean` (`mcrt-noise oracle`); its Var L: the tracer (`mcrt-noise trace`)",
-            scene.estimator.q, scene.estimator.camera_rays
-        ))));
-    }
+    // cover (its medium, lights) or has no Var L of, then MPFR and a goal
+    // outside its range.
+    oracle::every_order_variance_refusal(scene)?;
     if let Precision::Bits(bits) = precision {
         return Err(PredictError::Oracle(OracleError::Unsupported(format!(
             "precision = {bits} bits: with effects.scattering_orders = {orders} the oracle computes in f64 only \

@@ -220,7 +220,8 @@ pub fn compare_cmd(scene: &Scene, trials: &str, seed: u64, threads: Option<usize
     }
     let tracer = prepared(scene, &range)?;
     // The comparison reads the oracle's report of orders 0 and 1 (every
-    // order is refused here; `check` takes "all" at q = 1, N_B = 1), mean
+    // order is refused here; `check` takes orders 2–9 and "all" at q = 1,
+    // N_B = 1), mean
     // and Var L alone: the library's, the finite-sphere correlations of single-scattered light
     // included where they cover the scene (about a minute), and the
     // same-path term of a Henyey–Greenstein medium at q = 1 and N_B = 1

@@ -1,9 +1,8 @@
 //! The exact mean of a scene with every scattering order (orders ≥ 2, or
-//! `"all"`), at its R and as R → 0 (`docs/model.md` §10), and for `"all"`
-//! at q = 1 and N_B = 1 its exact Var L with the same-path pairs in M₂
-//! (§10.3). Other q and N_B need the correlations of two spheres of every
-//! order, finite orders their own pairs, which the model does not have
-//! yet (§10.4).
+//! `"all"`), at its R and as R → 0 (`docs/model.md` §10), and at q = 1
+//! and N_B = 1 its exact Var L with the same-path pairs in M₂ (§10.3).
+//! Other q and N_B need the correlations of two spheres of every order,
+//! which the model does not have yet (§10.4).
 
 use super::report::{reported, ValueWithBar};
 use crate::model::field::Field;
@@ -55,11 +54,11 @@ pub struct EveryOrderMean {
 
 /// Why an every-order report carries the mean only.
 pub const VARIANCE_NOT_MODELLED: &str =
-    "not modelled for this scene yet: the oracle has it for scattering_orders = \"all\" \
-     at q = 1 and camera_rays = 1 only; other q and camera_rays need the correlations of two spheres of every order, \
-     finite orders >= 2 their own same-path pairs (docs/model.md §10.4); `predict` and `check` refuse the scene \
-     (`optimize` searches \"all\" at q = 1 and camera_rays = 1, and refuses finite orders), and the tracer (`trace`) \
-     measures Var L";
+    "not modelled for this scene yet: the oracle has it for scattering_orders >= 2 or \"all\" at q = 1 and \
+     camera_rays = 1 only (allowed); other q and camera_rays need the correlations of two spheres of every order \
+     (docs/model.md §10.4). `predict` and `check` refuse the scene (`optimize` searches it at q = 1 and \
+     camera_rays = 1); its exact mean and bias: \
+     `oracle::every_order_mean` (`mcrt-noise oracle`); its Var L: the tracer (`mcrt-noise trace`)";
 
 /// The default relative tolerance of [`every_order_mean`] (allowed from
 /// 10⁻⁸: the tail tables need goals of 1/40000 of it, at least 10⁻¹³ in f64).
@@ -116,21 +115,44 @@ pub(crate) fn every_order_scene_covered(scene: &Scene) -> Result<(), OracleError
     Ok(())
 }
 
-/// Whether the model of every order has Var L for `scene`: `"all"` at
-/// q = 1 and one camera ray (`docs/model.md` §10.3); other q and N_B need
-/// the correlations of two spheres of every order, finite orders their own
-/// same-path pairs (§10.4).
+/// Whether `scene` simulates scattering orders beyond the first (2 to 9 or
+/// `"all"`), whose model is `docs/model.md` §10.
+pub(crate) fn orders_beyond_the_first(scene: &Scene) -> bool {
+    !matches!(scene.effects.scattering_orders, ScatteringOrders::Limited(0 | 1))
+}
+
+/// Whether the model of every order has Var L for `scene` (orders ≥ 2 or
+/// `"all"`): at q = 1 and one camera ray (`docs/model.md` §10.3); other q
+/// and N_B need the correlations of two spheres of every order (§10.4).
 pub(crate) fn every_order_variance_modelled(scene: &Scene) -> bool {
     let est = &scene.estimator;
-    scene.effects.scattering_orders == ScatteringOrders::All && est.q == 1.0 && est.camera_rays == 1
+    est.q == 1.0 && est.camera_rays == 1
+}
+
+/// Refuses, before any integral, a scene of orders ≥ 2 or `"all"` whose
+/// Var L the model of every order does not give: what it does not cover
+/// ([`every_order_scene_covered`]: its medium, its lights), then q < 1 or
+/// more than one camera ray (`predict`, `check` and `optimize` need Var L).
+pub(crate) fn every_order_variance_refusal(scene: &Scene) -> Result<(), OracleError> {
+    every_order_scene_covered(scene)?;
+    if every_order_variance_modelled(scene) {
+        return Ok(());
+    }
+    Err(OracleError::Unsupported(format!(
+        "effects.scattering_orders = {}, estimator.q = {}, estimator.camera_rays = {}: Var L {}",
+        scene.effects.scattering_orders.as_toml(),
+        scene.estimator.q,
+        scene.estimator.camera_rays,
+        VARIANCE_NOT_MODELLED
+    )))
 }
 
 /// The mean of `scene` (scattering orders ≥ 2 or `"all"`, an isotropic
 /// medium, point lights off the camera line) in f64 to the relative
 /// tolerance `rel_tol` (default [`EVERY_ORDER_TOL`]; from 10⁻⁸ to 10⁻²)
 /// within `budget` (shared by its integrals: spent, the computation
-/// fails with that reason); with `"all"` at q = 1 and one camera ray also
-/// Var L, M₂ (with its same-path pairs) and P, exact at R (`docs/model.md`
+/// fails with that reason); at q = 1 and one camera ray also Var L, M₂
+/// (with its same-path pairs) and P, exact at R (`docs/model.md`
 /// §10.3; at a goal no tighter than [`EVERY_ORDER_VARIANCE_TOL`], beside the
 /// mean's integrals on a budget of their own charged after; ~9 s in all
 /// on two cores), else
@@ -165,7 +187,7 @@ pub(crate) fn every_order_report(
         )));
     }
     every_order_scene_covered(scene)?;
-    if matches!(scene.effects.scattering_orders, ScatteringOrders::Limited(n) if n <= 1) {
+    if !orders_beyond_the_first(scene) {
         return Err(OracleError::Unsupported(
             "every_order_mean is for effects.scattering_orders ≥ 2 or \"all\"; orders 0 and 1 have the full oracle"
                 .into(),
@@ -251,12 +273,8 @@ pub(crate) fn every_order_report(
         p_out = Some(reported(&pv, &pe));
     }
     let bias = Estimate::known(exact.value - small.value, exact.error + small.error, 0, opts.rule);
-    let orders = match scene.effects.scattering_orders {
-        ScatteringOrders::Limited(n) => n.to_string(),
-        ScatteringOrders::All => "all".into(),
-    };
     let report = EveryOrderMean {
-        orders,
+        orders: scene.effects.scattering_orders.to_string(),
         rel_tol,
         variance_rel_tol: with_variance.then(|| rel_tol.max(EVERY_ORDER_VARIANCE_TOL)),
         variance_missing,

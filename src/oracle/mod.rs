@@ -34,7 +34,9 @@ pub use every_order::{
     every_order_mean, EveryOrderMean, EVERY_ORDER_TOL, EVERY_ORDER_TOL_RANGE, EVERY_ORDER_VARIANCE_TOL,
     VARIANCE_NOT_MODELLED,
 };
-pub(crate) use every_order::{every_order_report, every_order_scene_covered, every_order_variance_modelled};
+pub(crate) use every_order::{
+    every_order_report, every_order_scene_covered, every_order_variance_refusal, orders_beyond_the_first,
+};
 pub(crate) use order_one::pairs_weigh_nothing;
 pub use order_one::{
     finite_hg_moments_cover, finite_pairs_cover, finite_sphere_covers, finite_sphere_covers_the_standard_method,
@@ -596,8 +598,11 @@ fn finite_report<T: CheckRule>(
 /// ([`finite_pairs_cover`]), or with
 /// [`crate::prec::FINITE_HG_PREDICTION_EVALUATIONS`] where the same-path
 /// term of a Henyey–Greenstein medium does at q = 1 and N_B = 1
-/// ([`finite_hg_moments_cover`]), else [`Scope::Prediction`] with
-/// [`Precision::default_evaluations`]. `check::predict` and
+/// ([`finite_hg_moments_cover`]); [`Scope::Prediction`] with
+/// [`crate::prec::EVERY_ORDER_PREDICTION_EVALUATIONS`] for scattering
+/// orders ≥ 2 or `"all"` in f64 (the model of every order,
+/// [`every_order_mean`]), else with [`Precision::default_evaluations`].
+/// `check::predict` and
 /// `mcrt-noise compare` both use it.
 ///
 /// ```
@@ -617,10 +622,15 @@ fn finite_report<T: CheckRule>(
 /// (scene.estimator.q, scene.estimator.camera_rays) = (1.0, 1);
 /// scene.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g: 0.6 };
 /// assert_eq!(prediction_scope(&scene, Precision::F64), (Scope::ExactPrediction, 30_000_000_000));
+/// scene.medium.phase = mcrt_scene::Phase::Isotropic;
+/// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(5);
+/// assert_eq!(prediction_scope(&scene, Precision::F64), (Scope::Prediction, 3_000_000_000));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn prediction_scope(scene: &Scene, precision: Precision) -> (Scope, u64) {
-    if precision == Precision::F64 && finite_pairs_cover(scene) {
+    if precision == Precision::F64 && orders_beyond_the_first(scene) {
+        (Scope::Prediction, crate::prec::EVERY_ORDER_PREDICTION_EVALUATIONS)
+    } else if precision == Precision::F64 && finite_pairs_cover(scene) {
         (Scope::ExactPrediction, crate::prec::FINITE_PAIRS_PREDICTION_EVALUATIONS)
     } else if precision == Precision::F64 && finite_hg_moments_cover(scene) {
         (Scope::ExactPrediction, crate::prec::FINITE_HG_PREDICTION_EVALUATIONS)

@@ -135,9 +135,10 @@ pub fn finite_hg_moments_cover(scene: &Scene) -> bool {
 /// Whether the finite-sphere model covers `scene` once q = 1 and N_B = 1
 /// (the standard method: one sphere per camera ray, one camera ray) at any
 /// R: uncollided light, single-scattered light in an isotropic medium
-/// (point lights and beams), and every scattering order (`"all"`: point
-/// lights off the camera line in an isotropic medium, `docs/model.md`
-/// §10.3). `tuning::optimize` searches R there.
+/// (point lights and beams), and scattering orders 2 to 9 and `"all"`
+/// (point lights off the camera line in an isotropic medium, albedo > 0,
+/// below 1 for `"all"`; `docs/model.md` §10.3). `tuning::optimize`
+/// searches R there.
 ///
 /// ```
 /// use mcrt_noise::{oracle::finite_sphere_covers_the_standard_method, Scene};
@@ -158,9 +159,10 @@ pub fn finite_hg_moments_cover(scene: &Scene) -> bool {
 /// assert!(finite_sphere_covers_the_standard_method(&scene));
 /// scene.medium.albedo = 1.0;
 /// assert!(!finite_sphere_covers_the_standard_method(&scene)); // the orders never end
-/// scene.medium.albedo = 0.8;
 /// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(3);
-/// assert!(!finite_sphere_covers_the_standard_method(&scene)); // no pairs of finite orders yet
+/// assert!(finite_sphere_covers_the_standard_method(&scene)); // a finite order ends
+/// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(12);
+/// assert!(!finite_sphere_covers_the_standard_method(&scene)); // beyond the cut integral's reach
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn finite_sphere_covers_the_standard_method(scene: &Scene) -> bool {
@@ -168,11 +170,16 @@ pub fn finite_sphere_covers_the_standard_method(scene: &Scene) -> bool {
     match scene.effects.scattering_orders {
         Limited(0) => true,
         Limited(1) => scattered_covered(scene),
-        All => {
+        orders => {
             let a = scene.medium.albedo;
-            a > 0.0 && a < 1.0 && super::every_order::every_order_scene_covered(scene).is_ok()
+            // "all" at albedo 1 never ends; a finite order n needs the
+            // cut integrals of orders up to n + 1 (`MAX_FINITE_ORDER`).
+            let ends = match orders {
+                All => a < 1.0,
+                Limited(n) => n < crate::model::finite::start_density::MAX_FINITE_ORDER,
+            };
+            a > 0.0 && ends && super::every_order::every_order_scene_covered(scene).is_ok()
         }
-        Limited(_) => false,
     }
 }
 

@@ -1,6 +1,6 @@
 //! The reference tracer against the exact Var L of every scattering order
-//! (`docs/model.md` §10.3: `"all"` at q = 1, N_B = 1, point lights in an
-//! isotropic medium), with no allowance: the points, their rows and their
+//! (`docs/model.md` §10.3: orders up to n ≥ 2 and `"all"` at q = 1, N_B =
+//! 1, point lights in an isotropic medium), with no allowance: the points, their rows and their
 //! table, shared by `tests/every_order_variance.rs` (which asserts on them)
 //! and `mcrt-noise tracer-checks` (which prints them).
 
@@ -14,11 +14,13 @@ use std::fmt::Write;
 /// the tracer's.
 pub const GOAL: f64 = 1e-4;
 
-/// One point: albedo, R, N_F, the lights' positions (flux 1 each), trials,
-/// seed, and whether the tracer must reject Var L without the same-path
-/// pairs there.
+/// One point: the orders, albedo, R, N_F, the lights' positions (flux 1
+/// each), trials, seed, and whether the tracer must reject Var L without
+/// the same-path pairs there.
 #[derive(Debug, Clone, Copy)]
 pub struct EveryOrderPoint {
+    /// `effects.scattering_orders`.
+    pub orders: ScatteringOrders,
     /// The medium's albedo.
     pub albedo: f64,
     /// The sphere radius R.
@@ -37,7 +39,9 @@ pub struct EveryOrderPoint {
 
 const README: &[[f64; 3]] = &[[1.0, 0.0, 1.0]];
 
+#[allow(clippy::too_many_arguments)]
 const fn point(
+    orders: ScatteringOrders,
     albedo: f64,
     radius: f64,
     forward: u64,
@@ -46,33 +50,40 @@ const fn point(
     seed: u64,
     rejects: bool,
 ) -> EveryOrderPoint {
-    EveryOrderPoint { albedo, radius, forward, lights, trials, seed, rejects_without_pairs: rejects }
+    EveryOrderPoint { orders, albedo, radius, forward, lights, trials, seed, rejects_without_pairs: rejects }
 }
 
-/// Ten points: albedo 0.5 to 0.95, R 0.05 to 0.5, N_F 1 to 200, one and two
-/// lights, a light 0.1 from the camera line and one 3.6 free paths away;
-/// where one path's revisits of a sphere matter (N_F 1 and 2) Var L without
-/// the same-path pairs must be rejected.
-pub const EVERY_ORDER_POINTS: [EveryOrderPoint; 10] = [
-    point(0.8, 0.2, 20, README, 1_000_000, 61, false),
-    point(0.8, 0.2, 1, README, 1_000_000, 62, true),
-    point(0.95, 0.3, 2, README, 600_000, 63, true),
-    point(0.5, 0.2, 5, README, 600_000, 64, false),
-    point(0.8, 0.05, 200, README, 200_000, 65, false),
-    point(0.8, 0.5, 20, README, 400_000, 66, false),
-    point(0.8, 0.1, 10, &[[1.0, 0.0, 1.0], [-0.5, 0.4, 2.0]], 400_000, 67, false),
-    point(0.5, 0.05, 20, &[[0.1, 0.0, 1.0]], 400_000, 68, false),
-    point(0.9, 0.5, 20, &[[3.0, 0.0, 2.0]], 900_000, 69, false),
-    point(0.95, 0.2, 1, &[[0.5, 0.0, 0.5]], 600_000, 70, true),
+const ALL: ScatteringOrders = ScatteringOrders::All;
+
+/// Thirteen points: ten of every order (`"all"`) — albedo 0.5 to 0.95, R
+/// 0.05 to 0.5, N_F 1 to 200, one and two lights, a light 0.1 from the
+/// camera line and one 3.6 free paths away — and three of finite orders 2
+/// and 5, whose pairs count the segments left after each; where one path's
+/// revisits of a sphere matter (N_F 1 and 2) Var L without the same-path
+/// pairs must be rejected.
+pub const EVERY_ORDER_POINTS: [EveryOrderPoint; 13] = [
+    point(ALL, 0.8, 0.2, 20, README, 1_000_000, 61, false),
+    point(ALL, 0.8, 0.2, 1, README, 1_000_000, 62, true),
+    point(ALL, 0.95, 0.3, 2, README, 600_000, 63, true),
+    point(ALL, 0.5, 0.2, 5, README, 600_000, 64, false),
+    point(ALL, 0.8, 0.05, 200, README, 200_000, 65, false),
+    point(ALL, 0.8, 0.5, 20, README, 400_000, 66, false),
+    point(ALL, 0.8, 0.1, 10, &[[1.0, 0.0, 1.0], [-0.5, 0.4, 2.0]], 400_000, 67, false),
+    point(ALL, 0.5, 0.05, 20, &[[0.1, 0.0, 1.0]], 400_000, 68, false),
+    point(ALL, 0.9, 0.5, 20, &[[3.0, 0.0, 2.0]], 900_000, 69, false),
+    point(ALL, 0.95, 0.2, 1, &[[0.5, 0.0, 0.5]], 600_000, 70, true),
+    point(ScatteringOrders::Limited(2), 0.8, 0.2, 1, README, 2_000_000, 71, true),
+    point(ScatteringOrders::Limited(5), 0.95, 0.3, 2, README, 600_000, 72, true),
+    point(ScatteringOrders::Limited(5), 0.5, 0.05, 200, &[[1.0, 0.0, 1.0], [-0.5, 0.4, 2.0]], 200_000, 73, false),
 ];
 
 impl EveryOrderPoint {
     /// `readme` (the README scene, `point-isotropic`: σ = 1, camera at the
-    /// origin along z) with every order, q = 1, N_B = 1 and this point's
+    /// origin along z) with q = 1, N_B = 1 and this point's orders and
     /// values.
     pub fn scene(&self, readme: &Scene) -> Scene {
         let mut s = readme.clone();
-        s.effects.scattering_orders = ScatteringOrders::All;
+        s.effects.scattering_orders = self.orders;
         s.medium.albedo = self.albedo;
         s.estimator.radius = self.radius;
         s.estimator.q = 1.0;
@@ -136,14 +147,15 @@ pub fn every_order_row(p: &EveryOrderPoint, readme: &Scene) -> Result<EveryOrder
 /// The rows as a markdown table.
 pub fn every_order_table(rows: &[EveryOrderRow]) -> String {
     let mut s = String::new();
-    writeln!(s, "| albedo | R | N_F | lights | trials | Var L exact (finite-sphere) | pairs' share | tracer | se | z | z without pairs |").unwrap();
-    writeln!(s, "|---:|---:|---:|---|---:|---|---:|---|---:|---:|---:|").unwrap();
+    writeln!(s, "| orders | albedo | R | N_F | lights | trials | Var L exact (finite-sphere) | pairs' share | tracer | se | z | z without pairs |").unwrap();
+    writeln!(s, "|---|---:|---:|---:|---|---:|---|---:|---|---:|---:|---:|").unwrap();
     for r in rows {
         let p = r.point;
         let lights: Vec<String> = p.lights.iter().map(|[x, y, z]| format!("({x}, {y}, {z})")).collect();
         writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {:.7e} ± {:.1e} | {:.2} % | {:.7e} ± {:.1e} | {:.2} % | {:+.2} | {:+.1} |",
+            "| {} | {} | {} | {} | {} | {} | {:.7e} ± {:.1e} | {:.2} % | {:.7e} ± {:.1e} | {:.2} % | {:+.2} | {:+.1} |",
+            p.orders,
             p.albedo,
             p.radius,
             p.forward,

@@ -265,10 +265,10 @@ fn every_order_section(w: &mut String, scenes_dir: &Path) -> Result<(), String> 
     writeln!(w).unwrap();
     writeln!(
         w,
-        "Scene `{SWEEP_SCENE}` with `scattering_orders = \"all\"`, q = 1, N_B = 1 and each row's albedo, R, N_F \
-         and point lights (flux 1 each): Var L of one iteration, exact at R by the finite-sphere model of every \
+        "Scene `{SWEEP_SCENE}` with q = 1, N_B = 1 and each row's `scattering_orders` (2, 5 or \"all\"), albedo, R, \
+         N_F and point lights (flux 1 each): Var L of one iteration, exact at R by the finite-sphere model of every \
          order (`docs/model.md` §10.3; the oracle at {GOAL:.0e}), against the reference tracer with no allowance \
-         (seeds 61–70, the points of `tests/every_order_variance.rs`, which asserts |z| ≤ 4 and, where N_F ≤ 2, \
+         (seeds 61–73, the points of `tests/every_order_variance.rs`, which asserts |z| ≤ 4 and, where N_F ≤ 2, \
          z > 6 without the pairs). \"pairs' share\" is the same-path pairs' part of Var L, 2Σ⟨𝒞_j𝒞_k⟩/N_F: one \
          forward path meeting one sphere with two of its segments, which the paper's §3 structure (moments through \
          the forward field alone) leaves out; \"z without pairs\" tests Var L less that part. z = (tracer − \
@@ -352,7 +352,7 @@ pub fn markdown(scenes_dir: &Path, figures_dir: &Path) -> Result<String, String>
          library's `predict`, its two order-1 points with the correlations of two spheres of single-scattered \
          light; `tests/finite_order1*.rs`: single-scattered light from point lights and beams, with two spheres per camera ray for both, `docs/model.md` §9.7 and §9.11; \
          `tests/every_order.rs`: the exact mean of orders 2, 5 and every order at eight points, isotropic media, point lights, §10.2; \
-         `tests/every_order_variance.rs`: Var L of every order at q = 1, N_B = 1 at ten points, with the same-path pairs \
+         `tests/every_order_variance.rs`: Var L of orders 2, 5 and every order at q = 1, N_B = 1 at thirteen points, with the same-path pairs \
          the paper's §3 leaves out rejected where they matter, §10.3). The small-sphere \
          model's own error for single-scattered light, which serves Henyey–Greenstein media at order 1 with q < 1 \
          or N_B > 1 (their correlations of two spheres are not yet in the finite model), is measured at R = 0.1 with the order-1 points' q, N_F, N_B (plus two standard \

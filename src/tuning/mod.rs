@@ -24,11 +24,13 @@
 //! in an isotropic medium, whose Var L at other q and N_B needs pair
 //! integrals too slow to score a search with (`docs/model.md` §9.7), with the
 //! small-sphere model's (q, N_F, N_B) at the scene's R beside it, and for
-//! every scattering order (`"all"`, point lights in an isotropic medium,
-//! §10.3: ~10 s a radius, minutes a search), with no small-sphere model
-//! beside it; elsewhere (Henyey–Greenstein media at order 1) the bias is
-//! not predicted, R is held at the scene's and only (q, N_F, N_B) are
-//! chosen, for the noise alone; finite orders ≥ 2 are refused (no Var L).
+//! scattering orders ≥ 2 and `"all"` (point lights in an isotropic medium,
+//! §10.3: ~10 s a radius for `"all"` and order 2, ~30 s for order 5,
+//! minutes a search), with no small-sphere model beside it; elsewhere
+//! (Henyey–Greenstein media at order 1) the bias is not predicted, R is
+//! held at the scene's and only (q, N_F, N_B) are chosen, for the noise
+//! alone; Henyey–Greenstein media and beams at orders ≥ 2 are refused (no
+//! Var L).
 
 pub mod alternatives;
 pub mod calibration;
@@ -81,7 +83,7 @@ pub enum Searched {
     /// Uncollided light: every (q, R, N_F, N_B), by the finite-sphere model.
     Everything,
     /// Single-scattered light in an isotropic medium (point lights and
-    /// beams), and every scattering order (`"all"`, point lights in an
+    /// beams), and scattering orders ≥ 2 and `"all"` (point lights in an
     /// isotropic medium): the finite-sphere model gives Var L at q = 1 and
     /// N_B = 1 only (in a search), so R and N_F are searched there (bias
     /// predicted), and for single scattering the small-sphere model's
@@ -253,7 +255,7 @@ pub fn optimize_with(scene: &Scene, opts: &Options, cache: &mut RadiusCache) -> 
     Ok(Optimum {
         model: own.model.model,
         searched,
-        scattering_orders: orders_label(scene),
+        scattering_orders: scene.effects.scattering_orders.to_string(),
         bias_predicted,
         budget: opts.budget,
         max_spheres: opts.max_spheres,
@@ -285,18 +287,10 @@ impl Searched {
     }
 }
 
-/// The scene's `scattering_orders` as written in its file.
-fn orders_label(scene: &Scene) -> String {
-    match scene.effects.scattering_orders {
-        mcrt_scene::ScatteringOrders::Limited(n) => n.to_string(),
-        mcrt_scene::ScatteringOrders::All => "all".into(),
-    }
-}
-
 /// Whether `scene` has scattering orders beyond the first (2 to 9 or
 /// `"all"`), whose model is `docs/model.md` §10.
 pub(crate) fn every_order(scene: &Scene) -> bool {
-    !matches!(scene.effects.scattering_orders, mcrt_scene::ScatteringOrders::Limited(0 | 1))
+    crate::oracle::orders_beyond_the_first(scene)
 }
 
 fn check_options(opts: &Options) -> Result<(), TuningError> {
@@ -344,13 +338,10 @@ fn check_held_radius(scene: &Scene, range: Option<(f64, f64)>) -> Result<(), Tun
         Some((lo, hi)) if !(lo..=hi).contains(&r) => Err(TuningError::Option(format!(
             "--radius-range {lo:e},{hi:e}: the scene has scattered light the finite-sphere model does not cover \
              (effects.scattering_orders = {}, medium.phase = {}; it covers single scattering in an isotropic \
-             medium and every order, \"all\", with point lights in one, whose R is searched), so its bias is not predicted, R cannot be searched and is held at the \
+             medium and orders 2 to 9 and \"all\" with point lights in one, whose R is searched), so its bias is not predicted, R cannot be searched and is held at the \
              scene's estimator.radius = {r}, outside the range; set estimator.radius within it, or omit \
              --radius-range",
-            match scene.effects.scattering_orders {
-                mcrt_scene::ScatteringOrders::Limited(n) => n.to_string(),
-                mcrt_scene::ScatteringOrders::All => "\"all\"".into(),
-            },
+            scene.effects.scattering_orders.as_toml(),
             match scene.medium.phase {
                 mcrt_scene::Phase::Isotropic => "\"isotropic\"".to_string(),
                 mcrt_scene::Phase::HenyeyGreenstein { g } => format!("henyey-greenstein with g = {g}"),

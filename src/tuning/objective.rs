@@ -86,7 +86,8 @@ impl ModelAtRadius {
     }
 
     /// The finite-sphere model of every scattering order at q = 1 and
-    /// N_B = 1 ([`crate::oracle::every_order_mean`] of a `"all"` scene at
+    /// N_B = 1 ([`crate::oracle::every_order_mean`] of a scene of orders
+    /// 2 to 9 or `"all"` at
     /// `radius`, `docs/model.md` §10.3): μ(R), M₂ with its same-path pairs, P and the
     /// bias, exact at R; no pair integrals (other q and N_B are not
     /// modelled), so [`ModelAtRadius::variance`] is `None` there. The

@@ -13,11 +13,11 @@
 //! integrals other q and N_B would need, to [`SCATTERED_REL_TOL`], each run
 //! with a budget of its own of the cache's size and deadline
 //! ([`Budget::renewed`]: one such run can cost a third of the default).
-//! For every scattering order (`"all"`) the same, by
+//! For scattering orders 2 to 9 and `"all"` the same, by
 //! [`crate::oracle::every_order_mean`] (μ, M₂ with its same-path pairs, P,
-//! the bias; Var L's integrals at 10⁻⁴ whatever the goal, ~8–14 s and
-//! 1.4–2.5·10⁸ evaluations a radius on the README scene from R = 10⁻³ to
-//! 0.5).
+//! the bias; Var L's integrals at 10⁻⁴ whatever the goal; for `"all"`
+//! ~8–14 s and 1.4–2.5·10⁸ evaluations a radius on the README scene from
+//! R = 10⁻³ to 0.5, for order 5 ~30 s).
 
 use super::objective::ModelAtRadius;
 use super::rates::{Rates, PILOT_RAYS};
@@ -202,28 +202,20 @@ fn every_order_model(
         )));
     }
     // Refused before any integral: what the model of every order does not
-    // cover (its medium, lights, an albedo of 0 or 1), then where it has no
-    // Var L.
+    // cover (its medium, lights), then an albedo the search cannot use,
+    // then where it has no Var L.
     crate::oracle::every_order_scene_covered(scene)?;
     let albedo = scene.medium.albedo;
-    if !(albedo > 0.0 && albedo < 1.0) {
+    let every = scene.effects.scattering_orders == ScatteringOrders::All;
+    if !(albedo > 0.0 && (albedo < 1.0 || !every)) {
+        let allowed = if every { "0 < albedo < 1" } else { "0 < albedo <= 1" };
         return Err(super::TuningError::Oracle(OracleError::Unsupported(format!(
-            "medium.albedo = {albedo}: with effects.scattering_orders >= 2 optimize needs 0 < albedo < 1 (at 0 no \
-             light scatters: use scattering_orders = 0; at 1 the orders never end, docs/model.md §10.1)"
+            "medium.albedo = {albedo}: with effects.scattering_orders = {} optimize needs {allowed} (at 0 no light \
+             scatters: use scattering_orders = 0; with \"all\" at 1 the orders never end, docs/model.md §10.1)",
+            scene.effects.scattering_orders.as_toml()
         ))));
     }
-    if !crate::oracle::every_order_variance_modelled(scene) {
-        let orders = match scene.effects.scattering_orders {
-            ScatteringOrders::All => "\"all\"".to_string(),
-            ScatteringOrders::Limited(n) => n.to_string(),
-        };
-        return Err(super::TuningError::Oracle(OracleError::Unsupported(format!(
-            "effects.scattering_orders = {orders} (estimator.q = {}, estimator.camera_rays = {}): Var L {}",
-            scene.estimator.q,
-            scene.estimator.camera_rays,
-            crate::oracle::VARIANCE_NOT_MODELLED
-        ))));
-    }
+    crate::oracle::every_order_variance_refusal(scene)?;
     let (report, failed) = crate::oracle::every_order_report(scene, rel_tol, budget)?;
     if let Some(e) = failed {
         return Err(super::TuningError::Oracle(e));

@@ -29,10 +29,12 @@ pub mod beam;
 mod beam_pairs;
 mod beam_ring;
 pub mod cross_segments;
+mod fresh_hits;
 mod hit_cumulants;
 mod multiple;
 mod multiple_pairs;
 pub mod order1;
+mod pair_orders;
 pub mod point;
 pub mod ray;
 mod same_path_hg;
@@ -201,7 +203,7 @@ impl<T: CheckRule> FiniteField<T> {
     /// C′ * H at the ends of segments through a sphere (`docs/model.md`
     /// §10.3), so that one set of tables serves P and the pairs.
     pub fn cover_pair_distances(&mut self) {
-        let reach = self.radius.clone() + self.sigma.lit(multiple_pairs::FRESH_REACH) / self.sigma.clone();
+        let reach = self.radius.clone() + self.sigma.lit(fresh_hits::FRESH_REACH) / self.sigma.clone();
         self.pair_reach = Some(reach);
     }
 

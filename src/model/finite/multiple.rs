@@ -64,6 +64,14 @@ const SHELL_PANELS: usize = 16;
 /// room for T's prefactor above f64's least normal number).
 const UNDERFLOW_REACH: f64 = 550.0;
 
+/// The largest relative bar of a piece of the radial table that a shell
+/// integral reads (a ln-bar of 0.02 and a little more): pieces accepted at
+/// their samples' noise above it (the single orders ≥ 3 next to r = 0,
+/// where ρ₁ = r c_j vanishes while the cut integral keeps an absolute
+/// error; their bars reach e^{10²}) are not read, and the difference of
+/// two values of T serves (there its x-weight makes its bar small).
+const TRUSTED_PIECE: f64 = 0.0205;
+
 /// Tail tables finer than this are not built (MPFR goals): the quadrature
 /// serves.
 const FINEST_GOAL: f64 = 1e-13;
@@ -115,8 +123,9 @@ impl<T: CheckRule> TailTable<T> {
     /// (∫_{t₀}^{t₀+w} ρ₁ dr·e^{base}, relative bar) for a short shell
     /// (0 < w ≤ t₀/2, within the table), by [`SHELL_NODES`] Gauss–Legendre
     /// nodes on each of at most [`SHELL_PANELS`] panels no wider than 2
-    /// (σ-units); `None` without the radial table, beyond it, or for a
-    /// shell that needs more panels.
+    /// (σ-units); `None` without the radial table, beyond it, for a shell
+    /// that needs more panels, or one that meets a piece of the radial
+    /// table whose bar is above [`TRUSTED_PIECE`].
     fn shell(&self, t0: &T, w: &T, base: &T) -> Option<(T, T, u64)> {
         let radial = self.radial.as_ref()?;
         let end = t0.clone() + w.clone();
@@ -129,24 +138,35 @@ impl<T: CheckRule> TailTable<T> {
         }
         let step = w.clone() / w.lit(panels);
         let half = step.clone() * w.lit(0.5);
-        let mut sum = w.lit(0.0);
+        // Each node's term bears its own piece's bar (the pieces next to
+        // r = 0, accepted at their samples' noise, bear far larger ones).
+        let (mut sum, mut bar) = (w.lit(0.0), w.lit(0.0));
         for k in 0..panels as usize {
             let mid = t0.clone() + step.clone() * w.lit(k as f64) + half.clone();
             for (x, wt) in crate::quad::gauss_legendre(w, SHELL_NODES).iter() {
                 for r in [mid.clone() - half.clone() * x.clone(), mid.clone() + half.clone() * x.clone()] {
                     let term = wt.clone() * (radial.eval_ln(&r) + base.clone()).exp();
-                    sum = sum + if x.is_zero() { term * w.lit(0.5) } else { term };
+                    let term = if x.is_zero() { term * w.lit(0.5) } else { term };
+                    let rel = radial.rel_error_at(&r);
+                    if rel.to_f64() > TRUSTED_PIECE {
+                        return None;
+                    }
+                    bar = bar + term.clone() * rel;
+                    sum = sum + term;
                 }
             }
         }
         let evaluations = (panels as u64) * 2 * SHELL_NODES as u64;
-        Some((sum * half, radial.rel_error.clone() + w.lit(1e-20), evaluations))
+        // Every term underflowed: nothing to bear but the table's bar.
+        let rel = if sum.is_zero() { radial.rel_error.clone() } else { bar / sum.clone() };
+        Some((sum * half, rel + w.lit(1e-20), evaluations))
     }
 
     /// (∫_{t₀}^{t₀+w} ρ₁ dr·e^{base}) by adaptive quadrature of the radial
     /// table (a shell whose two values of T would cancel, but too wide or
     /// too near r = 0 for [`TailTable::shell`]), its bar with the table's
-    /// relative one added; `None` without the radial table or beyond it.
+    /// relative one added; `None` without the radial table, beyond it, or
+    /// where the shell meets a piece whose bar is above [`TRUSTED_PIECE`].
     fn wide_shell(&self, t0: &T, w: &T, base: &T, opts: &Options) -> Option<Outcome<T>> {
         let radial = self.radial.as_ref()?;
         let end = t0.clone() + w.clone();
@@ -154,16 +174,23 @@ impl<T: CheckRule> TailTable<T> {
             return None;
         }
         let f = |r: &T| (radial.eval_ln(r) + base.clone()).exp();
-        let cuts: Vec<T> = graded_about(&t0.lit(0.0), &t0.lit(1e-12), &t0.lit(1.0))
-            .into_iter()
-            .filter(|c| *c > *t0 && *c < end)
-            .collect();
-        let domain = Domain::finite(t0.clone(), end).with_breakpoints(cuts);
         let o = Options { abs_tol: 0.0, cross_check: false, ..opts.clone() };
-        Some(crate::quad::integrate(f, &domain, &o).map(|e| {
-            let bar = e.error.clone() + e.value.abs() * radial.rel_error.clone();
-            Estimate { error: bar, ..e }
-        }))
+        // Piece by piece (the table's pieces are graded towards r = 0), each
+        // part bearing its own piece's bar.
+        let parts = radial.parts_over(t0, &end);
+        if parts.iter().any(|(_, _, rel)| rel.to_f64() > TRUSTED_PIECE) {
+            return None;
+        }
+        let mut total = Estimate::known(t0.lit(0.0), t0.lit(0.0), 0, opts.rule);
+        for (from, to, rel) in parts {
+            let e = match crate::quad::integrate(f, &Domain::finite(from, to), &o) {
+                Ok(e) => e,
+                Err(failure) => return Some(Err(failure)),
+            };
+            let bar = e.error.clone() + e.value.abs() * rel;
+            total = total.plus(Estimate { error: bar, ..e });
+        }
+        Some(Ok(total))
     }
 
     /// (ln T₁(t), relative bar) where the table reaches.

@@ -1,7 +1,8 @@
-//! The same-path pairs of every order (isotropic media, point lights,
-//! every order: `docs/model.md` §10.3): how often one forward path hits one
-//! sphere with two of its segments j < k, which M₂ needs beside Σ_j⟨𝒞_j²⟩
-//! = c f ⟨𝒞⟩, so that Var L at q = 1 and N_B = 1 is exact at any R.
+//! The same-path pairs of orders ≥ 2 and of every order (isotropic media,
+//! point lights: `docs/model.md` §10.3): how often one forward path hits
+//! one sphere with two of its segments j < k, which M₂ needs beside
+//! Σ_j⟨𝒞_j²⟩ = c f ⟨𝒞⟩, so that Var L at q = 1 and N_B = 1 is exact at
+//! any R.
 //!
 //! A segment is a fresh isotropic source wherever it starts (the light for
 //! j = 0, an interaction point after), and everything after its end, if it
@@ -19,21 +20,33 @@
 //!   E[Σ_{j<k} hit_j hit_k] = 𝒦(D) + a·(c₁ * 𝒦)(D) + (C′ * 𝒦)(D),
 //!
 //! the last two by the bipolar integrals of §9.5 and §10.2 with 𝒦 in
-//! place of H. Per pass, G(d′) over [10⁻⁴R, R + 50/σ] is read from the
-//! pass's tables of I(D) and (C′ * H)(D) — those P builds on the same
-//! field, made to reach there by `FiniteField::cover_pair_distances` (else
-//! a table of G of its own, `ScatteredTable`, decay νσ) — and four tables
-//! follow, each from the one before, each carrying the bar of the table
-//! it reads: K_G(w) over the sphere's cross-section
-//! (`SecondHitTable`, w = √(R² − p²)), 𝒦(d) (`ScatteredTable`, decay σ), T
-//! of C′ (`multiple::TailTable`), and the pair sum itself over the
-//! distances between the lights and the camera ray's spheres
-//! (`ScatteredTable`, decay νσ), which the camera-ray integral reads.
+//! place of H. Per pass, G(d′) over [10⁻⁴R, R + 50/σ] is read from tables
+//! of its parts (`fresh_hits`): the pass's tables of I(D) and (C′ * H)(D)
+//! — those P builds on the same field, made to reach there by
+//! `FiniteField::cover_pair_distances` (else tables of their own,
+//! `ScatteredTable`, decay νσ) — and the tail tables T of the start
+//! densities (`multiple::TailTable`); then tables follow, each from the
+//! one before, each carrying the bar of the table it reads: K_G(w) over
+//! the sphere's cross-section (`SecondHitTable`, w = √(R² − p²)), 𝒦(d)
+//! (`ScatteredTable`, decay σ), and the pair sum itself over the distances
+//! between the lights and the camera ray's spheres (`ScatteredTable`,
+//! decay νσ), which the camera-ray integral reads.
 //! Order 1's own term (§9.6) is the case G = H, C_all = 0.
+//!
+//! With orders up to n (2 ≤ n ≤ 9) what follows segment j is a fresh path
+//! of at most m = n − j segments, whose hits are G_m = H + Σ_{k<m} part_k
+//! (`fresh_hits`): each level m has its K_G and 𝒦 tables, and segment j
+//! starts at a^j c_j, so
+//!
+//!   E[Σ_{j<k} hit_j hit_k] = 𝒦_n(D) + a·(c₁ * 𝒦_{n−1})(D) + Σ_{j=2}^{n−1} (a^j c_j * 𝒦_{n−j})(D)
+//!
+//! ([`PairOrders`]); every order is the one level of G with its parts a·I
+//! and C′ * H, and three terms.
 
-use super::multiple::{convolved, hit_radial, MultipleTables, Radial, RadialFn, TailTable};
+use super::fresh_hits::{from_table, FreshHits};
+use super::multiple::{convolved, MultipleTables, Radial, RadialFn, TailTable};
+use super::pair_orders::{PairOrders, Start};
 use super::point::cap_half_angle;
-use super::scattered::hits_over_distance;
 use super::scattered_table::{ScatteredTable, ScatteredTables};
 use super::second_hit::SecondHitTable;
 use super::start_density::StartDensity;
@@ -48,17 +61,25 @@ use std::sync::Arc;
 /// computed ([`FiniteField::every_order_second_moments`]).
 pub type SecondMoments<T> = Result<(Estimate<T>, Estimate<T>), OracleError>;
 
-/// The tables of one pass (module docs).
-pub(super) struct PairTable<T> {
-    tail: Option<TailTable<T>>,
+/// The K_G and 𝒦 tables of one level of remaining segments.
+pub(super) struct Level<T> {
     after: SecondHitTable<T>,
     revisit: ScatteredTable<T>,
+}
+
+/// The tables of one pass (module docs).
+pub(super) struct PairTable<T> {
+    /// The tail tables of the orders' start densities
+    /// ([`PairOrders::densities`]).
+    tails: Vec<Option<TailTable<T>>>,
+    /// Per level of remaining segments ([`PairOrders::levels`]).
+    levels: Vec<Level<T>>,
     /// E[Σ_{j<k} hit_j hit_k](D)·e^{νσ(D − R)⁺} over the computation's
     /// distances between lights and spheres, read by every camera-ray
     /// point (`None` when it could not be built: the quadrature serves).
     pairs: Option<ScatteredTable<T>>,
     /// Whether G was read from the pass's I(D) and (C′ * H)(D) tables
-    /// (else from a table of its own): what the unit test asserts.
+    /// (else from tables of its own): what the unit test asserts.
     #[cfg_attr(not(test), allow(dead_code))]
     g_from_shared: bool,
 }
@@ -74,98 +95,103 @@ impl<T> Default for PairTables<T> {
     }
 }
 
-/// A value of a [`ScatteredTable`] of decay rate σ as a [`Radial`]
-/// (reach (d − R)⁺, rest F(d)·e^{σ(d − R)⁺}), or `None` where it does not
-/// reach. For a table of another rate (G's own, νσ) only `rest`, F(d)·
-/// e^{decay·(d − R)⁺}, is meaningful: its callers read nothing else.
-fn from_table<T: CheckRule>(t: &ScatteredTable<T>, decay: &T, r: &T, d: &T) -> Option<Radial<T>> {
-    let reach_like = (d.clone() - r.clone()).max_of(d.lit(0.0));
-    let (g, rel) = t.hits(decay, r, d, &(decay.clone() * reach_like.clone()))?;
-    Some(Radial { reach: reach_like, rest: g, rel })
-}
-
 impl<T: CheckRule> PairTable<T> {
+    /// The largest relative bar of the levels' 𝒦 tables.
+    fn revisit_rel(&self) -> T {
+        let bars = self.levels.iter().map(|l| l.revisit.rel_error.clone());
+        bars.reduce(|m, b| m.max_of(b)).expect("a pair table has a level")
+    }
+
     /// Builds the tables for a pass with `opts` (module docs), the pair
-    /// sum's over the lights' distances [lo, hi]; G from `mean_tables` (the
-    /// pass's I(D) and (C′ * H)(D), reaching [10⁻⁴R, R + 50/σ]) or, without
-    /// them, from a table of its own (`None` if any cannot be built within
-    /// its goal).
-    #[allow(clippy::too_many_arguments)]
+    /// sum's over the lights' distances [lo, hi]; G's parts from
+    /// `mean_tables` (the pass's I(D) and (C′ * H)(D), where they reach
+    /// [10⁻⁴R, R + 50/σ]) or tables of their own (`None` if any cannot be
+    /// built within its goal).
     fn build(
         ff: &FiniteField<T>,
-        density: &StartDensity<T>,
+        orders: &PairOrders<T>,
         lo: &T,
         hi: &T,
-        mean_tables: Option<(&ScatteredTable<T>, &ScatteredTable<T>)>,
+        mean_tables: (Option<&ScatteredTable<T>>, Option<&ScatteredTable<T>>),
         opts: &Options,
     ) -> (Option<Self>, u64) {
         let (sigma, r, a) = (&ff.sigma, &ff.radius, &ff.albedo);
         let mut spent = 0;
         let far = hi.clone() + r.clone() + sigma.lit(100.0) / sigma.clone();
         let reach = sigma.clone() * far.clone() * sigma.lit(2.0) + sigma.lit(200.0);
-        let (tail, used) = TailTable::build(density, &reach, opts);
+        let mut tails = Vec::new();
+        for density in &orders.densities {
+            let (tail, used) = TailTable::build(density, &reach, opts);
+            spent += used;
+            tails.push(tail);
+        }
+        let nu = sigma.clone() * orders.decay();
+        let beyond = orders.densities.iter().zip(&tails).map(|(d, t)| (d, t.as_ref())).collect();
+        let every = orders.every();
+        let (once, more) = mean_tables;
+        let (fresh, used) =
+            FreshHits::build((sigma, r, a), &nu, orders.most_parts(), once, more.filter(|_| every), beyond, opts);
         spent += used;
-        let nu = sigma.clone() * density.decay();
-        // G(d)·e^{νσ(d − R)⁺}.
-        let fresh_direct = |d: &T, o: &Options| -> Outcome<T> {
-            let shift = nu.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0));
-            let h = hit_radial(sigma, r, d);
-            let h = (shift.clone() - sigma.clone() * h.reach).exp() * h.rest;
-            let third = Options { abs_tol: o.abs_tol / 3.0, ..o.clone() };
-            let once = hits_over_distance(sigma, r, d, &shift, &third, true)?.scaled(a);
-            let more = super::multiple::multiple_hits(density, tail.as_ref(), sigma, r, d, &shift, &third)?;
-            Ok(once.plus(more).plus(Estimate::known(h, d.lit(0.0), 1, o.rule)))
+        let Some(fresh) = fresh else { return (None, spent) };
+        let mut levels = Vec::new();
+        for &parts in &orders.levels {
+            let (level, used) = Level::build(ff, &fresh, parts, &orders.most_hits(parts), &far, opts);
+            spent += used;
+            match level {
+                Some(l) => levels.push(l),
+                None => return (None, spent),
+            }
+        }
+        // With every order part 2 is the pass's (C′ * H)(D) table, if there.
+        let g_from_shared = fresh.from_shared && (!every || more.is_some());
+        drop(fresh);
+        let mut table = PairTable { tails, levels, pairs: None, g_from_shared };
+        // The pair sum itself over the distances the camera ray puts between
+        // lights and spheres: each camera-ray point then reads one value
+        // instead of its convolutions (its samples read 𝒦 without a bar).
+        let pairs_of = |d: &T, o: &Options| {
+            pair_sum(sigma, r, a, orders, &table, d, &(nu.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0))), o)
         };
+        let (pairs, used) = ScatteredTable::build_with(pairs_of, &nu, r, lo, hi, super::scattered_table::LOWEST, opts);
+        spent += used;
+        let revisit_rel = table.revisit_rel();
+        table.pairs = pairs.map(|mut p| {
+            p.rel_error = p.rel_error.clone() + revisit_rel;
+            p
+        });
+        (Some(table), spent)
+    }
+}
+
+impl<T: CheckRule> Level<T> {
+    /// K_G and 𝒦 for a segment after which G has `parts` parts (at most
+    /// `most_hits` hits beyond its tables), 𝒦 over [0, `far`].
+    fn build(
+        ff: &FiniteField<T>,
+        fresh: &FreshHits<'_, T>,
+        parts: usize,
+        most_hits: &T,
+        far: &T,
+        opts: &Options,
+    ) -> (Option<Self>, u64) {
+        let (sigma, r, a) = (&ff.sigma, &ff.radius, &ff.albedo);
         // K_G reads G at the ends of segments through the sphere, u beyond
         // their closest point: within R + U of the centre except with
         // chance e^{−σU} (below).
-        let reach_g = r.clone() + sigma.lit(FRESH_REACH) / sigma.clone();
-        // G from the pass's tables of I(D) and (C′ * H)(D) (P's, on this field,
-        // built over [0, R + U] as well: `FiniteField::cover_pair_distances`),
-        // else from a table of its own.
-        let own = match mean_tables {
-            Some(_) => None,
-            None => {
-                let (own, used) =
-                    ScatteredTable::build_with(fresh_direct, &nu, r, &d_zero(r), &reach_g, FRESH_LOWEST, opts);
-                spent += used;
-                match own {
-                    Some(t) => Some(t),
-                    None => return (None, spent),
-                }
-            }
-        };
-        // G(d)·e^{νσ(d − R)⁺} where the tables reach, without their bar
-        // (`fresh_rel`, added to K_G's below).
-        let g_at = |d: &T| -> Option<T> {
-            if let Some(t) = &own {
-                return from_table(t, &nu, r, d).map(|g| g.rest);
-            }
-            let (once, more) = mean_tables?;
-            let shift = nu.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0));
-            let (i, _) = once.hits(sigma, r, d, &shift)?;
-            let (c, _) = more.hits(sigma, r, d, &shift)?;
-            let h = hit_radial(sigma, r, d);
-            Some((shift - sigma.clone() * h.reach).exp() * h.rest + a.clone() * i + c)
-        };
-        let fresh_rel = match (&own, mean_tables) {
-            (Some(t), _) => t.rel_error.clone(),
-            (None, Some((once, more))) => once.rel_error.clone().max_of(more.rel_error.clone()),
-            (None, None) => unreachable!("a table of its own is built without the pass's"),
-        };
+        let reach_g = fresh.reach();
         // K_G(w) = ∫σe^{−σu} a G(√(u² + R² − w²)) du.
         let after_of = |w: &T, o: &Options| -> Outcome<T> {
             let p2 = (r.clone() - w.clone()) * (r.clone() + w.clone());
             let f = |u: &T, io: &Options| -> Outcome<T> {
                 let d = (u.clone() * u.clone() + p2.clone()).sqrt();
-                if d > reach_g {
-                    // Beyond the table: G ≤ 1/(1 − a), the expected number
-                    // of segments of a fresh path (each hits at most once).
-                    let bound =
-                        a.clone() * sigma.clone() * (-(sigma.clone() * u.clone())).exp() / (u.lit(1.0) - a.clone());
+                if d > *reach_g {
+                    // Beyond the tables: G is at most the fresh path's
+                    // hits (its segments; 1/(1 − a) with every order,
+                    // each hits at most once).
+                    let bound = a.clone() * sigma.clone() * (-(sigma.clone() * u.clone())).exp() * most_hits.clone();
                     return Ok(Estimate::known(u.lit(0.0), bound, 0, io.rule));
                 }
-                let g = fresh_radial(&g_at, &nu, sigma, r, &d, &fresh_direct, io)?;
+                let g = fresh.radial(parts, &d, io)?;
                 let v = a.clone() * sigma.clone() * (-(sigma.clone() * (u.clone() + g.reach))).exp() * g.rest;
                 Ok(Estimate::known(v.clone(), v.abs() * g.rel, 1, io.rule))
             };
@@ -176,110 +202,26 @@ impl<T: CheckRule> PairTable<T> {
             let domain = Domain::semi_infinite(zero).with_breakpoints(cuts).with_decay(sigma.clone());
             integrate_within_pass(f, &domain, o)
         };
+        let mut spent = 0;
         let (after, used) = SecondHitTable::build_with(after_of, r, opts);
         spent += used;
         let Some(mut after) = after else { return (None, spent) };
-        // K_G read G from its table without a bar: a relative bar of G is one of K_G.
-        after.rel_error = after.rel_error.clone() + fresh_rel;
+        // K_G read G from its tables without a bar: a relative bar of G is
+        // one of K_G (G = H, no parts, has none).
+        if parts > 0 {
+            after.rel_error = after.rel_error.clone() + fresh.rel_error.clone();
+        }
         // 𝒦(d)·e^{σ(d − R)⁺}.
         let revisit_of = |d: &T, o: &Options| {
             revisit(sigma, r, &after, d, &(sigma.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0))), o, false)
         };
         let (revisit, used) =
-            ScatteredTable::build_with(revisit_of, sigma, r, &d_zero(r), &far, super::scattered_table::LOWEST, opts);
+            ScatteredTable::build_with(revisit_of, sigma, r, &r.lit(0.0), far, super::scattered_table::LOWEST, opts);
         spent += used;
         let Some(mut revisit) = revisit else { return (None, spent) };
         revisit.rel_error = revisit.rel_error.clone() + after.rel_error.clone();
-        let mut table = PairTable { tail, after, revisit, pairs: None, g_from_shared: mean_tables.is_some() };
-        // The pair sum itself over the distances the camera ray puts between
-        // lights and spheres: each camera-ray point then reads one value
-        // instead of two convolutions (its samples read 𝒦 without a bar).
-        let pairs_of = |d: &T, o: &Options| {
-            pair_sum(sigma, r, a, density, &table, d, &(nu.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0))), o)
-        };
-        let (pairs, used) = ScatteredTable::build_with(pairs_of, &nu, r, lo, hi, super::scattered_table::LOWEST, opts);
-        spent += used;
-        table.pairs = pairs.map(|mut p| {
-            p.rel_error = p.rel_error.clone() + table.revisit.rel_error.clone();
-            p
-        });
-        (Some(table), spent)
+        (Some(Level { after, revisit }), spent)
     }
-}
-
-/// How far (free paths) beyond R the G table reaches: K_G's integrand
-/// beyond is below a·σe^{−σU}/(1 − a), e^{−50} ≈ 2·10⁻²², and is taken as
-/// zero with that bar.
-pub(super) const FRESH_REACH: f64 = 50.0;
-
-/// The G table's lowest distance, relative to R (I(D)'s): below, G − H is taken
-/// flat (module docs of [`fresh_radial`]).
-const FRESH_LOWEST: f64 = 1e-4;
-
-fn d_zero<T: CheckRule>(r: &T) -> T {
-    r.lit(0.0)
-}
-
-/// G(d) as a [`Radial`] with reach (νσ/σ)(d − R)⁺, from the table or by
-/// quadrature.
-fn fresh_radial<T: CheckRule>(
-    g_at: &dyn Fn(&T) -> Option<T>,
-    nu: &T,
-    sigma: &T,
-    r: &T,
-    d: &T,
-    direct: &dyn Fn(&T, &Options) -> Outcome<T>,
-    o: &Options,
-) -> Result<Radial<T>, Failure<T>> {
-    let scale = nu.clone() / sigma.clone();
-    let reach = scale * (d.clone() - r.clone()).max_of(d.lit(0.0));
-    if let Some(g) = g_at(d) {
-        // The tables' bar is added to the whole table built on them.
-        return Ok(Radial { reach, rest: g, rel: d.lit(0.0) });
-    }
-    // Within the table's window about d = R, where G's singular parts meet
-    // (and its quadrature costs millions of evaluations): G − H = a·I + C′ * H
-    // is radially decreasing (c₁, every c_m and H are, and so are their
-    // convolutions), so it lies between its values at the window's edges;
-    // H itself is closed.
-    let edge = r.clone() * r.lit(super::scattered_table::WINDOW);
-    if (d.clone() - r.clone()).abs() <= edge {
-        let hit = |x: &T| {
-            let h = hit_radial(sigma, r, x);
-            (-(sigma.clone() * h.reach)).exp() * h.rest
-        };
-        let value_at = |x: &T| g_at(x).map(|g| g * (-(nu.clone() * (x.clone() - r.clone()).max_of(x.lit(0.0)))).exp());
-        let (lo, hi) = (r.clone() - edge.clone(), r.clone() + edge.clone());
-        if let (Some(g_lo), Some(g_hi)) = (value_at(&lo), value_at(&hi)) {
-            let (s_lo, s_hi) = (g_lo - hit(&lo), g_hi - hit(&hi));
-            let mid = (s_lo.clone() + s_hi.clone()) * d.lit(0.5);
-            let half_gap = (s_lo - s_hi).abs() * d.lit(0.5);
-            let value = hit(d) + mid;
-            let rest = value.clone() * (nu.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0))).exp();
-            return Ok(Radial { reach, rest, rel: half_gap / value });
-        }
-    }
-    // Below the table (a segment's end within 10⁻⁴R of the centre):
-    // G − H is smooth and even about d = 0 to first order, so it is taken
-    // at the table's lowest distance, with twice its change over the
-    // decade above as the bar.
-    let lowest = r.clone() * r.lit(FRESH_LOWEST);
-    if *d < lowest {
-        let hit = |x: &T| {
-            let h = hit_radial(sigma, r, x);
-            (-(sigma.clone() * h.reach)).exp() * h.rest
-        };
-        let above = lowest.clone() * d.lit(10.0);
-        if let (Some(g0), Some(g1)) = (g_at(&lowest), g_at(&above)) {
-            let (s0, s1) = (g0 - hit(&lowest), g1 - hit(&above));
-            let value = hit(d) + s0.clone();
-            let bar = (s0 - s1).abs() * d.lit(2.0);
-            return Ok(Radial { reach, rest: value.clone(), rel: bar / value });
-        }
-    }
-    let e = direct(d, &Options { abs_tol: 0.0, ..o.clone() })?;
-    let rel = e.error.clone() / e.value.clone().abs();
-    Ok(Radial { reach, rest: e.value, rel })
 }
 
 /// 𝒦(d)·e^{shift} from the K_G table (module docs): ½∫ over the cap, in
@@ -320,37 +262,49 @@ fn revisit<T: CheckRule>(
 }
 
 /// E[Σ_{j<k} hit_j hit_k]·e^{shift} for a sphere whose centre is D from a
-/// point light (module docs): 𝒦(D) + a(c₁ * 𝒦)(D) + (C′ * 𝒦)(D), 𝒦 from
-/// the pass's table without its bar (the caller adds it) or, where the
-/// table does not reach, by quadrature with its own.
+/// point light (module docs): Σ over the terms of `orders` of (start
+/// density * 𝒦 of its level)(D) — with every order 𝒦(D) + a(c₁ * 𝒦)(D) +
+/// (C′ * 𝒦)(D) — 𝒦 from the pass's tables without their bar (the caller
+/// adds it) or, where they do not reach, by quadrature with its own.
 #[allow(clippy::too_many_arguments)]
 fn pair_sum<T: CheckRule>(
     sigma: &T,
     r: &T,
     a: &T,
-    density: &StartDensity<T>,
+    orders: &PairOrders<T>,
     t: &PairTable<T>,
     big_d: &T,
     shift: &T,
     o: &Options,
 ) -> Outcome<T> {
-    let radial = |d: &T, io: &Options| -> Result<Radial<T>, Failure<T>> {
-        if let Some(k) = from_table(&t.revisit, sigma, r, d) {
-            return Ok(Radial { rel: d.lit(0.0), ..k });
-        }
-        let reach = (d.clone() - r.clone()).max_of(d.lit(0.0));
-        let io = Options { abs_tol: 0.0, ..io.clone() };
-        let e = revisit(sigma, r, &t.after, d, &(sigma.clone() * reach.clone()), &io, true)?;
-        let rel = e.error.clone() / e.value.clone().abs();
-        Ok(Radial { reach, rest: e.value, rel })
-    };
-    let third = Options { abs_tol: o.abs_tol / 3.0, ..o.clone() };
-    let own = radial(big_d, &third)?;
-    let own_v = (shift.clone() - sigma.clone() * own.reach).exp() * own.rest;
-    let own = Estimate::known(own_v.clone(), own_v.abs() * own.rel, 1, o.rule);
-    let once = c1_convolved(sigma, r, big_d, shift, &radial, &third)?.scaled(a);
-    let more = convolved(density, t.tail.as_ref(), sigma, r, big_d, shift, &radial, &third)?;
-    Ok(own.plus(once).plus(more))
+    let share = Options { abs_tol: o.abs_tol / orders.terms.len() as f64, ..o.clone() };
+    let mut total = Estimate::known(big_d.lit(0.0), big_d.lit(0.0), 0, o.rule);
+    for &(start, level) in &orders.terms {
+        let level = &t.levels[level];
+        let radial = |d: &T, io: &Options| -> Result<Radial<T>, Failure<T>> {
+            if let Some(k) = from_table(&level.revisit, sigma, r, d) {
+                return Ok(Radial { rel: d.lit(0.0), ..k });
+            }
+            let reach = (d.clone() - r.clone()).max_of(d.lit(0.0));
+            let io = Options { abs_tol: 0.0, ..io.clone() };
+            let e = revisit(sigma, r, &level.after, d, &(sigma.clone() * reach.clone()), &io, true)?;
+            let rel = e.error.clone() / e.value.clone().abs();
+            Ok(Radial { reach, rest: e.value, rel })
+        };
+        let term = match start {
+            Start::Light => {
+                let own = radial(big_d, &share)?;
+                let v = (shift.clone() - sigma.clone() * own.reach).exp() * own.rest;
+                Estimate::known(v.clone(), v.abs() * own.rel, 1, o.rule)
+            }
+            Start::FirstInteraction => c1_convolved(sigma, r, big_d, shift, &radial, &share)?.scaled(a),
+            Start::Beyond(i) => {
+                convolved(&orders.densities[i], t.tails[i].as_ref(), sigma, r, big_d, shift, &radial, &share)?
+            }
+        };
+        total = total.plus(term);
+    }
+    Ok(total)
 }
 
 /// (c₁ * F)(D)·e^{shift} = (σ/(2D))∫₀^∞ d F(d)[E₁(σ|D − d|) − E₁(σ(D + d))] dd
@@ -396,6 +350,7 @@ impl<T: CheckRule> FiniteField<T> {
         tables: &PairTables<T>,
         mean: (&ScatteredTables<T>, &MultipleTables<T>),
         density: &StartDensity<T>,
+        orders: &PairOrders<T>,
         opts: &Options,
     ) -> Option<Arc<PairTable<T>>> {
         // The tables of I(D) and (C′ * H)(D) of the same pass (its rule and
@@ -404,14 +359,6 @@ impl<T: CheckRule> FiniteField<T> {
         let wide = self.pair_reach().is_some();
         let once = if wide { mean.0.for_pass(self, opts) } else { None };
         let more = if wide { mean.1.for_pass(self, density, opts) } else { None };
-        let covers = |t: &ScatteredTable<T>| {
-            self.pair_reach()
-                .is_some_and(|reach| t.reaches(&(self.radius.clone() * self.radius.lit(FRESH_LOWEST)), reach))
-        };
-        let both = match (&once, more.as_ref().and_then(|m| m.hits_table())) {
-            (Some(i), Some(c)) if covers(i) && covers(c) => Some((&**i, c)),
-            _ => None,
-        };
         // The tables serve the outer goal (the pass's inner goal times the
         // 20 of `integrate_nested`): four tables deep, each at a tenth of
         // the goal before it, the pass's own goal would leave the brackets
@@ -419,44 +366,36 @@ impl<T: CheckRule> FiniteField<T> {
         let table_opts = Options { rel_tol: (opts.rel_tol * 5.0).min(1e-3), ..opts.clone() };
         tables.passes.get_or_build(&table_opts, || {
             let Some((lo, hi)) = super::scattered_table::light_distance_range(self) else { return (None, 0) };
-            PairTable::build(self, density, &lo, &hi, both, &table_opts)
+            let shared = (once.as_deref(), more.as_ref().and_then(|m| m.hits_table()));
+            PairTable::build(self, orders, &lo, &hi, shared, &table_opts)
         })
     }
 
     /// ∫σe^{−σs}·2(c f)²Σ_lights(Φ/𝓕)E[Σ_{j<k} hit_j hit_k] ds·e^{c₀}: the
-    /// same-path pairs of every order in M₂ (module docs). Every order
-    /// only (`scattering_orders = "all"`); isotropic media, point lights.
-    pub fn every_order_pairs(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
-        let scattered = ScatteredTables::default();
-        let multiple = MultipleTables::default();
-        let result = self.every_order_pairs_with((&scattered, &multiple), opts);
-        multiple.charge(scattered.charge(result))
-    }
-
-    /// [`FiniteField::every_order_pairs`] reading (and building) the
-    /// tables, whose evaluations the caller charges.
-    fn every_order_pairs_with(
+    /// same-path pairs of the simulated orders (≥ 2 or every order) in M₂
+    /// (module docs), reading (and building) the tables of I(D) and
+    /// (C * H)(D), whose evaluations the caller charges. Isotropic media,
+    /// point lights.
+    fn multiple_pairs_with(
         &self,
         mean: (&ScatteredTables<T>, &MultipleTables<T>),
         opts: &Options,
     ) -> Result<Estimate<T>, OracleError> {
         let density = self.higher_orders()?;
-        if density.last_order().is_some() {
-            return Err(OracleError::Unsupported(
-                "the same-path pairs of a finite order n ≥ 2 are not modelled (only every order, \"all\"; \
-                 docs/model.md §10.4)"
-                    .into(),
-            ));
-        }
+        let orders = PairOrders::of(density, &self.albedo)?;
         let tables = PairTables::default();
         let (sigma, r) = (&self.sigma, &self.radius);
         let f = r.lit(1.0) / (r.pi() * r.lit(4.0));
+        let what = match density.last_order() {
+            None => "finite-sphere same-path pairs of every order",
+            Some(_) => "finite-sphere same-path pairs of a finite order",
+        };
         let result = self.with_line(|line| {
-            line.integral_nested("finite-sphere same-path pairs of every order", opts, |x, o| {
-                let Some(t) = self.pair_tables(&tables, mean, density, o) else {
+            line.integral_nested(what, opts, |x, o| {
+                let Some(t) = self.pair_tables(&tables, mean, density, &orders, o) else {
                     // A spent budget ends a table's build too: say so.
                     let reason = o.budget.exhausted().unwrap_or_else(|| {
-                        "the tables of every order's same-path pairs could not be built within the goal".into()
+                        "the tables of the same-path pairs of orders ≥ 2 could not be built within the goal".into()
                     });
                     return Err(Failure { reason, best_guess: None, error_estimate: None, evaluations: 0 });
                 };
@@ -473,9 +412,9 @@ impl<T: CheckRule> FiniteField<T> {
                             abs_tol: (o.abs_tol / (front.to_f64() * self.lights.len() as f64)).min(f64::MAX),
                             ..o.clone()
                         };
-                        let e = pair_sum(sigma, r, &self.albedo, density, &t, &big_d, &self.shift, &share)?;
+                        let e = pair_sum(sigma, r, &self.albedo, &orders, &t, &big_d, &self.shift, &share)?;
                         // 𝒦 was read without its bar.
-                        let error = e.error.clone() + e.value.abs() * t.revisit.rel_error.clone();
+                        let error = e.error.clone() + e.value.abs() * t.revisit_rel();
                         Estimate { error, ..e }
                     };
                     total = total.plus(e.scaled(&front));
@@ -484,15 +423,6 @@ impl<T: CheckRule> FiniteField<T> {
             })
         });
         tables.passes.charge(result)
-    }
-
-    /// P = ∫σe^{−σs}⟨𝒞⟩² ds·e^{c₀} of every simulated order (⟨𝒞⟩ of
-    /// segments 0, 1 and ≥ 2: §9.2, §9.5, §10.2).
-    pub fn every_order_p(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
-        let scattered = ScatteredTables::default();
-        let multiple = MultipleTables::default();
-        let result = self.every_order_p_with(&scattered, &multiple, opts);
-        multiple.charge(scattered.charge(result))
     }
 
     /// The mean of segment 1 (§9.5) and of segments ≥ 2 (§10.2), reading
@@ -507,24 +437,25 @@ impl<T: CheckRule> FiniteField<T> {
         Ok((scattered.charge(single)?, multiple.charge(beyond)?))
     }
 
-    /// P and the same-path pairs of every simulated order (what
-    /// [`FiniteField::every_order_p`] and [`FiniteField::every_order_pairs`]
-    /// give), reading one set of tables of I(D) and (C * H)(D) per pass,
-    /// built by P and charged to it. Call
-    /// [`FiniteField::cover_pair_distances`] first, or the pairs build their
-    /// own table of G.
+    /// P = ∫σe^{−σs}⟨𝒞⟩² ds·e^{c₀} and the same-path pairs of M₂ (module
+    /// docs) of the simulated orders (≥ 2 or every order; isotropic media,
+    /// point lights), reading one set of tables of I(D) and (C * H)(D) per
+    /// pass, built by P and charged to it. Call
+    /// [`FiniteField::cover_pair_distances`] first, or the pairs build
+    /// tables of G's parts of their own.
     pub fn every_order_second_moments(&self, opts: &Options) -> SecondMoments<T> {
         let scattered = ScatteredTables::default();
         let multiple = MultipleTables::default();
         // A failed P ends it: the pairs alone would give no Var L.
         let p = self.every_order_p_with(&scattered, &multiple, opts)?;
-        let pairs = self.every_order_pairs_with((&scattered, &multiple), opts)?;
+        let pairs = self.multiple_pairs_with((&scattered, &multiple), opts)?;
         // Every table, whichever asked first, charged to P.
         Ok((multiple.charge(scattered.charge(Ok::<_, OracleError>(p)))?, pairs))
     }
 
-    /// [`FiniteField::every_order_p`] reading (and building) the tables,
-    /// whose evaluations the caller charges.
+    /// P of the simulated orders (⟨𝒞⟩ of segments 0, 1 and ≥ 2: §9.2,
+    /// §9.5, §10.2), reading (and building) the tables, whose evaluations
+    /// the caller charges.
     fn every_order_p_with(
         &self,
         scattered: &ScatteredTables<T>,
@@ -555,17 +486,17 @@ mod tests {
     use mcrt_scene::{ScatteringOrders, Scene};
 
     /// The README scene (`point-isotropic`: σ = 1, the light at (1, 0, 1))
-    /// with every order, q = 1, one camera ray, the albedo and R given, its
-    /// tables made to reach the pairs' distances (as `every_order_mean`
+    /// with the orders given, q = 1, one camera ray, the albedo and R given,
+    /// its tables made to reach the pairs' distances (as `every_order_mean`
     /// does).
-    fn every_order_field(albedo: f64, radius: f64) -> FiniteField<f64> {
+    fn every_order_field(orders: ScatteringOrders, albedo: f64, radius: f64) -> FiniteField<f64> {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml");
         let mut s = Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
         s.medium.albedo = albedo;
         s.estimator.radius = radius;
         s.estimator.q = 1.0;
         s.estimator.camera_rays = 1;
-        s.effects.scattering_orders = ScatteringOrders::All;
+        s.effects.scattering_orders = orders;
         let mut first = s.clone();
         first.effects.scattering_orders = ScatteringOrders::Limited(1);
         let field = Field::from_scene(&first, &0.0f64).unwrap();
@@ -580,20 +511,27 @@ mod tests {
     /// against their one-level integrals at 10⁻⁹ (the pair sum's at 10⁻⁷)
     /// with the other rule, each reading the table below
     /// it as the table does: 𝒦 on both sides of d = R, near the centre and
-    /// far out; the pair sum across the light's distances from the camera
-    /// ray; albedo 0.5 and 0.95. Each value within the table's (chained)
-    /// bar plus the reference's.
+    /// far out, at every level of remaining segments; the pair sum across
+    /// the light's distances from the camera ray; every order at albedo 0.5
+    /// and 0.95, and orders up to 4 (four levels, G's parts 2 and 3 from
+    /// tables of their own) at albedo 0.8. Each value within the table's
+    /// (chained) bar plus the reference's.
     #[test]
     fn the_pair_tables_are_within_their_bars() {
-        for (albedo, r) in [(0.5, 0.2), (0.95, 0.3)] {
-            let ff = every_order_field(albedo, r);
+        let all = ScatteringOrders::All;
+        for (orders, albedo, r) in [(all, 0.5, 0.2), (all, 0.95, 0.3), (ScatteringOrders::Limited(4), 0.8, 0.2)] {
+            let ff = every_order_field(orders, albedo, r);
             let density = ff.higher_orders().unwrap();
+            let pair_orders = PairOrders::of(density, &albedo).unwrap();
             // A pass's inner goal at 10⁻⁴ (`integrate_nested`'s 20).
             let opts = Options::rel(1e-4 / 20.0).with_budget(crate::quad::Budget::new(20_000_000_000)).declared();
             let (scattered, multiple, tables) =
                 (ScatteredTables::default(), MultipleTables::default(), PairTables::default());
-            let t = ff.pair_tables(&tables, (&scattered, &multiple), density, &opts).expect("pair tables at 1e-4");
+            let t = ff
+                .pair_tables(&tables, (&scattered, &multiple), density, &pair_orders, &opts)
+                .expect("pair tables at 1e-4");
             assert!(t.g_from_shared, "a {albedo}, R {r}: G did not come from the I(D) and (C′ * H)(D) tables");
+            assert_eq!(t.levels.len(), if orders == all { 1 } else { 4 });
             let mut checked = 0;
             let fine = Options { rule: opts.rule.other(), ..Options::rel(1e-9).declared() };
             let mut worst = 0.0f64;
@@ -604,10 +542,12 @@ mod tests {
                 assert!(off <= allowed, "a {albedo}, R {r}, {what} at {d}: off {off:e}, allowed {allowed:e}");
                 checked += 1;
             };
-            for d in [1e-3 * r, 0.5 * r, 0.999 * r, 1.001 * r, 2.0 * r, 1.5, 5.0] {
-                let Some((got, bar)) = t.revisit.hits(&1.0, &r, &d, &0.0) else { continue };
-                let direct = revisit(&1.0, &r, &t.after, &d, &0.0, &fine, false).unwrap();
-                check("𝒦", d, got, bar, direct);
+            for level in &t.levels {
+                for d in [1e-3 * r, 0.5 * r, 0.999 * r, 1.001 * r, 2.0 * r, 1.5, 5.0] {
+                    let Some((got, bar)) = level.revisit.hits(&1.0, &r, &d, &0.0) else { continue };
+                    let direct = revisit(&1.0, &r, &level.after, &d, &0.0, &fine, false).unwrap();
+                    check("𝒦", d, got, bar, direct);
+                }
             }
             let (lo, hi) = super::super::scattered_table::light_distance_range(&ff).unwrap();
             let pairs = t.pairs.as_ref().expect("a pair-sum table");
@@ -616,12 +556,14 @@ mod tests {
                 // 10⁻⁷: the samples read T from the pass's tail table, whose
                 // bar (~10⁻⁸ of the sum here) a finer goal could not meet.
                 let coarser = Options { rel_tol: 1e-7, ..fine.clone() };
-                let direct = pair_sum(&1.0, &r, &albedo, density, &t, &d, &0.0, &coarser).unwrap();
+                let direct = pair_sum(&1.0, &r, &albedo, &pair_orders, &t, &d, &0.0, &coarser).unwrap();
                 check("pair sum", d, got, bar, direct);
             }
             println!(
-                "a {albedo}, R {r}: 𝒦 bar {:.1e}, pairs bar {:.1e}, worst {worst:.2} of allowed",
-                t.revisit.rel_error, pairs.rel_error
+                "{orders:?}, a {albedo}, R {r}: 𝒦 bar {:.1e}, pairs bar {:.1e}, worst {worst:.2} of allowed ({checked} \
+                 values)",
+                t.revisit_rel(),
+                pairs.rel_error
             );
         }
     }
