@@ -39,6 +39,8 @@ fn tracer_z(s: &Scene, seed: u64, trials: u64) -> (f64, f64, f64) {
         "{:?} albedo {} R {}: exact {:.7e} ± {:.1e} (bias {:+.3e}), tracer {:.7e} ± {:.1e}: z {z:+.2}, small-sphere z {z_small:+.1}",
         s.effects.scattering_orders, s.medium.albedo, s.estimator.radius, m.mean.value, m.mean.error, m.bias.value, t.value, t.se
     );
+    let modelled = s.estimator.q == 1.0 && s.estimator.camera_rays == 1;
+    assert_eq!(m.variance.is_some(), modelled, "Var L at q = 1, N_B = 1 only: {:?}", m.variance_missing);
     if let Some(v) = m.variance {
         let tv = summary.variance;
         let z_var = (tv.value - v.value) / (tv.se * tv.se + v.error * v.error).sqrt();
@@ -88,8 +90,9 @@ impl Point {
 /// 0.95, R 0.2 and 0.05, q 1 and 0.5, N_F and N_B from 1 to 200, one and
 /// two lights, a light 0.1 from the camera line: |z| ≤ 4, no allowance;
 /// at the three points with q = 1 and N_B = 1 (`"all"`, orders 5 and 2)
-/// Var L too. (The grid's z are independent: by chance any one of the
-/// eleven has |z| > 4 with probability about 7·10⁻⁴.)
+/// Var L too. (The points are independent, a point's mean and Var L
+/// from the same run: by chance any one of the eleven z has |z| > 4 with
+/// probability at most about 7·10⁻⁴.)
 #[test]
 fn the_tracer_agrees_with_the_exact_mean_of_every_order() {
     use ScatteringOrders::{All, Limited};

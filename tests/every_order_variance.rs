@@ -53,8 +53,9 @@ fn the_tracer_agrees_with_the_exact_variance_of_every_order() {
 /// `predict` (which takes finite orders ≥ 2 at q = 1, N_B = 1): on the
 /// README scene at albedo 0.5, R = 0.2, N_F = 1 (where the same-path pairs
 /// weigh most) Var L of orders 2 and 4 rise towards every order's, and the
-/// gap shrinks at least as the flux beyond the order does, by a² from
-/// order 2 to order 4 (measured 0.17, 7 December 2026; orders 3, 6, 9 gave
+/// gap shrinks from order 2 to order 4 by at least a², as the flux beyond
+/// the order does (a bound the data justify, not a theorem: Var L's gap is
+/// M₂'s less μ²'s; measured 0.17, 7 December 2026; orders 3, 6, 9 gave
 /// gaps of 4.6 %, 0.32 %, 0.024 %).
 #[test]
 fn finite_orders_converge_to_every_order_in_var_l() {

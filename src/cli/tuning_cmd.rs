@@ -90,6 +90,11 @@ pub fn optimize_cmd(a: &OptimizeArgs<'_>, load: impl Fn(&PathBuf) -> Result<Scen
     let mut opts = Options::new(a.budget, costs_for(&scene, a.costs)?);
     opts.max_spheres = a.max_spheres;
     opts.radius_range = a.radius_range;
+    if mcrt_noise::tuning::every_order(&scene) {
+        // A finite order's Var L needs up to 1.4·10⁹ evaluations a radius
+        // (order 9), more than the default: what `predict` gives it.
+        opts.evaluations = mcrt_noise::prec::EVERY_ORDER_PREDICTION_EVALUATIONS;
+    }
     let mut cache = RadiusCache::new(&scene, Budget::new(opts.evaluations), None);
     let optimum = optimize_with(&scene, &opts, &mut cache).map_err(|e| CliError::from(e).at(a.scene.display()))?;
     if let Some(dir) = a.maps {

@@ -147,8 +147,10 @@ impl<T: Real> Piecewise<T> {
                     // A bar δ of ln f is one of e^δ − 1 of f: 1.01δ for
                     // δ ≤ 0.02, more beyond (pieces accepted at their
                     // samples' noise can bear tenths).
+                    // (e^700 keeps a hopeless piece's bar finite in f64.)
                     let ln_bar = err + dropped;
-                    err = (ln_bar.clone() * like.lit(1.01)).max_of(ln_bar.exp() - like.lit(1.0));
+                    let capped = ln_bar.clone().min_of(like.lit(700.0));
+                    err = (ln_bar * like.lit(1.01)).max_of(capped.exp() - like.lit(1.0));
                     accepted = Some((piece, err));
                     break;
                 }

@@ -35,7 +35,7 @@ pub struct EveryOrderMean {
     /// The share of μ(R) of segments 2..=n (or all of them).
     pub beyond_first: ValueWithBar,
     /// Var L of one iteration, exact at R, where the model has it
-    /// (`"all"`, q = 1, N_B = 1: M₂/N_F + (1 − 1/N_F)P − μ²).
+    /// (q = 1, N_B = 1: M₂/N_F + (1 − 1/N_F)P − μ²).
     pub variance: Option<ValueWithBar>,
     /// M₂ behind it (16): Σ_j⟨𝒞_j²⟩ + 2Σ_{j<k}⟨𝒞_j𝒞_k⟩ over one path's
     /// segments at one sphere.
@@ -54,7 +54,7 @@ pub struct EveryOrderMean {
 
 /// Why an every-order report carries the mean only.
 pub const VARIANCE_NOT_MODELLED: &str =
-    "not modelled for this scene yet: the oracle has it for scattering_orders >= 2 or \"all\" at q = 1 and \
+    "not modelled for this scene yet: the oracle has it for scattering_orders 2 to 9 or \"all\" at q = 1 and \
      camera_rays = 1 only (allowed); other q and camera_rays need the correlations of two spheres of every order \
      (docs/model.md §10.4). `predict` and `check` refuse the scene (`optimize` searches it at q = 1 and \
      camera_rays = 1); its exact mean and bias: \

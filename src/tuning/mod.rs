@@ -29,8 +29,8 @@
 //! minutes a search), with no small-sphere model beside it; elsewhere
 //! (Henyey–Greenstein media at order 1) the bias is not predicted, R is
 //! held at the scene's and only (q, N_F, N_B) are chosen, for the noise
-//! alone; Henyey–Greenstein media and beams at orders ≥ 2 are refused (no
-//! Var L).
+//! alone; Henyey–Greenstein media and beams at orders ≥ 2, and orders
+//! above 9, are refused (no Var L).
 
 pub mod alternatives;
 pub mod calibration;
@@ -129,7 +129,10 @@ pub struct Options {
     /// single-scattered light searched at the standard method
     /// ([`Searched::StandardMethod`]) each radius's oracle run, and the
     /// small-sphere comparison beside it, has a budget of its own of this
-    /// size (a beam's costs ~3·10⁸ a radius).
+    /// size (a beam's costs ~3·10⁸ a radius; scattering orders ≥ 2 need
+    /// up to 1.4·10⁹ a radius, order 9: give them
+    /// [`crate::prec::EVERY_ORDER_PREDICTION_EVALUATIONS`], as `mcrt-noise
+    /// optimize` does).
     pub evaluations: u64,
 }
 
@@ -288,8 +291,16 @@ impl Searched {
 }
 
 /// Whether `scene` has scattering orders beyond the first (2 to 9 or
-/// `"all"`), whose model is `docs/model.md` §10.
-pub(crate) fn every_order(scene: &Scene) -> bool {
+/// `"all"`), whose model of every order (`docs/model.md` §10) needs a
+/// larger evaluation budget a radius ([`Options::evaluations`]).
+///
+/// ```
+/// let text = std::fs::read_to_string("scenes/point-isotropic-all.toml")?;
+/// let scene = mcrt_noise::Scene::from_toml_str(&text)?;
+/// assert!(mcrt_noise::tuning::every_order(&scene));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn every_order(scene: &Scene) -> bool {
     crate::oracle::orders_beyond_the_first(scene)
 }
 

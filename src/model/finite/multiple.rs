@@ -148,7 +148,7 @@ impl<T: CheckRule> TailTable<T> {
                     let term = wt.clone() * (radial.eval_ln(&r) + base.clone()).exp();
                     let term = if x.is_zero() { term * w.lit(0.5) } else { term };
                     let rel = radial.rel_error_at(&r);
-                    if rel.to_f64() > TRUSTED_PIECE {
+                    if !(rel.to_f64() <= TRUSTED_PIECE) {
                         return None;
                     }
                     bar = bar + term.clone() * rel;
@@ -157,40 +157,41 @@ impl<T: CheckRule> TailTable<T> {
             }
         }
         let evaluations = (panels as u64) * 2 * SHELL_NODES as u64;
-        // Every term underflowed: nothing to bear but the table's bar.
-        let rel = if sum.is_zero() { radial.rel_error.clone() } else { bar / sum.clone() };
+        // Every term underflowed: the value is 0 and bears nothing.
+        let rel = if sum.is_zero() { sum.clone() } else { bar / sum.clone() };
         Some((sum * half, rel + w.lit(1e-20), evaluations))
     }
 
     /// (∫_{t₀}^{t₀+w} ρ₁ dr·e^{base}) by adaptive quadrature of the radial
     /// table (a shell whose two values of T would cancel, but too wide or
-    /// too near r = 0 for [`TailTable::shell`]), its bar with the table's
-    /// relative one added; `None` without the radial table, beyond it, or
-    /// where the shell meets a piece whose bar is above [`TRUSTED_PIECE`].
+    /// too near r = 0 for [`TailTable::shell`]), its bar with the largest
+    /// relative bar of the table's pieces it crosses added; `None` without
+    /// the radial table, beyond it, or where the shell meets a piece whose
+    /// bar is above [`TRUSTED_PIECE`].
     fn wide_shell(&self, t0: &T, w: &T, base: &T, opts: &Options) -> Option<Outcome<T>> {
         let radial = self.radial.as_ref()?;
         let end = t0.clone() + w.clone();
         if end > self.hi {
             return None;
         }
+        let mut crossed = t0.lit(0.0);
+        for (_, _, rel) in radial.parts_over(t0, &end) {
+            if !(rel.to_f64() <= TRUSTED_PIECE) {
+                return None;
+            }
+            crossed = crossed.max_of(rel);
+        }
         let f = |r: &T| (radial.eval_ln(r) + base.clone()).exp();
+        let cuts: Vec<T> = graded_about(&t0.lit(0.0), &t0.lit(1e-12), &t0.lit(1.0))
+            .into_iter()
+            .filter(|c| *c > *t0 && *c < end)
+            .collect();
+        let domain = Domain::finite(t0.clone(), end).with_breakpoints(cuts);
         let o = Options { abs_tol: 0.0, cross_check: false, ..opts.clone() };
-        // Piece by piece (the table's pieces are graded towards r = 0), each
-        // part bearing its own piece's bar.
-        let parts = radial.parts_over(t0, &end);
-        if parts.iter().any(|(_, _, rel)| rel.to_f64() > TRUSTED_PIECE) {
-            return None;
-        }
-        let mut total = Estimate::known(t0.lit(0.0), t0.lit(0.0), 0, opts.rule);
-        for (from, to, rel) in parts {
-            let e = match crate::quad::integrate(f, &Domain::finite(from, to), &o) {
-                Ok(e) => e,
-                Err(failure) => return Some(Err(failure)),
-            };
-            let bar = e.error.clone() + e.value.abs() * rel;
-            total = total.plus(Estimate { error: bar, ..e });
-        }
-        Some(Ok(total))
+        Some(crate::quad::integrate(f, &domain, &o).map(|e| {
+            let bar = e.error.clone() + e.value.abs() * crossed;
+            Estimate { error: bar, ..e }
+        }))
     }
 
     /// (ln T₁(t), relative bar) where the table reaches.
