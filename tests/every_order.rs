@@ -86,13 +86,13 @@ impl Point {
 }
 
 /// The tracer's mean agrees with the exact mean of every order at each
-/// point of a grid covering orders 2, 5 and "all", albedo 0.5, 0.8 and
-/// 0.95, R 0.2 and 0.05, q 1 and 0.5, N_F and N_B from 1 to 200, one and
-/// two lights, a light 0.1 from the camera line: |z| ≤ 4, no allowance;
-/// at the three points with q = 1 and N_B = 1 (`"all"`, orders 5 and 2)
-/// Var L too. (The points are independent, a point's mean and Var L
-/// from the same run: by chance any one of the eleven z has |z| > 4 with
-/// probability at most about 7·10⁻⁴.)
+/// point of a grid covering orders 2, 3, 5 and "all", albedo 0.5, 0.8,
+/// 0.95 and 1 (order 3), R 0.2 and 0.05, q 1 and 0.5, N_F and N_B from 1
+/// to 200, one and two lights, a light 0.1 from the camera line: |z| ≤ 4,
+/// no allowance; at the four points with q = 1 and N_B = 1 (`"all"`,
+/// orders 5, 2 and 3) Var L too. (The points are independent, a point's
+/// mean and Var L from the same run: by chance any one of the thirteen z
+/// has |z| > 4 with probability at most about 8·10⁻⁴.)
 #[test]
 fn the_tracer_agrees_with_the_exact_mean_of_every_order() {
     use ScatteringOrders::{All, Limited};
@@ -192,6 +192,21 @@ fn the_tracer_agrees_with_the_exact_mean_of_every_order() {
             lights: README,
             trials: 2_000_000,
             seed: 28,
+            rejects_small_sphere: false,
+        },
+        // Albedo 1: a finite order ends every path after its last
+        // scattering (only "all" needs albedo < 1), and optimize searches
+        // such scenes.
+        Point {
+            orders: Limited(3),
+            albedo: 1.0,
+            radius: 0.2,
+            q: 1.0,
+            forward: 1,
+            camera: 1,
+            lights: README,
+            trials: 2_000_000,
+            seed: 29,
             rejects_small_sphere: false,
         },
     ];

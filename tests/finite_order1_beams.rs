@@ -124,7 +124,9 @@ fn tracer_agrees_with_a_beams_order1_variance() {
 /// R → 0; the fitted orders of the relative gaps are printed, and must lie
 /// in [1.5, 2.2] (second order for the mean; Var L's gap carries the
 /// R² ln(1/R) of the same-path hits, as for a point light, §9.6).
+/// (Ignored in CI for its ~2 minutes, like the other R → 0 limits.)
 #[test]
+#[ignore = "~2 min: the R → 0 limit at three radii (`--ignored moments_tend_to`)"]
 fn a_beams_order1_moments_tend_to_the_small_sphere_ones() {
     let radii = [0.04, 0.02, 0.01];
     let gaps: Vec<(f64, f64)> = radii
@@ -145,20 +147,15 @@ fn a_beams_order1_moments_tend_to_the_small_sphere_ones() {
     }
 }
 
-/// Hard cases of a beam's order-1 moments: μ, M₂ and P converge with bars
-/// ≤ 10⁻⁶ of their values at R = 10 (the sphere holds the camera and the
-/// beam's crossing), R = 10⁻⁸ (where the prediction also agrees with the
-/// small-sphere mean and Var L within their bars: the gaps are
-/// O(R² ln(1/R))), a camera ray tangent
-/// to the beam (every sphere's edge across the beam's surface), a dense
-/// medium with σ·(distance to the disk) = 598, near the scene bound (600),
-/// and a tilted beam at σ·distance 539 behind a point light at the camera.
+/// Hard cases of a beam's order-1 moments in CI: μ, M₂ and P converge with
+/// bars ≤ 10⁻⁶ of their values at R = 10 (the sphere holds the camera and
+/// the beam's crossing), a camera ray tangent to the beam (every sphere's
+/// edge across the beam's surface), and a dense medium with σ·(distance to
+/// the disk) = 598, near the scene bound (600); two more, ~2.5 minutes,
+/// are ignored in CI (below).
 #[test]
 fn a_beams_order1_moments_converge_in_hard_cases() {
-    use mcrt_noise::model::field::Field;
-    use mcrt_noise::model::finite::FiniteField;
-    use mcrt_noise::quad::Options;
-    let mut cases: Vec<(&str, Scene)> = vec![("R 10", scene(10.0, 1, 0.8)), ("R 1e-8", scene(1e-8, 1, 0.8))];
+    let mut cases: Vec<(&str, Scene)> = vec![("R 10", scene(10.0, 1, 0.8))];
     let mut tangent = scene(0.2, 1, 0.8);
     if let Light::Beam { center, .. } = &mut tangent.lights[0] {
         *center = DVec3::new(-2.0, 0.5, 1.0);
@@ -167,6 +164,35 @@ fn a_beams_order1_moments_converge_in_hard_cases() {
     let mut dense = scene(0.01, 1, 0.8);
     dense.medium.sigma_ext = 290.0;
     cases.push(("σ·distance 598", dense));
+    for (name, s) in cases {
+        moments_converge(name, &s);
+    }
+}
+
+/// The other hard cases (ignored in CI for their ~2.5 minutes: `cargo test
+/// --release --test finite_order1_beams -- --ignored more_hard_cases`): R = 10⁻⁸,
+/// where the prediction also agrees with the small-sphere mean and Var L
+/// within their bars (the gaps are O(R² ln(1/R))), and a tilted beam at
+/// σ·distance 539 behind a point light at the camera.
+#[test]
+#[ignore = "~2.5 min: R = 1e-8 with its prediction, and a far beam behind a light (`--ignored more_hard_cases`)"]
+fn a_beams_order1_moments_converge_in_more_hard_cases() {
+    let tiny = scene(1e-8, 1, 0.8);
+    moments_converge("R 1e-8", &tiny);
+    // The models differ by O(R² ln(1/R)) ~ 10⁻¹⁵ here: within the bars
+    // of the oracle at 10⁻⁶ (the default; bars ~5·10⁻⁶ relative).
+    let report = run_scoped(&tiny, Precision::F64, Some(1e-6), Scope::Prediction).unwrap();
+    assert_eq!(report.prediction.model, "finite-sphere", "{}", report.prediction.note);
+    let within = |finite: mcrt_noise::oracle::ValueWithBar, small: mcrt_noise::oracle::ValueWithBar| {
+        let gap = (finite.value / small.value - 1.0).abs();
+        (gap, finite.error / finite.value + small.error / small.value)
+    };
+    let gaps = [
+        within(report.prediction.mean, report.mean_luminance),
+        within(report.prediction.variance, report.variance.as_ref().unwrap().exact),
+    ];
+    println!("R 1e-8: relative gaps to the small-sphere mean, Var L (and their bars): {gaps:?}");
+    assert!(gaps.iter().all(|(gap, bar)| gap <= bar), "R 1e-8: gaps {gaps:?}");
     // A point light next to the camera sets c₀ ≈ 0 while a tilted beam
     // lies at σ·distance 539: the beam's tables carry its own shift
     // (without, its values near their range's end fell below f64's range),
@@ -182,36 +208,25 @@ fn a_beams_order1_moments_converge_in_hard_cases() {
             flux: 1.0,
         },
     ];
-    cases.push(("a beam at σ·distance 539 behind a light at the camera", far));
-    for (name, s) in cases {
-        let field = Field::from_scene(&s, &1.0f64).unwrap();
-        let ff = FiniteField::of_first_segments(&s, &field);
-        let o = Options::rel(1e-6);
-        let t0 = std::time::Instant::now();
-        let ints = ff.order1_unpaired(&o).unwrap_or_else(|e| panic!("{name}: {e}"));
-        for (what, e) in [("μ", &ints.mean), ("M₂", &ints.m2), ("P", &ints.p)] {
-            println!("{name}: {what}·e^(c₀) = {:.6e} ± {:.1e} ({} evaluations)", e.value, e.error, e.evaluations);
-            assert!(e.value.is_finite() && e.value > 0.0, "{name}: {what} = {}", e.value);
-            assert!(e.error <= 1e-6 * e.value, "{name}: {what}: bar {} of {}", e.error, e.value);
-        }
-        println!("{name}: {:.1} s", t0.elapsed().as_secs_f64());
-        if name == "R 1e-8" {
-            // The models differ by O(R² ln(1/R)) ~ 10⁻¹⁵ here: within the bars
-            // of the oracle at 10⁻⁶ (the default; bars ~5·10⁻⁶ relative).
-            let report = run_scoped(&s, Precision::F64, Some(1e-6), Scope::Prediction).unwrap();
-            assert_eq!(report.prediction.model, "finite-sphere", "{}", report.prediction.note);
-            let within = |finite: mcrt_noise::oracle::ValueWithBar, small: mcrt_noise::oracle::ValueWithBar| {
-                let gap = (finite.value / small.value - 1.0).abs();
-                (gap, finite.error / finite.value + small.error / small.value)
-            };
-            let gaps = [
-                within(report.prediction.mean, report.mean_luminance),
-                within(report.prediction.variance, report.variance.as_ref().unwrap().exact),
-            ];
-            println!("{name}: relative gaps to the small-sphere mean, Var L (and their bars): {gaps:?}");
-            assert!(gaps.iter().all(|(gap, bar)| gap <= bar), "{name}: gaps {gaps:?}");
-        }
+    moments_converge("a beam at σ·distance 539 behind a light at the camera", &far);
+}
+
+/// μ, M₂ and P of `s`'s order-1 finite-sphere model at 10⁻⁶: finite,
+/// positive, with bars ≤ 10⁻⁶ of their values.
+fn moments_converge(name: &str, s: &Scene) {
+    use mcrt_noise::model::field::Field;
+    use mcrt_noise::model::finite::FiniteField;
+    use mcrt_noise::quad::Options;
+    let field = Field::from_scene(s, &1.0f64).unwrap();
+    let ff = FiniteField::of_first_segments(s, &field);
+    let t0 = std::time::Instant::now();
+    let ints = ff.order1_unpaired(&Options::rel(1e-6)).unwrap_or_else(|e| panic!("{name}: {e}"));
+    for (what, e) in [("μ", &ints.mean), ("M₂", &ints.m2), ("P", &ints.p)] {
+        println!("{name}: {what}·e^(c₀) = {:.6e} ± {:.1e} ({} evaluations)", e.value, e.error, e.evaluations);
+        assert!(e.value.is_finite() && e.value > 0.0, "{name}: {what} = {}", e.value);
+        assert!(e.error <= 1e-6 * e.value, "{name}: {what}: bar {} of {}", e.error, e.value);
     }
+    println!("{name}: {:.1} s", t0.elapsed().as_secs_f64());
 }
 
 /// What a renderer developer gets for a beam's order-1 scene with q = 1,

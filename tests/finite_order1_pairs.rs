@@ -77,18 +77,15 @@ fn agrees(p: &Point) -> (Barred, Barred) {
     (var, tracer)
 }
 
-/// The points of `docs/model.md` §9.7 with the light at (1, 0, 1) (q < 1
-/// and N_B > 1 throughout; R 0.2, 0.5, 0.1; q 0.5, 0.2; N_F 20, 1, 200;
-/// N_B 8, 2; albedo 0.8 and 0.3), ~30–50 s of quadrature each on two
-/// cores with the Gauss–Kronrod pair (`docs/quadrature.md`); at the first,
-/// the prediction without the two-segment pairs is rejected (erratum E10).
+/// The first two points of `docs/model.md` §9.7 with the light at (1, 0, 1)
+/// (q < 1 and N_B > 1 throughout; R 0.2, 0.5; q 0.5, 0.2; N_F 20, 1; N_B
+/// 8, 2), ~30–50 s of quadrature each on two cores with the Gauss–Kronrod
+/// pair (`docs/quadrature.md`); at the first, the prediction without the
+/// two-segment pairs is rejected (erratum E10). The third point (R 0.1,
+/// N_F 200, albedo 0.3) is ignored in CI for its ~1.5 minutes, below.
 #[test]
 fn order1_correlations_agree_with_the_tracer() {
-    let points = [
-        BASE,
-        Point { radius: 0.5, q: 0.2, n_f: 1, n_b: 2, trials: 6_000_000, ..BASE },
-        Point { radius: 0.1, n_f: 200, albedo: 0.3, trials: 700_000, ..BASE },
-    ];
+    let points = [BASE, Point { radius: 0.5, q: 0.2, n_f: 1, n_b: 2, trials: 6_000_000, ..BASE }];
     for p in &points {
         let (var, tracer) = agrees(p);
         if p.radius == BASE.radius {
@@ -100,6 +97,14 @@ fn order1_correlations_agree_with_the_tracer() {
             assert!(z_without > 6.0, "E10: the prediction without the pairs is not rejected (z {z_without:+.2})");
         }
     }
+}
+
+/// The third point of `docs/model.md` §9.7: R = 0.1, N_F = 200, albedo
+/// 0.3 (q = 0.5, N_B = 8), ignored in CI for its ~1.5 minutes.
+#[test]
+#[ignore]
+fn order1_correlations_agree_with_the_tracer_at_low_albedo() {
+    agrees(&Point { radius: 0.1, n_f: 200, albedo: 0.3, trials: 700_000, ..BASE });
 }
 
 /// The fourth point of `docs/model.md` §9.7: the light 0.1 from the camera

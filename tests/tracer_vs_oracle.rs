@@ -208,7 +208,11 @@ fn point_5_beam_q1_r005_one_forward_ray() {
 fn point_6_order1_q05_r005_many_rays() {
     point(6);
 }
+/// (Ignored in CI for its ~2 minutes — 3·10⁷ tracer trials and the
+/// order-1 correlations: q = 0.2 with N_F = 1 is checked against the
+/// tracer in CI by `finite_order1_pairs`'s second point.)
 #[test]
+#[ignore = "~2 min: 3·10⁷ tracer trials and the order-1 correlations (`--ignored point_7`)"]
 fn point_7_order1_q02_r002_single_rays() {
     point(7);
 }

@@ -107,16 +107,28 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
             Err(why) => writeln!(s, "  {}: {why}", a.name).unwrap(),
         }
     }
-    let below: Vec<&str> = o
-        .alternatives
-        .iter()
-        .filter(|a| a.scored.as_ref().is_ok_and(|x| x.rmse.relative < o.best.rmse.relative))
-        .map(|a| a.name.as_str())
-        .collect();
+    let below_at = |inside: bool| -> Vec<&str> {
+        let (lo, hi) = o.radius_range;
+        o.alternatives
+            .iter()
+            .filter(|a| {
+                a.scored.as_ref().is_ok_and(|x| {
+                    let r = x.parameters.radius;
+                    x.rmse.relative < o.best.rmse.relative && (lo <= r && r <= hi) == inside
+                })
+            })
+            .map(|a| a.name.as_str())
+            .collect()
+    };
+    let (below, outside) = (below_at(true), below_at(false));
     if standard && every_order && !below.is_empty() {
-        writeln!(s, "\nbelow the best: {} (by the same exact model: the search over R — a grid of 4 radii per decade, then golden section about its best — missed it)", below.join("; ")).unwrap();
-    } else if standard && !below.is_empty() {
-        writeln!(s, "\nbelow the best: {} (the small-sphere model predicts less error with other q and N_B at the scene's R; the finite-sphere model does not yet give Var L there, so the gap is not proven)", below.join("; ")).unwrap();
+        writeln!(s, "\nbelow the best: {} (by the same exact model, at a radius inside the searched range: the search over R — a grid of 4 radii per decade, then golden section about its best — missed it)", below.join("; ")).unwrap();
+    }
+    if standard && every_order && !outside.is_empty() {
+        writeln!(s, "\nbelow the best: {} (by the same exact model, at a radius outside the searched range [{:.3e}, {:.3e}]: widen --radius-range to search there)", outside.join("; "), o.radius_range.0, o.radius_range.1).unwrap();
+    }
+    if standard && !every_order && !(below.is_empty() && outside.is_empty()) {
+        writeln!(s, "\nbelow the best: {} (the small-sphere model predicts less error with other q and N_B at the scene's R; the finite-sphere model does not yet give Var L there, so the gap is not proven)", [below, outside].concat().join("; ")).unwrap();
     }
     if let Some(Ok(q1)) = o.alternatives.iter().find(|a| a.name.starts_with("q = 1")).map(|a| a.scored.as_ref()) {
         writeln!(
