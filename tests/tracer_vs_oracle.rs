@@ -23,7 +23,7 @@
 //! against the tracer with that allowance carried to the point's R by
 //! `prec::model_error_scale` (R ln(1/R)); the ignored test
 //! `model_error_at_the_reference_radius` re-measures it
-//! (`cargo test --release --test tracer_vs_oracle -- --ignored --nocapture`,
+//! (`cargo test --release --test tracer_vs_oracle -- --ignored --nocapture model_error`,
 //! ~3 min). More points, without any allowance, in `tests/tracer_vs_finite.rs`
 //! and `tests/finite_order1*.rs`.
 //! Every point also states its resolution (relative standard errors), so
@@ -210,7 +210,8 @@ fn point_6_order1_q05_r005_many_rays() {
 }
 /// (Ignored in CI for its ~2 minutes — 3·10⁷ tracer trials and the
 /// order-1 correlations: q = 0.2 with N_F = 1 is checked against the
-/// tracer in CI by `finite_order1_pairs`'s second point.)
+/// tracer in CI by `finite_order1_pairs`'s second point, and the
+/// small-sphere allowance against the tracer by point 6.)
 #[test]
 #[ignore = "~2 min: 3·10⁷ tracer trials and the order-1 correlations (`--ignored point_7`)"]
 fn point_7_order1_q02_r002_single_rays() {

@@ -2,9 +2,10 @@
 //! noise parts of their RMSE, the alternatives beside them, the gain over
 //! q = 1, and the sensitivity of the optimum.
 
+use crate::tuning::alternatives::SMALL_SPHERE_NOTE;
 use crate::tuning::search::Scored;
 use crate::tuning::sensitivity::Range;
-use crate::tuning::{Optimum, Searched};
+use crate::tuning::{Alternative, Optimum, Searched};
 use std::fmt::Write;
 
 /// A parameter set and its predicted error on one line (`q` shown as
@@ -107,28 +108,17 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
             Err(why) => writeln!(s, "  {}: {why}", a.name).unwrap(),
         }
     }
-    let below_at = |inside: bool| -> Vec<&str> {
-        let (lo, hi) = o.radius_range;
-        o.alternatives
-            .iter()
-            .filter(|a| {
-                a.scored.as_ref().is_ok_and(|x| {
-                    let r = x.parameters.radius;
-                    x.rmse.relative < o.best.rmse.relative && (lo <= r && r <= hi) == inside
-                })
-            })
-            .map(|a| a.name.as_str())
-            .collect()
-    };
-    let (below, outside) = (below_at(true), below_at(false));
-    if standard && every_order && !below.is_empty() {
-        writeln!(s, "\nbelow the best: {} (by the same exact model, at a radius inside the searched range: the search over R — a grid of 4 radii per decade, then golden section about its best — missed it)", below.join("; ")).unwrap();
+    let (lo, hi) = o.radius_range;
+    let [small, inside, outside] =
+        if standard { below_the_best(&o.alternatives, o.best.rmse.relative, (lo, hi)) } else { Default::default() };
+    if !inside.is_empty() {
+        writeln!(s, "\nbelow the best: {} (by the same exact model, at a radius inside the searched range: the search over R — a grid of 4 radii per decade, then golden section about its best — missed it)", inside.join("; ")).unwrap();
     }
-    if standard && every_order && !outside.is_empty() {
-        writeln!(s, "\nbelow the best: {} (by the same exact model, at a radius outside the searched range [{:.3e}, {:.3e}]: widen --radius-range to search there)", outside.join("; "), o.radius_range.0, o.radius_range.1).unwrap();
+    if !outside.is_empty() {
+        writeln!(s, "\nbelow the best: {} (by the same exact model, at a radius outside the searched range [{lo:.3e}, {hi:.3e}]: widen --radius-range to search there)", outside.join("; ")).unwrap();
     }
-    if standard && !every_order && !(below.is_empty() && outside.is_empty()) {
-        writeln!(s, "\nbelow the best: {} (the small-sphere model predicts less error with other q and N_B at the scene's R; the finite-sphere model does not yet give Var L there, so the gap is not proven)", [below, outside].concat().join("; ")).unwrap();
+    if !small.is_empty() {
+        writeln!(s, "\nbelow the best: {} (the small-sphere model predicts less error with other q and N_B at the scene's R; the finite-sphere model does not yet give Var L there, so the gap is not proven)", small.join("; ")).unwrap();
     }
     if let Some(Ok(q1)) = o.alternatives.iter().find(|a| a.name.starts_with("q = 1")).map(|a| a.scored.as_ref()) {
         writeln!(
@@ -162,9 +152,87 @@ pub fn text(scene_label: &str, o: &Optimum) -> String {
     s
 }
 
+/// The alternatives with less predicted RMSE than `best`, by the
+/// small-sphere model (not proven: its error at R is not in its bar), or by
+/// the same exact model at a radius inside the searched `range` (a miss of
+/// the search) or outside it: their names in that order.
+fn below_the_best(alternatives: &[Alternative], best: f64, (lo, hi): (f64, f64)) -> [Vec<&str>; 3] {
+    let mut out: [Vec<&str>; 3] = Default::default();
+    for a in alternatives {
+        let Ok(x) = &a.scored else { continue };
+        if x.rmse.relative >= best {
+            continue;
+        }
+        let r = x.parameters.radius;
+        let which = if a.note.contains(SMALL_SPHERE_NOTE) || a.name.contains("small-sphere") {
+            0
+        } else if lo <= r && r <= hi {
+            1
+        } else {
+            2
+        };
+        out[which].push(a.name.as_str());
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{fmt_q, significant};
+    use super::{below_the_best, fmt_q, significant, Alternative, SMALL_SPHERE_NOTE};
+    use crate::tuning::cost::{IterationCounts, Parameters};
+    use crate::tuning::objective::Rmse;
+    use crate::tuning::search::Scored;
+
+    /// Alternatives below the best are told apart by what scored them and
+    /// where their R lies: the small-sphere model's (by name or note), the
+    /// exact model's inside the searched range (a miss of the search) and
+    /// outside it (`--radius-range` too narrow); those at or above the best
+    /// and those not scored are not listed.
+    #[test]
+    fn alternatives_below_the_best_are_told_apart() {
+        let alt = |name: &str, note: &str, radius: f64, relative: f64| Alternative {
+            name: name.into(),
+            scored: Ok(Scored {
+                parameters: Parameters { q: 1.0, radius, forward_rays: 1, camera_rays: 1 },
+                rmse: Rmse {
+                    relative,
+                    error: 0.0,
+                    relative_bias: None,
+                    relative_bias_error: None,
+                    relative_noise: relative,
+                    relative_noise_error: 0.0,
+                    iterations: 1,
+                    seconds_per_iteration: 1.0,
+                    seconds_per_iteration_error: 0.0,
+                },
+                counts: IterationCounts {
+                    trials: 1.0,
+                    forward_rays: 1.0,
+                    camera_rays: 1.0,
+                    segments: 1.0,
+                    spheres: 1.0,
+                    sort_work: 0.0,
+                    search_work: 0.0,
+                    hits: 0.0,
+                    hg_evaluations: 0.0,
+                },
+            }),
+            note: note.into(),
+        };
+        let own_note = format!("q = 0.5, R = 0.2; {SMALL_SPHERE_NOTE}");
+        let alternatives = vec![
+            alt("the scene's own parameters", &own_note, 0.2, 0.5),
+            alt("R of the asymptotic rule", "", 0.09, 0.5),
+            alt("q = 1 at R inside", "", 0.2, 0.5),
+            alt("q, N_F, N_B free (small-sphere model)", "", 0.2, 0.5),
+            alt("worse", "", 0.2, 2.0),
+            Alternative { name: "not scored".into(), scored: Err("why".into()), note: String::new() },
+        ];
+        let [small, inside, outside] = below_the_best(&alternatives, 1.0, (0.15, 0.3));
+        assert_eq!(small, ["the scene's own parameters", "q, N_F, N_B free (small-sphere model)"]);
+        assert_eq!(inside, ["q = 1 at R inside"]);
+        assert_eq!(outside, ["R of the asymptotic rule"]);
+    }
 
     /// The outside probe, item 12: q = 1e-5 printed `q = 0.0000` and a ratio
     /// of 3e-7 `(ratio 0.000)`. Every value keeps 4 significant digits.

@@ -78,6 +78,13 @@ pub(crate) fn alternatives(
     Ok(out)
 }
 
+/// The note of an alternative that the small-sphere model scores beside
+/// the standard method (the reports tell its predictions from the exact
+/// model's by it).
+pub(crate) const SMALL_SPHERE_NOTE: &str = "Var L from the small-sphere model, exact only as R → 0: its own error at \
+                                            this R is not in the bar (docs/model-error.md); the bias b(R) from the \
+                                            finite-sphere mean; R held at the scene's";
+
 /// The comparisons beside the standard method's optimum of single-scattered
 /// light (q = 1, N_B = 1, R and N_F searched by the finite-sphere model):
 /// the scene's own parameters, the asymptotic rule's R, and q, N_F, N_B
@@ -102,9 +109,7 @@ pub(crate) fn beside_the_standard_method(
     // failure is that alternative's answer, not the optimum's.
     let budget = Budget::new(opts.evaluations);
     let small = RadiusCache::small_sphere(scene, budget).at(own.radius).map_err(|e| e.to_string());
-    let small_note = "Var L from the small-sphere model, exact only as R → 0: its own error at this R is not in \
-                      the bar (docs/model-error.md); the bias b(R) from the finite-sphere mean; R held at the \
-                      scene's";
+    let small_note = SMALL_SPHERE_NOTE;
     let mut out = Vec::new();
     let standard = own.q == 1.0 && own.camera_rays == 1;
     // Every order: the small-sphere model has no Var L of it, and the
