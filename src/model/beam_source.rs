@@ -32,6 +32,8 @@ use crate::real::Real;
 use crate::special::arc_in_disc_gaps;
 use mcrt_scene::DVec3;
 
+pub use super::beam_fluence::ScatteredBeam;
+
 /// The camera ray in a beam's frame (`docs/model.md` §9.3): e_n ∥ u × v_b,
 /// e_m = v_b × e_n; the camera origin at (ξ₀, η₀) across the beam and
 /// depth₀ past its disk, the ray at cos ϑ = μ = u·v_b, sin ϑ = |u × v_b|
@@ -90,6 +92,45 @@ pub(crate) struct BeamPoint<T> {
     pub sigma: T,
 }
 
+/// A factor of a shell kernel that depends on the shell's radius d alone,
+/// e^{ln}·rest with a relative bar ([`BeamPoint::integral_over_shells`]).
+#[derive(Debug, Clone)]
+pub(crate) struct ShellFactor<T> {
+    /// Its exponent (kept apart so that the kernel can fold it into its own).
+    pub ln: T,
+    /// The rest.
+    pub rest: T,
+    /// Its relative bar.
+    pub rel: T,
+}
+
+impl<T: Real> ShellFactor<T> {
+    /// The factor 1 (no bar).
+    pub fn one(like: &T) -> Self {
+        ShellFactor { ln: like.lit(0.0), rest: like.lit(1.0), rel: like.lit(0.0) }
+    }
+}
+
+/// A shell kernel (t, d, the shell's factor) ↦ σe^{−σt}·d²k(d)
+/// ([`BeamPoint::integral_over_shells`]).
+pub(crate) type ShellKernel<'a, T> = dyn Fn(&T, &T, &ShellFactor<T>) -> T + Sync + 'a;
+
+/// The shell factor of a radius d, computed with the options it is handed.
+pub(crate) type ShellFactorFn<'a, T> =
+    dyn Fn(&T, &Options) -> Result<ShellFactor<T>, crate::quad::Failure<T>> + Sync + 'a;
+
+/// How [`BeamPoint::integral_over_shells`] runs over the shells' radii.
+pub(crate) struct Shells<'a, T> {
+    /// R where the kernel has a √-kink at d = R.
+    pub knee: Option<&'a T>,
+    /// The rate the integrand decays at in d (the quadrature's hint).
+    pub decay: T,
+    /// The kernel's factor of d alone, if any.
+    pub factor: Option<&'a ShellFactorFn<'a, T>>,
+    /// The largest radius integrated (the caller bounds the rest).
+    pub cut: Option<T>,
+}
+
 impl<T: CheckRule> BeamPoint<T> {
     /// ∫ n(x₁) k(|x₁ − x|) d³x₁ (module docs). `kernel(t, d)` gives
     /// σe^{−σt}·d²k(d) at depth t (with whatever shift the caller carries,
@@ -107,12 +148,40 @@ impl<T: CheckRule> BeamPoint<T> {
         opts: &Options,
         within: bool,
     ) -> Outcome<T> {
+        let plain = |t: &T, d: &T, _: &ShellFactor<T>| kernel(t, d);
+        let shells = Shells { knee, decay: self.sigma.clone(), factor: None, cut: None };
+        self.integral_over_shells(&plain, &shells, opts, within)
+    }
+
+    /// The distance from x to the nearest point of the beam's volume (0
+    /// inside it).
+    pub fn nearest(&self) -> T {
+        let zero = self.a.lit(0.0);
+        let across = (self.p.clone() - self.a.clone()).max_of(zero.clone());
+        let before = (-self.tau.clone()).max_of(zero);
+        (across.clone() * across + before.clone() * before).sqrt()
+    }
+
+    /// [`BeamPoint::integral`] with a factor of the kernel that depends on
+    /// d alone, computed once per shell with its relative bar
+    /// (`shells.factor`: a radial function the caller reads from tables or
+    /// integrates, such as the hits of a fresh path of every order), handed
+    /// to `kernel(t, d, factor)`; each shell's value bears the factor's
+    /// relative bar. The shells run out to `shells.cut` when given (the
+    /// caller bounds the rest) and decay at `shells.decay` beyond the
+    /// volume's kinks (the quadrature's hint: νσ for a kernel of every
+    /// order, which falls off more slowly than σ).
+    pub fn integral_over_shells(
+        &self,
+        kernel: &ShellKernel<'_, T>,
+        shells: &Shells<'_, T>,
+        opts: &Options,
+        within: bool,
+    ) -> Outcome<T> {
+        let knee = shells.knee;
         let zero = self.a.lit(0.0);
         let (near, far) = ((self.a.clone() - self.p.clone()).abs(), self.a.clone() + self.p.clone());
-        // The nearest point of the beam's volume.
-        let across = (self.p.clone() - self.a.clone()).max_of(zero.clone());
-        let before = (-self.tau.clone()).max_of(zero.clone());
-        let lo = (across.clone() * across + before.clone() * before).sqrt();
+        let lo = self.nearest();
         let tau2 = self.tau.clone() * self.tau.clone();
         let mut cuts = vec![
             near.clone(),
@@ -140,7 +209,18 @@ impl<T: CheckRule> BeamPoint<T> {
             (lo, cuts)
         };
         let cuts: Vec<T> = cuts.into_iter().filter(|c| *c > lo).collect();
-        let domain = Domain::semi_infinite(lo).with_breakpoints(cuts).with_decay(self.sigma.clone());
+        let domain = match &shells.cut {
+            None => Domain::semi_infinite(lo).with_breakpoints(cuts),
+            Some(cut) => {
+                let end = if offset { cut.clone() - self.p.clone() } else { cut.clone() };
+                if !(end > lo) {
+                    return Ok(Estimate::known(zero.clone(), zero, 0, opts.rule));
+                }
+                let inner: Vec<T> = cuts.into_iter().filter(|c| *c < end).collect();
+                Domain::finite(lo, end).with_breakpoints(inner)
+            }
+        }
+        .with_decay(shells.decay.clone());
         let area = zero.pi() * self.a.clone() * self.a.clone();
         // The shells' values are 1/(πa²) times what `shell` integrates, so
         // their absolute goal is πa² times the one asked of their sum's
@@ -151,7 +231,14 @@ impl<T: CheckRule> BeamPoint<T> {
             let o = &Options { abs_tol: o.abs_tol * area_f64, ..o.clone() };
             let (d, d_less_p) =
                 if offset { (self.p.clone() + v.clone(), v.clone()) } else { (v.clone(), v.clone() - self.p.clone()) };
-            Ok(self.shell(&d, &d_less_p, kernel, o)?.scaled(&(v.lit(1.0) / area.clone())))
+            let factor = match shells.factor {
+                Some(weigh) => weigh(&d, o)?,
+                None => ShellFactor::one(&d),
+            };
+            let k = |t: &T, d: &T| kernel(t, d, &factor);
+            let e = self.shell(&d, &d_less_p, &k, o)?.scaled(&(v.lit(1.0) / area.clone()));
+            let error = e.error.clone() + e.value.abs() * factor.rel.clone();
+            Ok(Estimate { error, ..e })
         };
         if !within {
             return integrate_nested(f, &domain, opts);
@@ -429,181 +516,6 @@ fn band_width<T: Real>(d: &T, near: &Kink<T>, far: &Kink<T>, a: &T, p: &T) -> T 
     let cos = (x.clone() * near.s.clone() + y.clone() * far.s.clone())
         * (far.s.clone() * near.s.clone() + x.clone() * y.clone());
     angle_of(sin, cos)
-}
-
-/// A beam's single-scattered light as the small-sphere field sees it
-/// (isotropic media): its fluence ∫L₁dω at the camera-ray points, from the
-/// beam's frame (as `finite::beam`: the camera origin at (ξ₀, η₀) across,
-/// depth₀ along; the ray at angle ϑ to v_b, cos ϑ = μ).
-#[derive(Debug, Clone)]
-pub struct ScatteredBeam<T> {
-    /// Disk radius a.
-    pub radius: T,
-    /// Flux Φ.
-    pub flux: T,
-    /// μ = u·v_b.
-    pub mu: T,
-    /// sin ϑ = |u × v_b|.
-    pub sin: T,
-    /// The camera origin across the beam, along e_m = v_b × e_n (e_n ∥ u × v_b).
-    pub xi0: T,
-    /// The camera origin across the beam, along e_n.
-    pub eta0: T,
-    /// The camera origin's depth past the disk.
-    pub depth0: T,
-    /// The scale c_b of its fluence ([`super::field::Field::beams_shift`]).
-    pub shift: T,
-    /// The field's [`super::field::Field::center`].
-    pub center: T,
-}
-
-#[cfg(test)]
-impl ScatteredBeam<f64> {
-    /// The tests' beam: radius `a`, flux 1, from `center` along
-    /// `direction`, seen from the camera ray from the origin along +z
-    /// (scale c_b = 0, field centre 0).
-    pub(crate) fn seen_along_z(center: DVec3, direction: DVec3, a: f64) -> ScatteredBeam<f64> {
-        let frame = BeamFrame::new(DVec3::ZERO, DVec3::Z, center, direction.normalize());
-        ScatteredBeam {
-            radius: a,
-            flux: 1.0,
-            mu: frame.mu,
-            sin: frame.sin,
-            xi0: frame.xi0,
-            eta0: frame.eta0,
-            depth0: frame.depth0,
-            shift: 0.0,
-            center: 0.0,
-        }
-    }
-}
-
-impl<T: Real> ScatteredBeam<T> {
-    /// Where the camera-ray point s = center + x sits against the beam.
-    fn point(&self, x: &T, sigma: &T) -> BeamPoint<T> {
-        let s = self.center.clone() + x.clone();
-        let across = self.xi0.clone() + s.clone() * self.sin.clone();
-        BeamPoint {
-            a: self.radius.clone(),
-            p: (across.clone() * across + self.eta0.clone() * self.eta0.clone()).sqrt(),
-            tau: self.depth0.clone() + self.mu.clone() * s,
-            sigma: sigma.clone(),
-        }
-    }
-
-    /// An upper bound of [`ScatteredBeam::fluence`] at x: every path from
-    /// the disk to x through a first interaction is at least
-    /// ℓ = max(dist(x, beam), τ⁺) long (`beam_scattered_path`), and
-    /// ∫ n/d² over the beam is at most 8σ/a (the ball of radius a about x
-    /// gives ≤ 4πa·σ/(πa²), the rest, at d ≥ max(a, |t − τ|), ≤ 4πa·σ/(πa²)
-    /// too), with e^{−σ(t + d)} ≤ e^{−σℓ}: albedo Φ f e^{c_b − σℓ}·8σ/a
-    /// (c_b this light's `shift`, the scale of [`ScatteredBeam::fluence`]).
-    pub fn fluence_bound(&self, x: &T, sigma: &T, albedo: &T) -> T {
-        let at = self.point(x, sigma);
-        let zero = x.lit(0.0);
-        let across = (at.p.clone() - at.a.clone()).max_of(zero.clone());
-        let before = (-at.tau.clone()).max_of(zero.clone());
-        let dist2 = across.clone() * across + before.clone() * before;
-        let path = dist2.clone().sqrt().max_of(at.tau.clone());
-        let volume = x.lit(8.0) * sigma.clone() / at.a.clone();
-        let front = albedo.clone() * self.flux.clone() / (x.pi() * x.lit(4.0));
-        front * volume * (self.shift.clone() - sigma.clone() * path).exp()
-    }
-
-    /// Where along the camera ray (in x) the fluence bends: the ray
-    /// crossing the disk's plane (τ = 0) and the beam's surface (p = a).
-    pub fn ray_breakpoints(&self) -> Vec<T> {
-        let mut out = self.surface_crossings();
-        if !self.mu.is_zero() {
-            let s = -self.depth0.clone() / self.mu.clone();
-            if s > self.radius.lit(0.0) {
-                out.push(s - self.center.clone());
-            }
-        }
-        out
-    }
-
-    /// Decades (in x) about the camera ray's closest approach to the beam's
-    /// axis, s* = −ξ₀/sin ϑ, from the width max(4a, |η₀|)/sin ϑ out to
-    /// 1/(σ sin ϑ): seen from outside a thin beam the fluence falls like a
-    /// line source's, ~1/p in the distance p from the axis, out to about a
-    /// decay length, and along the ray p grows as sin ϑ·|s − s*| (a near
-    /// miss, |η₀| > a, peaks there as a Lorentzian of width |η₀|/sin ϑ). A
-    /// piece spanning ln p over several decades cost the along-ray tables
-    /// their samples: with the surface crossings' decades alone (out to
-    /// 4a), a beam of radius 10⁻³ crossing the ray needed 1 200–1 328
-    /// fluence samples per table, and one of 10⁻⁵ spent the oracle's 10⁹
-    /// evaluations at 10⁻⁴. Empty for a beam parallel to the ray, or whose
-    /// axis passes closest behind the camera.
-    pub fn line_source_grading(&self, sigma: &T) -> Vec<T> {
-        let zero = self.radius.lit(0.0);
-        if !(self.sin > zero) {
-            return Vec::new();
-        }
-        let closest = -self.xi0.clone() / self.sin.clone();
-        if !(closest > zero) {
-            return Vec::new();
-        }
-        let near = (self.radius.clone() * self.radius.lit(4.0)).max_of(self.eta0.clone().abs());
-        let width = near / self.sin.clone();
-        let scale = self.radius.lit(1.0) / (sigma.clone() * self.sin.clone());
-        crate::model::field::graded_about(&(closest - self.center.clone()), &width, &scale)
-    }
-
-    /// Where (in x) the plane through the camera-ray point normal to u
-    /// touches the disk's rim, s = (c − o)·u ± a sin ϑ (c the disk's
-    /// centre): there the rim's directions, where the beam's radiance by
-    /// direction bends (`beam_angular`), cross the equator μ = 0, where the
-    /// pair integrals' g jumps, so their integrand along the ray bends
-    /// (for a beam across the ray, μ = 0, these are also where that plane
-    /// touches the cylinder). Ahead of the camera only.
-    pub fn equator_crossings(&self) -> Vec<T> {
-        let zero = self.radius.lit(0.0);
-        let centre = -(self.xi0.clone() * self.sin.clone() + self.depth0.clone() * self.mu.clone());
-        let half = self.radius.clone() * self.sin.clone();
-        [centre.clone() - half.clone(), centre + half]
-            .into_iter()
-            .filter(|s| *s > zero)
-            .map(|s| s - self.center.clone())
-            .collect()
-    }
-
-    /// Where (in x) the camera ray crosses the beam's cylindrical surface
-    /// p = a, ahead of the camera.
-    pub fn surface_crossings(&self) -> Vec<T> {
-        let zero = self.radius.lit(0.0);
-        let mut s_points = Vec::new();
-        if !self.sin.is_zero() {
-            let a = &self.radius;
-            let h2 = (a.clone() - self.eta0.clone()) * (a.clone() + self.eta0.clone());
-            // (h2 = 0: the ray touches the surface; graded there too.)
-            if h2 >= zero {
-                let h = h2.sqrt();
-                s_points.push((-self.xi0.clone() - h.clone()) / self.sin.clone());
-                s_points.push((h - self.xi0.clone()) / self.sin.clone());
-            }
-        }
-        s_points.into_iter().filter(|s| *s > zero).map(|s| s - self.center.clone()).collect()
-    }
-}
-
-impl<T: CheckRule> ScatteredBeam<T> {
-    /// ∫L₁dω·e^{c_b} at s = center + x (c_b this light's `shift`), one level inside a pass: the
-    /// single-scattered fluence σ_sc f ∫E(x′)e^{−σ|x − x′|}/|x − x′|² d³x′
-    /// of the beam's irradiance E (f = 1/4π), = albedo Φ f ∫ n(x₁)
-    /// e^{−σd}/d² d³x₁ (module docs). Domain: any x; σ > 0. Deviation: the
-    /// paper's §3a has no beams at order 1.
-    pub fn fluence(&self, x: &T, sigma: &T, albedo: &T, opts: &Options) -> Outcome<T> {
-        let front = albedo.clone() * self.flux.clone() / (x.pi() * x.lit(4.0));
-        if front.is_zero() {
-            return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, opts.rule));
-        }
-        let o = Options { abs_tol: (opts.abs_tol / front.to_f64()).min(f64::MAX), ..opts.clone() };
-        // d²·σe^{c₀ − σt}e^{−σd}/d².
-        let kernel =
-            |t: &T, d: &T| sigma.clone() * (self.shift.clone() - sigma.clone() * (t.clone() + d.clone())).exp();
-        Ok(self.point(x, sigma).integral(&kernel, None, &o, true)?.scaled(&front))
-    }
 }
 
 #[cfg(test)]

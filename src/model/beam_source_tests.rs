@@ -247,3 +247,41 @@ fn shells_match_a_high_precision_reference() {
         );
     }
 }
+
+/// A factor of d alone handed through `integral_over_shells`: a factor
+/// e^{ln 2}·3 with a relative bar 10⁻¹¹ gives six times the plain integral
+/// with at least that bar; a radial factor e^{−d} folded into the kernel
+/// equals the kernel that carries it; a cut at d gives what lies within,
+/// and a cut before the volume's nearest point gives 0.
+#[test]
+fn a_shell_factor_is_carried_with_its_bar() {
+    let (sigma, r) = (1.0f64, 0.2f64);
+    let at = BeamPoint { a: 0.5, p: 0.9, tau: 0.4, sigma };
+    let opts = Options::rel(1e-10);
+    let kernel = |t: &f64, d: &f64| d * d * sigma * (-sigma * t).exp() * hit_chance(&sigma, &r, d);
+    let plain = at.integral(&kernel, Some(&r), &opts, false).unwrap();
+    let constant = |_: &f64, _: &Options| Ok(ShellFactor { ln: 2f64.ln(), rest: 3.0, rel: 1e-11 });
+    let with_factor = |t: &f64, d: &f64, f: &ShellFactor<f64>| kernel(t, d) * f.rest * f.ln.exp();
+    let shells = Shells { knee: Some(&r), decay: sigma, factor: Some(&constant), cut: None };
+    let six = at.integral_over_shells(&with_factor, &shells, &opts, false).unwrap();
+    assert!((six.value - 6.0 * plain.value).abs() <= 1e-9 * six.value, "{six:?} vs 6 × {plain:?}");
+    assert!(six.error >= 1e-11 * six.value, "the factor's bar is lost: {six:?}");
+    let radial = |d: &f64, _: &Options| Ok(ShellFactor { ln: -d, rest: 1.0, rel: 0.0 });
+    let folded =
+        |t: &f64, d: &f64, f: &ShellFactor<f64>| d * d * sigma * (f.ln - sigma * t).exp() * hit_chance(&sigma, &r, d);
+    let carried = |t: &f64, d: &f64| kernel(t, d) * (-d).exp();
+    let shells = Shells { knee: Some(&r), decay: sigma, factor: Some(&radial), cut: None };
+    let a = at.integral_over_shells(&folded, &shells, &opts, false).unwrap();
+    let b = at.integral(&carried, Some(&r), &opts, false).unwrap();
+    assert!((a.value - b.value).abs() <= a.error + b.error, "{a:?} vs {b:?}");
+    let nearest = at.nearest();
+    assert!((nearest - 0.4).abs() < 1e-15, "p − a = 0.4 across, in front of the disk's plane: {nearest}");
+    let within = |cut: f64| {
+        let shells = Shells { knee: Some(&r), decay: sigma, factor: None, cut: Some(cut) };
+        at.integral_over_shells(&|t: &f64, d: &f64, _: &ShellFactor<f64>| kernel(t, d), &shells, &opts, false).unwrap()
+    };
+    assert_eq!(within(0.3).value, 0.0);
+    let (part, far) = (within(1.5), within(60.0));
+    assert!(part.value > 0.0 && part.value < plain.value, "{part:?} of {plain:?}");
+    assert!((far.value - plain.value).abs() <= far.error + plain.error + 1e-12 * plain.value, "{far:?} vs {plain:?}");
+}

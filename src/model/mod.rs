@@ -9,6 +9,7 @@
 pub mod along;
 pub mod angular;
 pub mod beam_angular;
+pub mod beam_fluence;
 pub mod beam_source;
 pub mod chebyshev;
 pub mod correlations;

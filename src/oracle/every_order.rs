@@ -79,9 +79,10 @@ pub const EVERY_ORDER_TOL_RANGE: (f64, f64) = (1e-8, 1e-2);
 pub const EVERY_ORDER_VARIANCE_TOL: f64 = 1e-4;
 
 /// Refuses, before any integral, what the model of every order does not
-/// cover: a Henyey–Greenstein medium, a beam, a point light on the camera
-/// line ahead of the camera (the small-sphere mean diverges there like
-/// ∫ds/(s − z)²).
+/// cover: a Henyey–Greenstein medium, a point light on the camera line
+/// ahead of the camera (the small-sphere mean diverges there like
+/// ∫ds/(s − z)²). Beams are covered (their mean; their Var L is not,
+/// [`every_order_variance_modelled`]).
 pub(crate) fn every_order_scene_covered(scene: &Scene) -> Result<(), OracleError> {
     if scene.medium.phase != mcrt_scene::Phase::Isotropic {
         return Err(OracleError::Unsupported(format!(
@@ -93,12 +94,7 @@ pub(crate) fn every_order_scene_covered(scene: &Scene) -> Result<(), OracleError
     let (o, u) = (scene.camera.origin, scene.camera.direction);
     for (i, light) in scene.lights.iter().enumerate() {
         match light {
-            mcrt_scene::Light::Beam { .. } => {
-                return Err(OracleError::Unsupported(format!(
-                    "lights[{i}]: kind = \"beam\" with effects.scattering_orders >= 2: the model of every order \
-                     covers point lights only (docs/model.md §10); allowed: kind = \"point\", or scattering_orders <= 1"
-                )))
-            }
+            mcrt_scene::Light::Beam { .. } => {}
             mcrt_scene::Light::Point { position, .. } => {
                 let rel = *position - o;
                 let (z, b) = (rel.dot(u), rel.cross(u).length());
@@ -122,11 +118,36 @@ pub(crate) fn orders_beyond_the_first(scene: &Scene) -> bool {
 }
 
 /// Whether the model of every order has Var L for `scene` (orders ≥ 2 or
-/// `"all"`): at q = 1 and one camera ray (`docs/model.md` §10.3); other q
-/// and N_B need the correlations of two spheres of every order (§10.4).
+/// `"all"`): at q = 1 and one camera ray, point lights only
+/// (`docs/model.md` §10.3); other q and N_B need the correlations of two
+/// spheres of every order (§10.4), a beam the pairs of its ray and its
+/// volume of first scatterings (§10.5).
 pub(crate) fn every_order_variance_modelled(scene: &Scene) -> bool {
     let est = &scene.estimator;
-    est.q == 1.0 && est.camera_rays == 1
+    est.q == 1.0 && est.camera_rays == 1 && first_beam(scene).is_none()
+}
+
+/// The index of the scene's first beam, if it has one.
+pub(crate) fn first_beam(scene: &Scene) -> Option<usize> {
+    scene.lights.iter().position(|l| matches!(l, mcrt_scene::Light::Beam { .. }))
+}
+
+/// Why an every-order scene with a beam has no Var L.
+fn beam_variance_not_modelled(beam: usize) -> String {
+    format!(
+        "not modelled for lights[{beam}] (kind = \"beam\") yet: with scattering_orders 2 to 9 or \"all\" the oracle \
+         has a beam's exact mean and bias, not its Var L (the same-path pairs of its ray and of its volume of first \
+         scatterings, docs/model.md §10.5). `predict` and `check` refuse the scene; its exact mean and bias: \
+         `oracle::every_order_mean` (`mcrt-noise oracle`); its Var L: the tracer (`mcrt-noise trace`)"
+    )
+}
+
+/// Why an every-order report of `scene` carries the mean only, if it does.
+fn variance_missing_reason(scene: &Scene) -> Option<String> {
+    match first_beam(scene) {
+        Some(i) => Some(beam_variance_not_modelled(i)),
+        None => (!every_order_variance_modelled(scene)).then(|| VARIANCE_NOT_MODELLED.to_string()),
+    }
 }
 
 /// Refuses, before any integral, a scene of orders ≥ 2 or `"all"` whose
@@ -143,7 +164,7 @@ pub(crate) fn every_order_variance_refusal(scene: &Scene) -> Result<(), OracleEr
         scene.effects.scattering_orders.as_toml(),
         scene.estimator.q,
         scene.estimator.camera_rays,
-        VARIANCE_NOT_MODELLED
+        variance_missing_reason(scene).unwrap_or_default()
     )))
 }
 
@@ -225,6 +246,7 @@ pub(crate) fn every_order_report(
         || -> Result<_, OracleError> {
             let uncollided = ff.ray_total(Functional::Mean, &opts)?;
             let small = ff.small_sphere_mean_every_order(scene.effects.scattering_orders, &opts)?;
+            let small = small.plus(beams_small_sphere_low_orders(scene, &ff.shift, &opts)?);
             let (single, beyond) = ff.every_order_means(&opts)?;
             Ok((uncollided, small, single, beyond))
         },
@@ -249,7 +271,7 @@ pub(crate) fn every_order_report(
     let mut evaluations = uncollided.evaluations + single.evaluations + beyond.evaluations + small.evaluations;
     let exact = uncollided.plus(single).plus(beyond.clone());
     let (mut variance, mut m2_out, mut p_out, mut pairs_out) = (None, None, None, None);
-    let mut variance_missing = (!with_variance).then(|| VARIANCE_NOT_MODELLED.to_string());
+    let mut variance_missing = variance_missing_reason(scene);
     let mut variance_error = None;
     if let Some(Err(e)) = &second {
         let e = e.clone().unshifted(ff.shift);
@@ -289,6 +311,22 @@ pub(crate) fn every_order_report(
         evaluations,
     };
     Ok((report, variance_error))
+}
+
+/// The small-sphere mean of the beams' orders 0 and 1 (the small-sphere
+/// model's, `model::field`, of the scene's beams alone), times e^{c₀} of
+/// the every-order field (`shift`): what [`FiniteField::small_sphere_mean_every_order`]
+/// leaves out of a beam's μ(0). Zero without beams.
+fn beams_small_sphere_low_orders(scene: &Scene, shift: &f64, opts: &Options) -> Result<Estimate<f64>, OracleError> {
+    let mut beams = scene.clone();
+    beams.lights.retain(|l| matches!(l, mcrt_scene::Light::Beam { .. }));
+    if beams.lights.is_empty() {
+        return Ok(Estimate::known(0.0, 0.0, 0, opts.rule));
+    }
+    beams.effects.scattering_orders = ScatteringOrders::Limited(1);
+    let field = Field::from_scene(&beams, &0.0f64)?;
+    let m = crate::model::moments::mean_luminance(&field, opts)?;
+    Ok(m.scaled(&(shift - field.shift).exp()))
 }
 
 /// Var L's integrals, run beside the means on their own budget `own` and

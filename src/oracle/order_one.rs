@@ -178,7 +178,10 @@ pub fn finite_sphere_covers_the_standard_method(scene: &Scene) -> bool {
                 All => a < 1.0,
                 Limited(n) => n < crate::model::finite::start_density::MAX_FINITE_ORDER,
             };
-            a > 0.0 && ends && super::every_order::every_order_scene_covered(scene).is_ok()
+            // Var L of every order covers point lights only (a beam's
+            // mean, not its pairs: docs/model.md §10.5).
+            let beams = super::every_order::first_beam(scene).is_some();
+            a > 0.0 && ends && !beams && super::every_order::every_order_scene_covered(scene).is_ok()
         }
     }
 }

@@ -53,7 +53,7 @@ enum Part<'a, T> {
 pub(super) struct FreshHits<'a, T> {
     sigma: T,
     r: T,
-    /// R + [`FRESH_REACH`]/σ: how far the tables reach.
+    /// How far the tables reach (at least R + [`FRESH_REACH`]/σ).
     reach: T,
     albedo: T,
     /// The rate G's tables are scaled by beyond R (νσ with every order, σ
@@ -69,21 +69,25 @@ pub(super) struct FreshHits<'a, T> {
 }
 
 impl<'a, T: CheckRule> FreshHits<'a, T> {
-    /// The parts 1..=`parts` of G for a pass with `opts`: part 1 (a·I)
-    /// from `once` where it reaches [10⁻⁴R, R + 50/σ], part k ≥ 2 from
+    /// The parts 1..=`parts` of G for a pass with `opts`, scaled by
+    /// e^{ν(d − R)⁺} (`nu`, νσ with every order, σ for a finite one), over [0, `reach`]
+    /// (at least R + [`FRESH_REACH`]/σ: the same-path pairs read no
+    /// farther; a beam's volume integral of every order reads
+    /// farther): part 1 (a·I)
+    /// from `once` where it reaches [10⁻⁴R, `reach`], part k ≥ 2 from
     /// `beyond[k − 2]` (its start density and tail table), the table of
     /// part 2 from `more` where given and reaching; the others built here
     /// (with the evaluations they spent), `None` if one cannot be.
     pub(super) fn build(
         (sigma, r, albedo): (&T, &T, &T),
-        nu: &T,
+        (nu, reach): (&T, &T),
         parts: usize,
         once: Option<&'a ScatteredTable<T>>,
         more: Option<&'a ScatteredTable<T>>,
         beyond: Vec<(&'a StartDensity<T>, Option<&'a TailTable<T>>)>,
         opts: &Options,
     ) -> (Option<Self>, u64) {
-        let reach = r.clone() + sigma.lit(FRESH_REACH) / sigma.clone();
+        let reach = reach.clone().max_of(r.clone() + sigma.lit(FRESH_REACH) / sigma.clone());
         let covers = |t: &ScatteredTable<T>| t.reaches(&(r.clone() * r.lit(FRESH_LOWEST)), &reach);
         let mut fresh = FreshHits {
             sigma: sigma.clone(),
@@ -133,10 +137,16 @@ impl<'a, T: CheckRule> FreshHits<'a, T> {
         (Some(fresh), spent)
     }
 
-    /// How far from the centre the tables reach, R + [`FRESH_REACH`]/σ
-    /// (beyond, G is bounded instead).
+    /// How far from the centre the tables reach, at least R +
+    /// [`FRESH_REACH`]/σ (beyond, G is bounded instead).
     pub(super) fn reach(&self) -> &T {
         &self.reach
+    }
+
+    /// The rate G's tables are scaled by beyond R (νσ with every order, σ
+    /// for a finite one): how G decays.
+    pub(super) fn nu(&self) -> &T {
+        &self.nu
     }
 
     /// The shift ν(d − R)⁺ G's values carry.
@@ -161,9 +171,10 @@ impl<'a, T: CheckRule> FreshHits<'a, T> {
     }
 
     /// G with the first `parts` parts, ·e^{ν(d − R)⁺}, where every table
-    /// reaches, without their bar ([`FreshHits::rel_error`]).
-    fn tabled(&self, parts: usize, d: &T) -> Option<T> {
-        let mut g = self.hit(d);
+    /// reaches, without their bar ([`FreshHits::rel_error`]); without H
+    /// (segment 0) unless `with_hit`.
+    fn tabled(&self, parts: usize, d: &T, with_hit: bool) -> Option<T> {
+        let mut g = if with_hit { self.hit(d) } else { d.lit(0.0) };
         for part in &self.parts[..parts] {
             g = g + match part {
                 Part::Shared { table, factor } => {
@@ -180,12 +191,25 @@ impl<'a, T: CheckRule> FreshHits<'a, T> {
     /// them), bracketed within their window about d = R, held flat below
     /// their lowest distance, else by quadrature.
     pub(super) fn radial(&self, parts: usize, d: &T, o: &Options) -> Result<Radial<T>, Failure<T>> {
+        self.radial_of(parts, d, o, true)
+    }
+
+    /// G − H (the fresh path's segments 1..=`parts`) as [`FreshHits::radial`]
+    /// gives G: what a beam's first scattering adds beyond its order 1.
+    pub(super) fn beyond_radial(&self, parts: usize, d: &T, o: &Options) -> Result<Radial<T>, Failure<T>> {
+        self.radial_of(parts, d, o, false)
+    }
+
+    /// G, or G − H unless `with_hit` ([`FreshHits::radial`]).
+    fn radial_of(&self, parts: usize, d: &T, o: &Options, with_hit: bool) -> Result<Radial<T>, Failure<T>> {
         let (nu, sigma, r) = (&self.nu, &self.sigma, &self.r);
         let reach = nu.clone() / sigma.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0));
-        if let Some(g) = self.tabled(parts, d) {
+        if let Some(g) = self.tabled(parts, d, with_hit) {
             return Ok(Radial { reach, rest: g, rel: d.lit(0.0) });
         }
-        let unshifted = |x: &T| -> Option<T> { Some(self.tabled(parts, x)? * (-self.shift(x)).exp()) };
+        let unshifted = |x: &T| -> Option<T> { Some(self.tabled(parts, x, true)? * (-self.shift(x)).exp()) };
+        // H itself where G is asked for, else nothing.
+        let own_hit = |x: &T| if with_hit { self.hit(x) * (-self.shift(x)).exp() } else { x.lit(0.0) };
         let hit = |x: &T| self.hit(x) * (-self.shift(x)).exp();
         // Within the tables' window about d = R, where G's singular parts
         // meet (and its quadrature costs millions of evaluations): G − H
@@ -199,7 +223,7 @@ impl<'a, T: CheckRule> FreshHits<'a, T> {
                 let (s_lo, s_hi) = (g_lo - hit(&lo), g_hi - hit(&hi));
                 let mid = (s_lo.clone() + s_hi.clone()) * d.lit(0.5);
                 let half_gap = (s_lo - s_hi).abs() * d.lit(0.5);
-                let value = hit(d) + mid;
+                let value = own_hit(d) + mid;
                 let rest = value.clone() * self.shift(d).exp();
                 return Ok(Radial { reach, rest, rel: half_gap / value });
             }
@@ -211,15 +235,15 @@ impl<'a, T: CheckRule> FreshHits<'a, T> {
         let lowest = r.clone() * r.lit(FRESH_LOWEST);
         if *d < lowest {
             let above = lowest.clone() * d.lit(10.0);
-            if let (Some(g0), Some(g1)) = (self.tabled(parts, &lowest), self.tabled(parts, &above)) {
-                let (s0, s1) = (g0 - self.hit(&lowest), g1 - self.hit(&above));
-                let value = self.hit(d) + s0.clone();
+            if let (Some(s0), Some(s1)) = (self.tabled(parts, &lowest, false), self.tabled(parts, &above, false)) {
+                let value = if with_hit { self.hit(d) + s0.clone() } else { s0.clone() };
                 let bar = (s0 - s1).abs() * d.lit(2.0);
                 return Ok(Radial { reach, rest: value.clone(), rel: bar / value });
             }
         }
         let third = Options { abs_tol: 0.0, ..o.clone() };
-        let mut e = Estimate::known(self.hit(d), d.lit(0.0), 1, o.rule);
+        let start = if with_hit { self.hit(d) } else { d.lit(0.0) };
+        let mut e = Estimate::known(start, d.lit(0.0), 1, o.rule);
         for k in 1..=parts {
             e = e.plus(self.part_direct(k, d, &third)?);
         }
@@ -231,6 +255,31 @@ impl<'a, T: CheckRule> FreshHits<'a, T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// G − H (`beyond_radial`, what a beam's first scattering adds beyond
+    /// its order 1) plus H is G (`radial`), from the tables, within their
+    /// window about d = R (bracketed), below their lowest distance (held
+    /// flat) and beyond their reach (by quadrature): each within 10⁻¹⁴ of
+    /// G, and the part's bar the same relative to G.
+    #[test]
+    fn g_less_h_and_h_make_g() {
+        let (a, sigma, r) = (0.8f64, 1.0, 0.2);
+        let opts = Options::rel(1e-6).declared();
+        let reach = r + 10.0;
+        let (fresh, _) = FreshHits::build((&sigma, &r, &a), (&sigma, &reach), 1, None, None, Vec::new(), &opts);
+        let fresh = fresh.expect("a·I's table at 1e-6");
+        assert!(*fresh.reach() >= reach && fresh.nu() == &sigma);
+        for d in [1e-6, 0.05, r * (1.0 - 1e-7), r, r * (1.0 + 1e-7), 1.0, 3.0, fresh.reach() * 1.5] {
+            let g = fresh.radial(1, &d, &opts).unwrap();
+            let part = fresh.beyond_radial(1, &d, &opts).unwrap();
+            let h = hit_radial(&sigma, &r, &d);
+            let value = |x: &Radial<f64>| (-sigma * x.reach).exp() * x.rest;
+            let (g_v, part_v, h_v) = (value(&g), value(&part), value(&h));
+            println!("d {d:e}: G {g_v:.15e} ± {:.1e}, G − H {part_v:.15e} ± {:.1e}", g.rel, part.rel);
+            assert!((part_v + h_v - g_v).abs() <= 1e-14 * g_v, "d {d}: {part_v:e} + {h_v:e} vs {g_v:e}");
+            assert!((part.rel * part_v - g.rel * g_v).abs() <= 1e-3 * g.rel * g_v + 1e-300, "d {d}: bars differ");
+        }
+    }
 
     /// The hits of single orders, (a^j c_j * H)(D) for j = 2, 3, 4, each
     /// from its own start density and tail table (the pieces of ρ₁ next to

@@ -32,6 +32,7 @@ pub mod cross_segments;
 mod fresh_hits;
 mod hit_cumulants;
 mod multiple;
+mod multiple_beam;
 mod multiple_pairs;
 pub mod order1;
 mod pair_orders;

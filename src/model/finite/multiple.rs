@@ -25,6 +25,7 @@
 //! (C * H)(D) is tabled in D per pass like I(D) (`scattered_table`, decay
 //! rate νσ with every order, σ for a finite range).
 
+use super::multiple_beam::{BeamBeyondTables, BeamLimit};
 use super::point::PointLight;
 use super::scattered::{bipolar_cuts, hit_chance_parts};
 use super::scattered_table::ScatteredTable;
@@ -194,6 +195,17 @@ impl<T: CheckRule> TailTable<T> {
         }))
     }
 
+    /// (ln ρ₁(r), relative bar) from the radial table where it reaches and
+    /// its piece's bar is at most [`TRUSTED_PIECE`] (r ≥ 10⁻¹², σ-units).
+    pub(super) fn ln_radial(&self, r: &T) -> Option<(T, T)> {
+        let radial = self.radial.as_ref()?;
+        if *r > self.hi || *r < r.lit(1e-12) {
+            return None;
+        }
+        let rel = radial.rel_error_at(r);
+        (rel.to_f64() <= TRUSTED_PIECE).then(|| (radial.eval_ln(r), rel))
+    }
+
     /// (ln T₁(t), relative bar) where the table reaches.
     fn ln_tail(&self, t: &T) -> Option<(T, T)> {
         if *t > self.hi {
@@ -314,14 +326,16 @@ pub(super) struct MultipleTable<T> {
     hits: Option<ScatteredTable<T>>,
 }
 
-/// The multiple-scattering tables of one computation, one per pass.
+/// The multiple-scattering tables of one computation, one per pass: the
+/// point lights' and the beams' (`multiple_beam`).
 pub(super) struct MultipleTables<T> {
     passes: OncePerPass<MultipleTable<T>>,
+    beams: BeamBeyondTables<T>,
 }
 
 impl<T> Default for MultipleTables<T> {
     fn default() -> Self {
-        MultipleTables { passes: OncePerPass::default() }
+        MultipleTables { passes: OncePerPass::default(), beams: BeamBeyondTables::new(BeamLimit::Exact) }
     }
 }
 
@@ -360,7 +374,7 @@ impl<T: CheckRule> MultipleTables<T> {
 
     /// `result` with every table's evaluations added.
     pub(super) fn charge<E>(&self, result: Result<Estimate<T>, E>) -> Result<Estimate<T>, E> {
-        self.passes.charge(result)
+        self.beams.charge(self.passes.charge(result))
     }
 }
 
@@ -402,16 +416,17 @@ impl<T: CheckRule> PointLight<T> {
 }
 
 impl<T: CheckRule> FiniteField<T> {
-    /// Whether the model of every order covers this field's scene (orders
-    /// ≥ 2 in an isotropic medium with point lights only), or why not: the
-    /// check to make before any costly integral.
+    /// Whether the model of every order covers this field's scene's mean
+    /// (orders ≥ 2 in an isotropic medium; point lights and beams, the
+    /// beams' in `multiple_beam`), or why not: the check to make before any
+    /// costly integral.
     pub fn every_order_covered(&self) -> Result<(), OracleError> {
         self.higher_orders().map(|_| ())
     }
 
     /// The start density of the segments beyond the first, or an error
     /// naming what the model does not cover: orders ≥ 2 need an isotropic
-    /// medium and point lights.
+    /// medium.
     pub(super) fn higher_orders(&self) -> Result<&StartDensity<T>, OracleError> {
         let density = match self.higher.as_ref() {
             None => {
@@ -430,20 +445,12 @@ impl<T: CheckRule> FiniteField<T> {
                 self.phase
             )));
         }
-        if self.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
-            return Err(OracleError::Unsupported(
-                "effects.scattering_orders ≥ 2 with a light of kind = \"beam\": the finite-sphere model of every \
-                 order covers point lights only (docs/model.md §10); allowed: kind = \"point\", or \
-                 scattering_orders ≤ 1"
-                    .into(),
-            ));
-        }
         Ok(density)
     }
 
     /// μ_{2..n}(R)·e^{c₀} = ∫σe^{−σs}⟨𝒞⟩_{2..n} ds: the share of the mean
     /// luminance of the forward paths' segments beyond the first (module
-    /// docs); with [`FiniteField::ray_total`] of the mean and
+    /// docs; a beam's from `multiple_beam`); with [`FiniteField::ray_total`] of the mean and
     /// [`FiniteField::scattered_mean`] it is the exact mean of a scene with
     /// orders ≥ 2 at its R.
     pub fn multiple_mean(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
@@ -462,9 +469,9 @@ impl<T: CheckRule> FiniteField<T> {
         self.with_line(|line| {
             line.integral_nested("finite-sphere ∫⟨𝒞⟩ of segments ≥ 2", opts, |x, o| {
                 let share = Options { abs_tol: o.abs_tol / self.lights.len() as f64, ..o.clone() };
-                self.sum_over_lights(x, o, |_, light| match light {
+                self.sum_over_lights(x, o, |i, light| match light {
                     FiniteLight::Point(p) => p.multiple_moment(self, density, tables, x, &share),
-                    FiniteLight::Beam(_) => Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule)),
+                    FiniteLight::Beam(b) => b.beyond_moment(self, density, &tables.beams, i, x, &share),
                 })
             })
         })
@@ -478,7 +485,10 @@ impl<T: CheckRule> FiniteField<T> {
     /// a c₁ in closed form and the rest from [`StartDensity::radial`]. An
     /// independent route to the small-sphere model's mean of orders ≤ 1
     /// (docs/model.md §3a: L₁ integrated over directions), which `tests`
-    /// compare with it. Domain: isotropic media, point lights not on the
+    /// compare with it. A beam's share is of its segments 2..=n only (its
+    /// orders 0 and 1 are the small-sphere model's, `model::field`, as the
+    /// oracle adds them): a(Φ/(4πσ))∫e^{−σs}∫n(x₁)C(|x₁ − x(s)|)d³x₁ ds
+    /// (`multiple_beam`). Domain: isotropic media, point lights not on the
     /// camera line.
     pub fn small_sphere_mean_every_order(
         &self,
@@ -487,22 +497,32 @@ impl<T: CheckRule> FiniteField<T> {
     ) -> Result<Estimate<T>, OracleError> {
         use mcrt_scene::ScatteringOrders::{All, Limited};
         self.order1_covered()?;
-        if self.phase != mcrt_scene::Phase::Isotropic || self.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
-            return Err(OracleError::Unsupported(
-                "the small-sphere mean of every order covers point lights in isotropic media".into(),
-            ));
+        if self.phase != mcrt_scene::Phase::Isotropic {
+            return Err(OracleError::Unsupported("the small-sphere mean of every order covers isotropic media".into()));
         }
-        let beyond = match orders {
-            Limited(0) => None,
-            Limited(n) => Some(StartDensity::new(&self.albedo, 2, Some(n + 1))?),
-            All => Some(StartDensity::new(&self.albedo, 2, None)?),
+        let (beyond, beams_beyond) = match orders {
+            Limited(0) => (None, None),
+            Limited(1) => (Some(StartDensity::new(&self.albedo, 2, Some(2))?), None),
+            Limited(n) => (
+                Some(StartDensity::new(&self.albedo, 2, Some(n + 1))?),
+                Some(StartDensity::new(&self.albedo, 2, Some(n))?),
+            ),
+            All => (Some(StartDensity::new(&self.albedo, 2, None)?), Some(StartDensity::new(&self.albedo, 2, None)?)),
         };
+        let beam_tables = BeamBeyondTables::new(BeamLimit::SmallSphere);
         let sigma = &self.sigma;
-        self.with_line(|line| {
+        let mean = self.with_line(|line| {
             line.integral_nested("small-sphere ∫ of every order", opts, |x, o| {
-                self.sum_over_lights(x, o, |_, light| {
-                    let FiniteLight::Point(p) = light else {
-                        return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule));
+                self.sum_over_lights(x, o, |i, light| {
+                    let p = match light {
+                        FiniteLight::Point(p) => p,
+                        FiniteLight::Beam(b) => {
+                            let Some(density) = &beams_beyond else {
+                                return Ok(Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule));
+                            };
+                            let share = Options { abs_tol: o.abs_tol / self.lights.len() as f64, ..o.clone() };
+                            return b.beyond_moment(self, density, &beam_tables, i, x, &share);
+                        }
                     };
                     let (big_d, _) = p.distance_to(self, x);
                     let sd = sigma.clone() * big_d.clone();
@@ -520,7 +540,8 @@ impl<T: CheckRule> FiniteField<T> {
                     Ok(part.scaled(&front))
                 })
             })
-        })
+        });
+        beam_tables.charge(mean)
     }
 }
 

@@ -129,8 +129,16 @@ impl<T: CheckRule> PairTable<T> {
         let beyond = orders.densities.iter().zip(&tails).map(|(d, t)| (d, t.as_ref())).collect();
         let every = orders.every();
         let (once, more) = mean_tables;
-        let (fresh, used) =
-            FreshHits::build((sigma, r, a), &nu, orders.most_parts(), once, more.filter(|_| every), beyond, opts);
+        let g_reach = r.clone() + sigma.lit(super::fresh_hits::FRESH_REACH) / sigma.clone();
+        let (fresh, used) = FreshHits::build(
+            (sigma, r, a),
+            (&nu, &g_reach),
+            orders.most_parts(),
+            once,
+            more.filter(|_| every),
+            beyond,
+            opts,
+        );
         spent += used;
         let Some(fresh) = fresh else { return (None, spent) };
         let mut levels = Vec::new();
@@ -444,6 +452,12 @@ impl<T: CheckRule> FiniteField<T> {
     /// [`FiniteField::cover_pair_distances`] first, or the pairs build
     /// tables of G's parts of their own.
     pub fn every_order_second_moments(&self, opts: &Options) -> SecondMoments<T> {
+        if let Some(i) = self.lights.iter().position(|l| matches!(l, FiniteLight::Beam(_))) {
+            return Err(OracleError::Unsupported(format!(
+                "lights[{i}] is a beam: P and the same-path pairs of every order cover point lights only (a beam's \
+                 pairs of its ray and of its volume of first scatterings are not built, docs/model.md §10.5)"
+            )));
+        }
         let scattered = ScatteredTables::default();
         let multiple = MultipleTables::default();
         // A failed P ends it: the pairs alone would give no Var L.

@@ -33,7 +33,7 @@ use crate::special::arc_in_disc_gaps;
 impl<T: CheckRule> BeamLight<T> {
     /// The sphere at s = center + x against the beam: its depth τ(s) and
     /// the distance p = |P(s)| of its centre from the axis.
-    fn seen_at(&self, ff: &FiniteField<T>, x: &T) -> BeamPoint<T> {
+    pub(super) fn seen_at(&self, ff: &FiniteField<T>, x: &T) -> BeamPoint<T> {
         let s = ff.center.clone() + x.clone();
         BeamPoint {
             a: self.radius.clone(),
@@ -49,7 +49,7 @@ impl<T: CheckRule> BeamLight<T> {
     /// from the camera's coordinates in the beam's frame). ≥ c₀; its own
     /// along-ray table is scaled by it, so that a beam far behind a light
     /// near the camera does not underflow there.
-    fn scattered_shift(&self, ff: &FiniteField<T>) -> T {
+    pub(super) fn scattered_shift(&self, ff: &FiniteField<T>) -> T {
         let zero = ff.radius.lit(0.0);
         let across = ((self.xi0.clone() * self.xi0.clone() + self.eta0.clone() * self.eta0.clone()).sqrt()
             - self.radius.clone())
@@ -231,32 +231,7 @@ impl<T: CheckRule> BeamAlongRay<T> {
             return (None, 0);
         }
         let (lo, hi) = ff.table_range();
-        let mut cuts: Vec<T> =
-            ff.ray_domain(&lo, None).breakpoints.into_iter().filter(|b| *b > lo && *b < hi).collect();
-        let last = cuts.iter().cloned().fold(lo.clone(), |m, b| m.max_of(b));
-        for k in decay_lengths(&lo) {
-            let c = last.clone() + lo.lit(k) / ff.sigma.clone();
-            if c < hi {
-                cuts.push(c);
-            }
-        }
-        // Where the camera ray crosses a beam's surface the volume integral
-        // bends like the fluence of a uniform source at its boundary (δ ln δ),
-        // smoothed over R: pieces graded by decades towards the crossings
-        // from R, so that each sees the bend a decade off (without them
-        // R = 10⁻⁸ spent the 10⁹ evaluations of the default budget).
-        // (The disk's face likewise.)
-        for light in &ff.lights {
-            if let FiniteLight::Beam(b) = light {
-                let width = ff.radius.clone().max_of(lo.lit(1e-10) / ff.sigma.clone());
-                let scale = b.radius.clone() * b.radius.lit(4.0);
-                for k in b.surface_crossings(ff).into_iter().chain(b.face_crossing(ff)) {
-                    cuts.extend(graded_about(&k, &width, &scale).into_iter().filter(|c| *c > lo && *c < hi));
-                }
-            }
-        }
-        cuts.push(lo.clone());
-        cuts.push(hi.clone());
+        let cuts = along_ray_cuts(ff);
         let samples = sample_options(&lo, goal, opts.rule, &opts.budget);
         let mut evaluations = 0;
         let tables = ff
@@ -291,4 +266,39 @@ impl<T: CheckRule> BeamAlongRay<T> {
         let rounding = x.eps() * x.lit(4.0) * (x.lit(1.0) + ff.shift.abs() + shift.abs());
         Some((t.eval(x) * (ff.shift.clone() - shift.clone()).exp(), t.rel_error.clone() + rounding))
     }
+}
+
+/// Where the beams' volume integrals along the camera ray bend, over the
+/// table range ([`FiniteField::table_range`], its ends included): every
+/// along-ray breakpoint, the tail's decay lengths, and pieces graded by
+/// decades towards where the camera ray crosses a beam's surface or its
+/// disk's face.
+pub(super) fn along_ray_cuts<T: CheckRule>(ff: &FiniteField<T>) -> Vec<T> {
+    let (lo, hi) = ff.table_range();
+    let mut cuts: Vec<T> = ff.ray_domain(&lo, None).breakpoints.into_iter().filter(|b| *b > lo && *b < hi).collect();
+    let last = cuts.iter().cloned().fold(lo.clone(), |m, b| m.max_of(b));
+    for k in decay_lengths(&lo) {
+        let c = last.clone() + lo.lit(k) / ff.sigma.clone();
+        if c < hi {
+            cuts.push(c);
+        }
+    }
+    // Where the camera ray crosses a beam's surface the volume integral
+    // bends like the fluence of a uniform source at its boundary (δ ln δ),
+    // smoothed over R: pieces graded by decades towards the crossings
+    // from R, so that each sees the bend a decade off (without them
+    // R = 10⁻⁸ spent the 10⁹ evaluations of the default budget).
+    // (The disk's face likewise.)
+    for light in &ff.lights {
+        if let FiniteLight::Beam(b) = light {
+            let width = ff.radius.clone().max_of(lo.lit(1e-10) / ff.sigma.clone());
+            let scale = b.radius.clone() * b.radius.lit(4.0);
+            for k in b.surface_crossings(ff).into_iter().chain(b.face_crossing(ff)) {
+                cuts.extend(graded_about(&k, &width, &scale).into_iter().filter(|c| *c > lo && *c < hi));
+            }
+        }
+    }
+    cuts.push(lo.clone());
+    cuts.push(hi.clone());
+    cuts
 }

@@ -1,0 +1,146 @@
+//! A beam's every scattering order (`docs/model.md` §10.5): the exact mean
+//! at any R of scenes with a beam and `scattering_orders` ≥ 2 or `"all"`
+//! (isotropic media) against the reference tracer with no allowance, its
+//! order-1 share against the order-1 model, and Var L reported missing
+//! with the reason.
+
+use mcrt_noise::oracle::{every_order_mean, EveryOrderMean};
+use mcrt_noise::{ScatteringOrders, Scene};
+use mcrt_reference::{trace, HitMethod, Tracer};
+use mcrt_scene::{DVec3, Light};
+use std::path::Path;
+
+/// The bundled `beam-isotropic` scene (σ = 1, a beam of radius 0.5 from
+/// (−2, 0, 1) along x, crossing the camera ray at right angles) with the
+/// given orders, albedo, R, q, N_F and N_B.
+fn beam_scene(orders: ScatteringOrders, albedo: f64, radius: f64, (q, forward, camera): (f64, u64, u64)) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/beam-isotropic.toml");
+    let mut s = Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    s.effects.scattering_orders = orders;
+    s.medium.albedo = albedo;
+    s.estimator.radius = radius;
+    s.estimator.q = q;
+    s.estimator.forward_rays = forward;
+    s.estimator.camera_rays = camera;
+    s
+}
+
+/// The exact mean at 10⁻⁴ (its bar far below the tracer's standard errors
+/// of ~0.2–0.8 %; at the default 10⁻⁶ a beam's `"all"` takes 42 s, at
+/// 10⁻⁴ 23 s).
+fn mean(s: &Scene) -> EveryOrderMean {
+    every_order_mean(s, Some(1e-4), &mcrt_noise::quad::Budget::new(2_000_000_000)).unwrap()
+}
+
+/// z of the tracer's mean against the exact one, and the tracer's
+/// relative standard error.
+fn tracer_z(s: &Scene, seed: u64, trials: u64) -> (f64, f64) {
+    let m = mean(s);
+    let summary = trace(&Tracer::new(s).unwrap(), seed, 0..trials, HitMethod::Sorted, &|_| {}).summary().unwrap();
+    let t = summary.mean;
+    let z = (t.value - m.mean.value) / (t.se * t.se + m.mean.error * m.mean.error).sqrt();
+    println!(
+        "{:?} albedo {} R {} lights {}: exact {:.7e} ± {:.1e} (segments ≥ 2 {:.3e}, bias {:+.3e}), tracer {:.7e} ± {:.1e}: z {z:+.2}",
+        s.effects.scattering_orders,
+        s.medium.albedo,
+        s.estimator.radius,
+        s.lights.len(),
+        m.mean.value,
+        m.mean.error,
+        m.beyond_first.value,
+        m.bias.value,
+        t.value,
+        t.se
+    );
+    // Var L is not modelled with a beam: said, naming the light.
+    assert!(m.variance.is_none(), "{m:?}");
+    let why = m.variance_missing.as_deref().unwrap_or_default();
+    assert!(why.contains("kind = \"beam\""), "{why}");
+    (z, t.se / t.value)
+}
+
+/// The tracer's mean agrees with the exact mean of every order of a beam,
+/// alone and beside a point light: `"all"` at albedo 0.8, R 0.2, q 0.5,
+/// N_F 20, N_B 2; order 5 at albedo 0.95, R 0.05 with a point light
+/// beside the beam, q 1, N_F 200; order 2 at albedo 0.5, R 0.2, N_F 1:
+/// |z| ≤ 4, no allowance, each at a standard error below 1 %.
+#[test]
+fn the_tracer_agrees_with_a_beams_exact_mean_of_every_order() {
+    use ScatteringOrders::{All, Limited};
+    let alone = beam_scene(All, 0.8, 0.2, (0.5, 20, 2));
+    let mut beside = beam_scene(Limited(5), 0.95, 0.05, (1.0, 200, 1));
+    beside.lights.push(Light::Point { position: DVec3::new(1.0, 0.0, 1.0), flux: 1.0 });
+    let low = beam_scene(Limited(2), 0.5, 0.2, (1.0, 1, 1));
+    for (s, seed, trials) in [(alone, 51, 300_000), (beside, 52, 100_000), (low, 53, 1_000_000)] {
+        let (z, rel_se) = tracer_z(&s, seed, trials);
+        assert!(rel_se < 0.01, "the tracer's se {rel_se:e} is too wide to test anything");
+        assert!(z.abs() <= 4.0, "{:?}: z = {z}", s.effects.scattering_orders);
+    }
+}
+
+/// Var L of a beam's every order is not modelled: `predict` refuses the
+/// scene before any integral, naming the light and the fields, and
+/// `optimize` does not search it with the standard method's exact model.
+#[test]
+fn a_beams_var_l_of_every_order_is_refused_naming_the_light() {
+    let mut s = beam_scene(ScatteringOrders::All, 0.8, 0.2, (1.0, 20, 1));
+    s.lights.insert(0, Light::Point { position: DVec3::new(1.0, 0.0, 1.0), flux: 1.0 });
+    let started = std::time::Instant::now();
+    let err = mcrt_noise::predict(&s).unwrap_err().to_string();
+    println!("{err}");
+    assert!(err.contains("lights[1] (kind = \"beam\")") && err.contains("scattering_orders"), "{err}");
+    assert!(started.elapsed().as_secs_f64() < 5.0, "refused only after {:?}", started.elapsed());
+    assert!(!mcrt_noise::oracle::finite_sphere_covers_the_standard_method(&s));
+}
+
+/// Hard cases of a beam's every order finish within the default budget,
+/// with a result within its bars or an honest NOT CONVERGED: albedo 0.99
+/// (the diffusion mode decays over ~6 free paths, so the shells run ~300
+/// of them; a result), a beam 300 free paths from the camera ray (its
+/// light reaches the ray through the orders ≥ 2 alone at "all"; a result,
+/// ~10⁻⁹⁸), and R = 10 (the sphere holds the camera and the beam's start:
+/// G′'s bracket about d = R leaves its volume integrals' samples a bar of
+/// 1.3·10⁻¹⁰ against their goal of 1.25·10⁻¹⁰, so NOT CONVERGED, said, in
+/// ~40 s). Ignored in CI (~100 s): `cargo test --release --test
+/// every_order_beams -- --ignored hard_cases`.
+#[test]
+#[ignore]
+fn hard_cases_of_a_beams_every_order_finish() {
+    use ScatteringOrders::All;
+    let mut far = beam_scene(All, 0.8, 0.2, (1.0, 20, 1));
+    far.lights = vec![Light::Beam {
+        center: DVec3::new(-300.0, 0.0, 1.0),
+        direction: DVec3::new(-1.0, 0.0, 0.0),
+        radius: 0.5,
+        flux: 1.0,
+    }];
+    for (s, what, converges) in [
+        (beam_scene(All, 0.99, 0.2, (1.0, 20, 1)), "albedo 0.99", true),
+        (far, "a beam 300 free paths away", true),
+        (beam_scene(All, 0.8, 10.0, (1.0, 20, 1)), "R 10", false),
+    ] {
+        let started = std::time::Instant::now();
+        let budget = mcrt_noise::quad::Budget::new(mcrt_noise::quad::DEFAULT_EVALUATIONS);
+        match every_order_mean(&s, None, &budget) {
+            Ok(m) => {
+                println!(
+                    "{what}: {:.6e} ± {:.1e} (segments ≥ 2 {:.3e}), bias {:+.3e}, {} evaluations, {:.1?}",
+                    m.mean.value,
+                    m.mean.error,
+                    m.beyond_first.value,
+                    m.bias.value,
+                    m.evaluations,
+                    started.elapsed()
+                );
+                assert!(m.mean.value > 0.0 && m.mean.error <= 1e-6 * m.mean.value, "{what}: {m:?}");
+                assert!(m.small_sphere_mean.error <= 1e-6 * m.small_sphere_mean.value, "{what}: {m:?}");
+            }
+            Err(e) => {
+                println!("{what}: {e} ({:.1?})", started.elapsed());
+                assert!(!converges, "{what}: {e}");
+                assert!(matches!(e, mcrt_noise::model::OracleError::Quadrature { .. }), "{what}: {e}");
+                assert!(e.to_string().contains("NOT CONVERGED"), "{what}: {e}");
+            }
+        }
+    }
+}
