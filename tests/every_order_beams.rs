@@ -1,8 +1,8 @@
 //! A beam's every scattering order (`docs/model.md` §10.5): the exact mean
 //! at any R of scenes with a beam and `scattering_orders` ≥ 2 or `"all"`
 //! (isotropic media) against the reference tracer with no allowance, its
-//! order-1 share against the order-1 model, and Var L reported missing
-//! with the reason.
+//! small-sphere mean μ(0) as the limit of the exact one (ignored in CI),
+//! hard cases (ignored), and Var L refused naming the light.
 
 use mcrt_noise::oracle::{every_order_mean, EveryOrderMean};
 use mcrt_noise::{ScatteringOrders, Scene};
@@ -62,8 +62,12 @@ fn tracer_z(s: &Scene, seed: u64, trials: u64) -> (f64, f64) {
 /// The tracer's mean agrees with the exact mean of every order of a beam,
 /// alone and beside a point light: `"all"` at albedo 0.8, R 0.2, q 0.5,
 /// N_F 20, N_B 2; order 5 at albedo 0.95, R 0.05 with a point light
-/// beside the beam, q 1, N_F 200; order 2 at albedo 0.5, R 0.2, N_F 1:
-/// |z| ≤ 4, no allowance, each at a standard error below 1 %.
+/// beside the beam, q 1, N_F 200; order 2 at albedo 0.5, R 0.2, N_F 1;
+/// `"all"` with a beam of radius 0.3 running beside the camera ray, 1
+/// from it (far down it most of the light comes from the disk, not from
+/// the beam's nearest part: the shells' cut must reach past the disk;
+/// before it did, the bar was e^{700}): |z| ≤ 4, no allowance, each at a
+/// standard error below 1 %.
 #[test]
 fn the_tracer_agrees_with_a_beams_exact_mean_of_every_order() {
     use ScatteringOrders::{All, Limited};
@@ -71,7 +75,15 @@ fn the_tracer_agrees_with_a_beams_exact_mean_of_every_order() {
     let mut beside = beam_scene(Limited(5), 0.95, 0.05, (1.0, 200, 1));
     beside.lights.push(Light::Point { position: DVec3::new(1.0, 0.0, 1.0), flux: 1.0 });
     let low = beam_scene(Limited(2), 0.5, 0.2, (1.0, 1, 1));
-    for (s, seed, trials) in [(alone, 51, 300_000), (beside, 52, 100_000), (low, 53, 1_000_000)] {
+    let mut parallel = beam_scene(All, 0.8, 0.2, (1.0, 20, 1));
+    parallel.lights = vec![Light::Beam {
+        center: DVec3::new(1.0, 0.0, -0.5),
+        direction: DVec3::new(0.0, 0.0, 1.0),
+        radius: 0.3,
+        flux: 1.0,
+    }];
+    let points = [(alone, 51, 300_000), (beside, 52, 100_000), (low, 53, 1_000_000), (parallel, 54, 1_000_000)];
+    for (s, seed, trials) in points {
         let (z, rel_se) = tracer_z(&s, seed, trials);
         assert!(rel_se < 0.01, "the tracer's se {rel_se:e} is too wide to test anything");
         assert!(z.abs() <= 4.0, "{:?}: z = {z}", s.effects.scattering_orders);
@@ -142,5 +154,56 @@ fn hard_cases_of_a_beams_every_order_finish() {
                 assert!(e.to_string().contains("NOT CONVERGED"), "{what}: {e}");
             }
         }
+    }
+}
+
+/// The beam's small-sphere mean μ(0) of every order is the limit of its
+/// exact mean: order 2 on `beam-isotropic` (albedo 0.8) at R = 0.2, 0.1,
+/// 0.05, the bias b(R) = μ(R) − μ(0) fitted by cR² + dR⁴ + ε leaves ε
+/// within 10⁻⁵ of μ(0) (measured 7 December 2026: ε = −1.5·10⁻⁹, 2·10⁻⁷
+/// of the mean; a wrong prefactor or density in μ(0)'s segments ≥ 2,
+/// 15 % of it, would leave ~10⁻¹), and the biases shrink about fourfold
+/// as R halves. Ignored in CI (~2 min): `cargo test --release --test
+/// every_order_beams -- --ignored small_sphere`.
+#[test]
+#[ignore]
+fn a_beams_small_sphere_mean_is_the_limit_of_the_exact_one() {
+    let at = |r: f64| {
+        let m = every_order_mean(
+            &beam_scene(ScatteringOrders::Limited(2), 0.8, r, (1.0, 1, 1)),
+            None,
+            &mcrt_noise::quad::Budget::new(2_000_000_000),
+        )
+        .unwrap();
+        println!(
+            "R {r}: bias {:+.10e} ± {:.1e} of μ(0) {:.10e}",
+            m.bias.value, m.bias.error, m.small_sphere_mean.value
+        );
+        (m.bias.value, m.small_sphere_mean.value)
+    };
+    let (radii, mut bias, mut small) = ([0.2f64, 0.1, 0.05], [0.0; 3], 0.0);
+    for (i, r) in radii.iter().enumerate() {
+        (bias[i], small) = at(*r);
+    }
+    // b = cR² + dR⁴ + ε through the three points (Cramer's rule).
+    let rows = radii.map(|r| [r * r, r.powi(4), 1.0]);
+    let det = |m: [[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let mut last = rows;
+    for (row, b) in last.iter_mut().zip(bias) {
+        row[2] = b;
+    }
+    let epsilon = det(last) / det(rows);
+    println!(
+        "ε = {epsilon:+.3e} ({:+.2e} of μ(0)); ratios {:.3}, {:.3}",
+        epsilon / small,
+        bias[0] / bias[1],
+        bias[1] / bias[2]
+    );
+    assert!(epsilon.abs() <= 1e-5 * small, "ε = {epsilon:e}");
+    for pair in bias.windows(2) {
+        assert!((3.5..4.5).contains(&(pair[0] / pair[1])), "{bias:?}");
     }
 }

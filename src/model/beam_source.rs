@@ -162,6 +162,14 @@ impl<T: CheckRule> BeamPoint<T> {
         (across.clone() * across + before.clone() * before).sqrt()
     }
 
+    /// The distance from x to the farthest point of the beam's disk,
+    /// √(τ² + (p + a)²): every point of the volume within depth t of the
+    /// disk lies within this + t of x.
+    pub fn farthest_on_disk(&self) -> T {
+        let across = self.p.clone() + self.a.clone();
+        (self.tau.clone() * self.tau.clone() + across.clone() * across).sqrt()
+    }
+
     /// [`BeamPoint::integral`] with a factor of the kernel that depends on
     /// d alone, computed once per shell with its relative bar
     /// (`shells.factor`: a radial function the caller reads from tables or

@@ -284,4 +284,18 @@ fn a_shell_factor_is_carried_with_its_bar() {
     let (part, far) = (within(1.5), within(60.0));
     assert!(part.value > 0.0 && part.value < plain.value, "{part:?} of {plain:?}");
     assert!((far.value - plain.value).abs() <= far.error + plain.error + 1e-12 * plain.value, "{far:?} vs {plain:?}");
+    // Well outside the cylinder (p ≥ 2a) the shells run in d − p: the cut
+    // too.
+    let outside = BeamPoint { a: 0.5, p: 1.5, tau: 0.4, sigma };
+    let whole = outside.integral(&kernel, Some(&r), &opts, false).unwrap();
+    let cut_at = |cut: f64| {
+        let shells = Shells { knee: Some(&r), decay: sigma, factor: None, cut: Some(cut) };
+        let k = |t: &f64, d: &f64, _: &ShellFactor<f64>| kernel(t, d);
+        outside.integral_over_shells(&k, &shells, &opts, false).unwrap()
+    };
+    assert_eq!(cut_at(0.9).value, 0.0, "nearer than the volume's nearest point, 1.0");
+    let (some, all) = (cut_at(1.6), cut_at(62.0));
+    assert!(some.value > 0.0 && some.value < whole.value, "{some:?} of {whole:?}");
+    assert!((all.value - whole.value).abs() <= all.error + whole.error + 1e-12 * whole.value, "{all:?} vs {whole:?}");
+    assert!((outside.farthest_on_disk() - (0.16f64 + 4.0).sqrt()).abs() < 1e-15);
 }

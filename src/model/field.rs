@@ -150,9 +150,9 @@ impl<T: Real> Field<T> {
                 return Err(OracleError::Unsupported(format!(
                     "effects.scattering_orders = {shown}: the noise model (Var L) covers orders 0 (uncollided) and 1 \
                      (single-scattered forward light) only; allowed: 0 or 1. For orders 2 to 9 and \"all\" `mcrt-noise \
-                     oracle` gives the exact mean and the bias (point lights, isotropic media; docs/model.md §10), at \
-                     q = 1 and camera_rays = 1 also the exact Var L (§10.3; `predict`, `check` and `optimize` take \
-                     those scenes), and the tracer runs every order"
+                     oracle` gives the exact mean and the bias (point lights and beams, isotropic media; docs/model.md \
+                     §10), with point lights at q = 1 and camera_rays = 1 also the exact Var L (§10.3; `predict`, \
+                     `check` and `optimize` take those scenes), and the tracer runs every order"
                 )));
             }
         };

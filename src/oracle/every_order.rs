@@ -169,10 +169,11 @@ pub(crate) fn every_order_variance_refusal(scene: &Scene) -> Result<(), OracleEr
 }
 
 /// The mean of `scene` (scattering orders ≥ 2 or `"all"`, an isotropic
-/// medium, point lights off the camera line) in f64 to the relative
+/// medium, point lights off the camera line and beams) in f64 to the relative
 /// tolerance `rel_tol` (default [`EVERY_ORDER_TOL`]; from 10⁻⁸ to 10⁻²)
 /// within `budget` (shared by its integrals: spent, the computation
-/// fails with that reason); at q = 1 and one camera ray also Var L, M₂
+/// fails with that reason); at q = 1 and one camera ray, point lights
+/// only, also Var L, M₂
 /// (with its same-path pairs) and P, exact at R (`docs/model.md`
 /// §10.3; at a goal no tighter than [`EVERY_ORDER_VARIANCE_TOL`], beside the
 /// mean's integrals on a budget of their own charged after; ~9 s in all
@@ -245,7 +246,7 @@ pub(crate) fn every_order_report(
     let (means, second) = rayon::join(
         || -> Result<_, OracleError> {
             let uncollided = ff.ray_total(Functional::Mean, &opts)?;
-            let small = ff.small_sphere_mean_every_order(scene.effects.scattering_orders, &opts)?;
+            let small = ff.small_sphere_mean_of_segments(scene.effects.scattering_orders, &opts)?;
             let small = small.plus(beams_small_sphere_low_orders(scene, &ff.shift, &opts)?);
             let (single, beyond) = ff.every_order_means(&opts)?;
             Ok((uncollided, small, single, beyond))

@@ -207,10 +207,11 @@ impl<'a, T: CheckRule> FreshHits<'a, T> {
         if let Some(g) = self.tabled(parts, d, with_hit) {
             return Ok(Radial { reach, rest: g, rel: d.lit(0.0) });
         }
-        let unshifted = |x: &T| -> Option<T> { Some(self.tabled(parts, x, true)? * (-self.shift(x)).exp()) };
+        // G − H from the tables (no H to subtract: where G − H ≪ H, as
+        // at σR ≪ 1, that would lose ε·H/(G − H) to rounding).
+        let beyond = |x: &T| -> Option<T> { Some(self.tabled(parts, x, false)? * (-self.shift(x)).exp()) };
         // H itself where G is asked for, else nothing.
         let own_hit = |x: &T| if with_hit { self.hit(x) * (-self.shift(x)).exp() } else { x.lit(0.0) };
-        let hit = |x: &T| self.hit(x) * (-self.shift(x)).exp();
         // Within the tables' window about d = R, where G's singular parts
         // meet (and its quadrature costs millions of evaluations): G − H
         // is radially decreasing (c₁, every c_m and H are, and so are their
@@ -219,8 +220,7 @@ impl<'a, T: CheckRule> FreshHits<'a, T> {
         let edge = r.clone() * r.lit(WINDOW);
         if (d.clone() - r.clone()).abs() <= edge {
             let (lo, hi) = (r.clone() - edge.clone(), r.clone() + edge.clone());
-            if let (Some(g_lo), Some(g_hi)) = (unshifted(&lo), unshifted(&hi)) {
-                let (s_lo, s_hi) = (g_lo - hit(&lo), g_hi - hit(&hi));
+            if let (Some(s_lo), Some(s_hi)) = (beyond(&lo), beyond(&hi)) {
                 let mid = (s_lo.clone() + s_hi.clone()) * d.lit(0.5);
                 let half_gap = (s_lo - s_hi).abs() * d.lit(0.5);
                 let value = own_hit(d) + mid;
@@ -265,7 +265,8 @@ mod tests {
     fn g_less_h_and_h_make_g() {
         let (a, sigma, r) = (0.8f64, 1.0, 0.2);
         let opts = Options::rel(1e-6).declared();
-        let reach = r + 10.0;
+        // Beyond the 50 free paths the same-path pairs' tables reach.
+        let reach = r + 60.0;
         let (fresh, _) = FreshHits::build((&sigma, &r, &a), (&sigma, &reach), 1, None, None, Vec::new(), &opts);
         let fresh = fresh.expect("a·I's table at 1e-6");
         assert!(*fresh.reach() >= reach && fresh.nu() == &sigma);

@@ -13,13 +13,18 @@
 //!
 //! §9.8's volume integral with G′ in place of H. G′ decays like e^{−νσd}
 //! (every order; e^{−σd} for a finite one), so the shells run out to
-//! d_cut = (distance from x(s) to the beam's volume) + (ln(1/goal) + 40)/ν
-//! free paths; G′ is radially decreasing (so are c₁, every c_m, H and
-//! their convolutions), so the shells beyond add at most G′(d_cut)·∫n ≤
-//! G′(d_cut), which is the bar of the cut. G′ is read from tables that
-//! reach d_cut over the camera ray's table range (where the distance to
-//! the convex volume is largest at an end); the integral itself is tabled
-//! along the camera ray per pass as order 1's is (`scattered_beam`).
+//! d_cut = D + (ln(1/goal) + 40)/ν free paths, D the distance from x(s)
+//! to the farthest point of the beam's disk; G′ is radially decreasing
+//! (so are c₁, every c_m, H and their convolutions), so the shells beyond
+//! add at most G′(d_cut)·∫n ≤ G′(d_cut), which is the bar of the cut, and
+//! the value is at least (1 − e^{−1})G′(D + 1/σ) (the volume's first free
+//! path lies within D + 1/σ), so the cut's share is ~e^{−(ln(1/goal) + 39)}
+//! of it wherever x is — also far down a beam that runs beside the camera
+//! ray, where most of the value comes from the disk, not from the nearest
+//! part of the beam. G′ is read from tables that reach d_cut over the
+//! camera ray's table range (D is convex along the ray, largest at an
+//! end); the integral itself is tabled along the camera ray per pass as
+//! order 1's is (`scattered_beam`).
 //!
 //! As R → 0, H(d) → (πR²/σ)c₁(d), so the fresh path's segment k's hits tend
 //! to (πR²/σ)a^k c_{k+1}(d): the small-sphere ⟨𝒞⟩ of segments 2..n is
@@ -38,9 +43,9 @@ use crate::model::chebyshev::{sample_options, Piecewise};
 use crate::quad::{decay_lengths, CheckRule, Estimate, Failure, Options, Outcome};
 use std::sync::Arc;
 
-/// Free paths (in units of 1/(νσ)) the shells run beyond the volume's
-/// nearest point besides ln(1/goal): G′ there is below e^{−40}·goal of its
-/// value at the nearest point.
+/// Free paths (in units of 1/(νσ)) the shells run beyond the farthest
+/// point of the beam's disk besides ln(1/goal): G′ there is below ~e^{−39}
+/// of the goal times the value (module docs).
 const CUT_MARGIN: f64 = 40.0;
 
 /// Goals finer than this get no tables (MPFR): every order is f64 only.
@@ -58,17 +63,24 @@ pub(super) enum BeamLimit {
 /// One beam's along-ray table and its shift, or why it could not be built.
 type BeamTable<T> = Result<(Piecewise<T>, T), String>;
 
-/// The along-ray tables of the beams' orders ≥ 2 of one pass.
-pub(super) struct BeamBeyond<T> {
+/// One volume integral per beam tabled along the camera ray for one pass:
+/// the beams' means of orders ≥ 2, exact or in the small-sphere limit (a
+/// beam's same-path pairs of every order, for its Var L, would be another
+/// such integral, of §10.3's pair sum: docs/model.md §10.4).
+struct AlongRay<T> {
     /// Per light in scene order: the beam's interpolant of its volume
     /// integral times e^{shift} and that shift, or why it could not be
     /// built (`None` for a point light).
     tables: Vec<Option<BeamTable<T>>>,
     lo: T,
     hi: T,
-    /// A bar relative to every value (the G′ tables' bar).
+    /// A bar relative to every value (that of the tables the volume
+    /// integrals read).
     rel: T,
 }
+
+/// The along-ray tables of the beams' orders ≥ 2 of one pass.
+type BeamBeyond<T> = AlongRay<T>;
 
 /// The beams' tables of orders ≥ 2 of one computation, one per pass.
 pub(super) struct BeamBeyondTables<T> {
@@ -86,7 +98,7 @@ impl<T> BeamBeyondTables<T> {
 impl<T: CheckRule> BeamBeyondTables<T> {
     /// The tables of the pass with `opts`.
     fn for_pass(&self, ff: &FiniteField<T>, density: &StartDensity<T>, opts: &Options) -> Option<Arc<BeamBeyond<T>>> {
-        self.passes.get_or_build(opts, || BeamBeyond::build(ff, density, self.limit, opts))
+        self.passes.get_or_build(opts, || build_beyond(ff, density, self.limit, opts))
     }
 
     /// `result` with every table's evaluations added.
@@ -104,8 +116,8 @@ fn decay_rate<T: CheckRule>(density: &StartDensity<T>) -> T {
     }
 }
 
-/// (ln(1/goal) + [`CUT_MARGIN`])/(νσ): how far beyond the volume's nearest
-/// point the shells run.
+/// (ln(1/goal) + [`CUT_MARGIN`])/(νσ): how far beyond the farthest point of
+/// the beam's disk the shells run.
 fn cut_span<T: CheckRule>(ff: &FiniteField<T>, density: &StartDensity<T>, opts: &Options) -> T {
     let free_paths = (1.0 / opts.rel_tol).ln() + CUT_MARGIN;
     ff.sigma.lit(free_paths) / (decay_rate(density) * ff.sigma.clone())
@@ -160,67 +172,49 @@ fn after_first_scattering<T: CheckRule>(
     }
 }
 
-impl<T: CheckRule> BeamBeyond<T> {
-    /// Builds the tables of `ff`'s beams for the pass with `opts` (to a
-    /// tenth of its goal, as order 1's), or `None` (no beam, a goal finer
-    /// than [`FINEST_GOAL`], or a table of G′ that could not be built).
+/// The farthest shell from any camera-ray point of the beams' range
+/// ([`beams_range`]) that the volume integrals read: R + the largest
+/// distance from an end of the range to the farthest point of a beam's
+/// disk (a maximum of distances, convex along the ray, so largest at an
+/// end) + [`cut_span`]; `None` without beams.
+fn beams_reach<T: CheckRule>(ff: &FiniteField<T>, density: &StartDensity<T>, opts: &Options) -> Option<T> {
+    let (lo, hi, _) = beams_range(ff);
+    let span = cut_span(ff, density, opts);
+    let mut reach = None;
+    for light in &ff.lights {
+        if let FiniteLight::Beam(b) = light {
+            for x in [&lo, &hi] {
+                let d = b.seen_at(ff, x).farthest_on_disk() + span.clone() + ff.radius.clone();
+                reach = Some(reach.map_or(d.clone(), |r: T| r.max_of(d)));
+            }
+        }
+    }
+    reach
+}
+
+impl<T: CheckRule> AlongRay<T> {
+    /// The tables of `ff`'s beams for the pass with `opts`, to a tenth of
+    /// its goal (as order 1's), of `volume(beam, x, shift, samples' options)`
+    /// — the beam's volume integral at x times e^{shift}, shift = ν_rel
+    /// times the beam's path bound (`BeamLight::scattered_shift`; ν_rel =
+    /// [`decay_rate`] of `density`) — each value bearing `rel` besides its
+    /// table's bar; `None` without beams or at a goal finer than
+    /// [`FINEST_GOAL`].
     fn build(
         ff: &FiniteField<T>,
         density: &StartDensity<T>,
-        limit: BeamLimit,
+        rel: T,
         opts: &Options,
-    ) -> (Option<BeamBeyond<T>>, u64) {
+        volume: impl Fn(&BeamLight<T>, &T, &T, &Options) -> Outcome<T>,
+    ) -> (Option<AlongRay<T>>, u64) {
         let goal = opts.rel_tol / 10.0;
         if goal < FINEST_GOAL || !ff.lights.iter().any(|l| matches!(l, FiniteLight::Beam(_))) {
             return (None, 0);
         }
-        let (sigma, r, a) = (&ff.sigma, &ff.radius, &ff.albedo);
         let (lo, hi, cuts) = beams_range(ff);
-        let span = cut_span(ff, density, opts);
-        // The farthest shell any camera-ray point of the range reads.
-        let mut reach = r.clone() + span.clone();
-        for light in &ff.lights {
-            if let FiniteLight::Beam(b) = light {
-                for x in [&lo, &hi] {
-                    reach = reach.max_of(b.seen_at(ff, x).nearest() + span.clone() + r.clone());
-                }
-            }
-        }
-        let mut spent = 0;
-        // G′'s parts beyond a·I in one density (`after_first_scattering`).
-        let later = match after_first_scattering(density, a) {
-            Ok(later) => later,
-            Err(_) => return (None, 0),
-        };
-        let parts = 1 + later.iter().count();
-        let tail_reach = sigma.clone() * reach.clone() * sigma.lit(2.0) + sigma.lit(200.0);
-        let mut tails = Vec::new();
-        let densities: &[StartDensity<T>] = match (limit, &later) {
-            (BeamLimit::Exact, Some(later)) => std::slice::from_ref(later),
-            (BeamLimit::Exact, None) => &[],
-            (BeamLimit::SmallSphere, _) => std::slice::from_ref(density),
-        };
-        for d in densities {
-            let (tail, used) = TailTable::build(d, &tail_reach, opts);
-            spent += used;
-            tails.push(tail);
-        }
-        let fresh = match limit {
-            BeamLimit::SmallSphere => None,
-            BeamLimit::Exact => {
-                let nu = sigma.clone() * decay_rate(density);
-                let beyond = densities.iter().zip(&tails).map(|(d, t)| (d, t.as_ref())).collect();
-                let (fresh, used) = FreshHits::build((sigma, r, a), (&nu, &reach), parts, None, None, beyond, opts);
-                spent += used;
-                match fresh {
-                    Some(f) => Some(f),
-                    None => return (None, spent),
-                }
-            }
-        };
-        let rel = fresh.as_ref().map_or(r.lit(0.0), |f| f.rel_error.clone());
         let samples = sample_options(&lo, goal, opts.rule, &opts.budget);
         let nu_rel = decay_rate(density);
+        let mut spent = 0;
         let tables = ff
             .lights
             .iter()
@@ -228,11 +222,7 @@ impl<T: CheckRule> BeamBeyond<T> {
                 let FiniteLight::Beam(b) = light else { return None };
                 // Its every-order light decays like e^{−νσ·distance}.
                 let shift = nu_rel.clone() * b.scattered_shift(ff);
-                let volume = |x: &T| match &fresh {
-                    Some(fresh) => b.beyond_volume(ff, fresh, parts, &span, x, &shift, &samples),
-                    None => b.small_sphere_beyond_volume(ff, density, tails[0].as_ref(), x, &shift, &samples),
-                };
-                match Piecewise::build(volume, &cuts, goal) {
+                match Piecewise::build(|x: &T| volume(b, x, &shift, &samples), &cuts, goal) {
                     Ok(t) => {
                         spent += t.evaluations;
                         Some(Ok((t, shift)))
@@ -244,13 +234,13 @@ impl<T: CheckRule> BeamBeyond<T> {
                 }
             })
             .collect();
-        (Some(BeamBeyond { tables, lo, hi, rel }), spent)
+        (Some(AlongRay { tables, lo, hi, rel }), spent)
     }
 
     /// The volume integral of light `index` at x times e^{c₀} and its
-    /// relative bar (the table's, G′'s, and the rounding of the exponent
-    /// c₀ − shift); `Ok(None)` beyond the table range, `Err` with the
-    /// reason where the light's table could not be built.
+    /// relative bar (the table's piece's there, the bar of what it read, and the rounding of
+    /// the exponent c₀ − shift); `Ok(None)` beyond the table range, `Err`
+    /// with the reason where the light's table could not be built.
     fn value(&self, ff: &FiniteField<T>, index: usize, x: &T) -> Result<Option<(T, T)>, String> {
         if *x < self.lo || *x > self.hi {
             return Ok(None);
@@ -258,15 +248,71 @@ impl<T: CheckRule> BeamBeyond<T> {
         let Some(Some(built)) = self.tables.get(index) else { return Ok(None) };
         let (t, shift) = built.as_ref().map_err(|why| format!("the beam's along-ray table failed: {why}"))?;
         let rounding = x.eps() * x.lit(4.0) * (x.lit(1.0) + ff.shift.abs() + shift.abs());
-        let rel = t.rel_error.clone() + self.rel.clone() + rounding;
+        let rel = t.rel_error_at(x) + self.rel.clone() + rounding;
         Ok(Some((t.eval(x) * (ff.shift.clone() - shift.clone()).exp(), rel)))
     }
 }
 
+/// Builds the tables of `ff`'s beams' orders ≥ 2 for the pass with `opts`
+/// ([`AlongRay::build`]), or `None` (no beam, a goal finer than
+/// [`FINEST_GOAL`], or a table of G′ that could not be built).
+fn build_beyond<T: CheckRule>(
+    ff: &FiniteField<T>,
+    density: &StartDensity<T>,
+    limit: BeamLimit,
+    opts: &Options,
+) -> (Option<BeamBeyond<T>>, u64) {
+    if opts.rel_tol / 10.0 < FINEST_GOAL {
+        return (None, 0);
+    }
+    let (sigma, r, a) = (&ff.sigma, &ff.radius, &ff.albedo);
+    let span = cut_span(ff, density, opts);
+    let Some(reach) = beams_reach(ff, density, opts) else { return (None, 0) };
+    let mut spent = 0;
+    // G′'s parts beyond a·I in one density (`after_first_scattering`).
+    let later = match after_first_scattering(density, a) {
+        Ok(later) => later,
+        Err(_) => return (None, 0),
+    };
+    let parts = 1 + later.iter().count();
+    let tail_reach = sigma.clone() * reach.clone() * sigma.lit(2.0) + sigma.lit(200.0);
+    let mut tails = Vec::new();
+    let densities: &[StartDensity<T>] = match (limit, &later) {
+        (BeamLimit::Exact, Some(later)) => std::slice::from_ref(later),
+        (BeamLimit::Exact, None) => &[],
+        (BeamLimit::SmallSphere, _) => std::slice::from_ref(density),
+    };
+    for d in densities {
+        let (tail, used) = TailTable::build(d, &tail_reach, opts);
+        spent += used;
+        tails.push(tail);
+    }
+    let fresh = match limit {
+        BeamLimit::SmallSphere => None,
+        BeamLimit::Exact => {
+            let nu = sigma.clone() * decay_rate(density);
+            let beyond = densities.iter().zip(&tails).map(|(d, t)| (d, t.as_ref())).collect();
+            let (fresh, used) = FreshHits::build((sigma, r, a), (&nu, &reach), parts, None, None, beyond, opts);
+            spent += used;
+            match fresh {
+                Some(f) => Some(f),
+                None => return (None, spent),
+            }
+        }
+    };
+    let rel = fresh.as_ref().map_or(r.lit(0.0), |f| f.rel_error.clone());
+    let volume = |b: &BeamLight<T>, x: &T, shift: &T, samples: &Options| match &fresh {
+        Some(fresh) => b.beyond_volume(ff, fresh, parts, &span, x, shift, samples),
+        None => b.small_sphere_beyond_volume(ff, density, tails[0].as_ref(), x, shift, samples),
+    };
+    let (along, used) = AlongRay::build(ff, density, rel, opts, volume);
+    (along, spent + used)
+}
+
 impl<T: CheckRule> BeamLight<T> {
     /// ∫ n(x₁) G′(|x₁ − x(s)|) d³x₁·e^{shift} at s = center + x (module
-    /// docs), shells out to `span` beyond the volume's nearest point, the
-    /// rest bounded by G′ there (in the bar).
+    /// docs), shells out to `span` beyond the farthest point of the disk,
+    /// the rest bounded by G′ there with its tables' bar (in the bar).
     #[allow(clippy::too_many_arguments)]
     fn beyond_volume(
         &self,
@@ -280,7 +326,7 @@ impl<T: CheckRule> BeamLight<T> {
     ) -> Outcome<T> {
         let sigma = &ff.sigma;
         let at = self.seen_at(ff, x);
-        let cut = at.nearest() + span.clone();
+        let cut = at.farthest_on_disk() + span.clone();
         let factor = |d: &T, o: &Options| -> Result<ShellFactor<T>, Failure<T>> {
             let g = fresh.beyond_radial(parts, d, o)?;
             Ok(ShellFactor { ln: -(sigma.clone() * g.reach), rest: g.rest, rel: g.rel })
@@ -297,7 +343,8 @@ impl<T: CheckRule> BeamLight<T> {
             Shells { knee: Some(&ff.radius), decay: fresh.nu().clone(), factor: Some(&factor), cut: Some(cut.clone()) };
         let e = at.integral_over_shells(&kernel, &shells, opts, true)?;
         let g = fresh.beyond_radial(parts, &cut, opts)?;
-        let beyond = g.rest * (shift.clone() - sigma.clone() * g.reach).exp() * (x.lit(1.0) + g.rel);
+        let bar = x.lit(1.0) + g.rel + fresh.rel_error.clone();
+        let beyond = g.rest * (shift.clone() - sigma.clone() * g.reach).exp() * bar;
         let error = e.error.clone() + beyond;
         Ok(Estimate { error, ..e })
     }
@@ -381,11 +428,22 @@ impl<T: CheckRule> BeamLight<T> {
             // Beyond the table range the camera ray's weight σe^{−σs} makes
             // the bound negligible: carried as the bar.
             Some(_) => Ok(Estimate::known(x.lit(0.0), bound, 0, opts.rule)),
-            None => Err(fail(format!(
-                "the tables of a beam's scattering orders ≥ 2 (G′ of docs/model.md §10.5) could not be built to a \
-                 tenth of the pass's goal {:e}",
-                opts.rel_tol
-            ))),
+            // A spent budget ends a table's build too: say so.
+            None => Err(fail(opts.budget.exhausted().unwrap_or_else(|| {
+                if opts.rel_tol / 10.0 < FINEST_GOAL {
+                    format!(
+                        "a beam's scattering orders ≥ 2 need tables to a tenth of the pass's goal {:e}, finer than \
+                         f64's {FINEST_GOAL:e} (docs/model.md §10.5)",
+                        opts.rel_tol
+                    )
+                } else {
+                    format!(
+                        "the tables of a beam's scattering orders ≥ 2 (G′ of docs/model.md §10.5) could not be built \
+                         to a tenth of the pass's goal {:e}",
+                        opts.rel_tol
+                    )
+                }
+            }))),
         }
     }
 }
