@@ -207,3 +207,18 @@ fn a_beams_small_sphere_mean_is_the_limit_of_the_exact_one() {
         assert!((3.5..4.5).contains(&(pair[0] / pair[1])), "{bias:?}");
     }
 }
+
+/// The finite field's public small-sphere mean of every order covers point
+/// lights: with a beam it refuses, naming where a beam's μ(0) is (it
+/// would otherwise return the beam's segments ≥ 2 alone).
+#[test]
+fn the_finite_fields_small_sphere_mean_refuses_a_beam() {
+    use mcrt_noise::model::field::Field;
+    use mcrt_noise::model::finite::FiniteField;
+    let first = beam_scene(ScatteringOrders::Limited(1), 0.8, 0.2, (1.0, 1, 1));
+    let field = Field::from_scene(&first, &1.0f64).unwrap();
+    let ff = FiniteField::of_first_segments(&first, &field);
+    let err =
+        ff.small_sphere_mean_every_order(ScatteringOrders::All, &mcrt_noise::quad::Options::rel(1e-6)).unwrap_err();
+    assert!(err.to_string().contains("every_order_mean"), "{err}");
+}

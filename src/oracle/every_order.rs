@@ -316,8 +316,9 @@ pub(crate) fn every_order_report(
 
 /// The small-sphere mean of the beams' orders 0 and 1 (the small-sphere
 /// model's, `model::field`, of the scene's beams alone), times e^{c₀} of
-/// the every-order field (`shift`): what [`FiniteField::small_sphere_mean_every_order`]
-/// leaves out of a beam's μ(0). Zero without beams.
+/// the every-order field (`shift`): what the finite field's small-sphere
+/// mean of segments (`small_sphere_mean_of_segments`, a beam's segments
+/// ≥ 2) leaves out of a beam's μ(0). Zero without beams.
 fn beams_small_sphere_low_orders(scene: &Scene, shift: &f64, opts: &Options) -> Result<Estimate<f64>, OracleError> {
     let mut beams = scene.clone();
     beams.lights.retain(|l| matches!(l, mcrt_scene::Light::Beam { .. }));
