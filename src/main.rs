@@ -28,7 +28,7 @@ struct Cli {
 /// shared by every integral and level of it.
 #[derive(clap::Args, Clone, Copy)]
 struct BudgetArgs {
-    /// Integrand evaluations the whole run may spend, over every integral and level, in [1, 1e15] (default 1e9 in f64, ~20 s; in MPFR 5e7 up to 128 bits, a few minutes, and 5e7·(128/bits)² above, as evaluations get dearer).
+    /// Integrand evaluations the whole run may spend, over every integral and level, in [1, 1e15] (default 1e9 in f64, ~20 s, and for `oracle` with scattering_orders >= 2 or "all" 3e9, as `check` gives them; in MPFR 5e7 up to 128 bits, a few minutes, and 5e7·(128/bits)² above, as evaluations get dearer).
     #[arg(long, allow_negative_numbers = true, value_parser = cli::flags::max_evals)]
     max_evals: Option<u64>,
     /// Wall-time limit of the run in seconds, in (0, 1e6] (none by default; a run that meets it depends on the machine's speed).
@@ -165,7 +165,7 @@ enum Command {
         #[arg(long, default_value = "scenes")]
         scenes: PathBuf,
     },
-    /// Choose q, R, N_F, N_B for the least predicted RMSE (bias and noise) after a time budget, beside q = 1, the cylinder limit, the scene's own parameters, the asymptotic rule's R and N_B = 1 (single-scattered light in an isotropic medium: R and N_F at q = 1, N_B = 1, beside the small-sphere model's choice at the scene's R; scattering orders 2–9 and "all", point lights in an isotropic medium: R and N_F at q = 1, N_B = 1, ~10 s per radius for "all", ~30 s for order 5, minutes in all).
+    /// Choose q, R, N_F, N_B for the least predicted RMSE (bias and noise) after a time budget, beside q = 1, the cylinder limit, the scene's own parameters, the asymptotic rule's R and N_B = 1 (single-scattered light in an isotropic medium: R and N_F at q = 1, N_B = 1, beside the small-sphere model's choice at the scene's R; scattering orders 2–9 and "all", point lights and beams in an isotropic medium: R and N_F at q = 1, N_B = 1, ~10 s per radius for "all", ~30 s for order 5, about a minute with a beam, minutes in all).
     Optimize {
         scene: PathBuf,
         /// Wall-time budget T in seconds of one core, in (0, 1e9].
@@ -316,7 +316,7 @@ fn run(command: Command) -> Result<(), CliError> {
         Command::Oracle { scene, precision, rel_tol, budget, json, finite_pairs } => {
             let precision = Precision::parse(&precision).map_err(CliError::Usage)?;
             let scope = if finite_pairs { Scope::FinitePairs } else { Scope::Everything };
-            oracle(&scene, precision, rel_tol, &budget_from_flags(precision, budget), scope, json)
+            oracle(&scene, precision, rel_tol, budget, scope, json)
         }
         Command::Kernel { theta, radius, precision, rel_tol, nested, bare, budget } => {
             let path = match (nested, bare) {
@@ -478,7 +478,7 @@ fn oracle(
     path: &PathBuf,
     precision: Precision,
     rel_tol: Option<f64>,
-    budget: &Budget,
+    flags: BudgetArgs,
     scope: Scope,
     json: bool,
 ) -> Result<(), CliError> {
@@ -486,8 +486,16 @@ fn oracle(
     if matches!(scene.effects.scattering_orders, mcrt_noise::ScatteringOrders::Limited(n) if n >= 2)
         || scene.effects.scattering_orders == mcrt_noise::ScatteringOrders::All
     {
+        // Every order has a prediction's budget by default (a beam's Var L
+        // of order 5 spends ~1.1·10⁹ at 10⁻⁴, docs/model.md §10.6).
+        let flags = BudgetArgs {
+            max_evals: flags.max_evals.or(Some(mcrt_noise::prec::EVERY_ORDER_PREDICTION_EVALUATIONS)),
+            ..flags
+        };
+        let budget = &budget_from_flags(precision, flags);
         return every_order_oracle(path, &scene, precision, rel_tol, budget, scope, json);
     }
+    let budget = &budget_from_flags(precision, flags);
     let report = mcrt_noise::oracle::run_within_scoped(&scene, precision, rel_tol, budget, scope)
         .map_err(|e| CliError::from(e).at(path.display()))?;
     if json {

@@ -19,7 +19,8 @@ pub enum Model {
     /// moments at the scene's R, for uncollided light, and for
     /// single-scattered light in isotropic media (point lights and beams at
     /// any q and N_B, in f64), and for scattering orders 2 to 9 and `"all"`
-    /// (point lights in an isotropic medium, q = 1, N_B = 1, in f64). Its
+    /// (point lights and beams in an isotropic medium, q = 1, N_B = 1, in
+    /// f64). Its
     /// model bar is 0.
     FiniteSphere,
     /// The paper's small-sphere model (§4.3), exact only as R → 0; used for
@@ -434,7 +435,7 @@ pub fn predict_within(
 /// The prediction of a scene with scattering orders ≥ 2 or `"all"`: the
 /// finite-sphere model of every order (`docs/model.md` §10, f64 only),
 /// exact at R, model bar 0, where it has Var L (q = 1 and one camera ray,
-/// isotropic medium, point lights); elsewhere refused with the oracle's
+/// isotropic medium, point lights and beams); elsewhere refused with the oracle's
 /// reason. Var L's integrals that fail (a spent budget) fail the
 /// prediction with their error, its kind kept.
 fn predict_every_order(
@@ -488,7 +489,8 @@ fn predict_every_order(
 fn every_order_basis(variance_tol: f64) -> String {
     format!(
         "none needed: the finite-sphere model of every scattering order is exact at this R (isotropic medium, \
-         point lights, q = 1, N_B = 1; M₂ with the same-path pairs of one forward path; docs/model.md §10.3); Var \
+         point lights and beams, q = 1, N_B = 1; M₂ with the same-path pairs of one forward path; docs/model.md \
+         §10.3, §10.6); Var \
          L's integrals are computed to a goal of {variance_tol:e}, within the quadrature bar"
     )
 }

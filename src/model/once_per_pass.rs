@@ -6,6 +6,36 @@ use crate::quad::{Estimate, Options, Rule};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
+/// The options of the tables of a pass with options `pass` of a nested
+/// integral with options `opts`: the pass's, or where its goal is coarser
+/// than the primary pass's inner goal (`integrate_nested`'s scale pass,
+/// whose result sets only the inner integrals' floors), that goal: the
+/// scale pass then builds (or reads) the primary pass's tables of its rule
+/// instead of a coarser set that no later pass reads (about a third of
+/// the pairs' table cost).
+pub(crate) fn fine_tables(pass: &Options, opts: &Options) -> Options {
+    capped_tables(pass, Some(primary_goal(opts)))
+}
+
+/// The primary pass's inner goal of a nested integral with options
+/// `opts` (`integrate_nested`'s goal/20; where its floor makes that
+/// coarser, [`fine_tables`] builds a table of its own for the scale pass:
+/// no saving, no harm).
+pub(crate) fn primary_goal(opts: &Options) -> f64 {
+    opts.rel_tol / 20.0
+}
+
+/// The options a table of a pass with options `pass` is built (and keyed)
+/// at: the pass's, its goal no coarser than `finest` where given
+/// ([`fine_tables`]). Only the table's: the pass's own quadratures keep
+/// `pass` (its goal and absolute floor).
+pub(crate) fn capped_tables(pass: &Options, finest: Option<f64>) -> Options {
+    match finest {
+        Some(f) if f < pass.rel_tol => Options { rel_tol: f, ..pass.clone() },
+        _ => pass.clone(),
+    }
+}
+
 /// The key of a table: the pass's rule and tolerance.
 type TableKey = (Rule, u64);
 

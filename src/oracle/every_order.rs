@@ -81,8 +81,8 @@ pub const EVERY_ORDER_VARIANCE_TOL: f64 = 1e-4;
 /// Refuses, before any integral, what the model of every order does not
 /// cover: a Henyey–Greenstein medium, a point light on the camera line
 /// ahead of the camera (the small-sphere mean diverges there like
-/// ∫ds/(s − z)²). Beams are covered (their mean; their Var L is not,
-/// [`every_order_variance_modelled`]).
+/// ∫ds/(s − z)²). Beams are covered (their mean, and at q = 1 and N_B = 1
+/// their Var L, [`every_order_variance_modelled`]).
 pub(crate) fn every_order_scene_covered(scene: &Scene) -> Result<(), OracleError> {
     if scene.medium.phase != mcrt_scene::Phase::Isotropic {
         return Err(OracleError::Unsupported(format!(
@@ -118,36 +118,17 @@ pub(crate) fn orders_beyond_the_first(scene: &Scene) -> bool {
 }
 
 /// Whether the model of every order has Var L for `scene` (orders ≥ 2 or
-/// `"all"`): at q = 1 and one camera ray, point lights only
-/// (`docs/model.md` §10.3); other q and N_B need the correlations of two
-/// spheres of every order (§10.4), a beam the pairs of its ray and its
-/// volume of first scatterings (§10.5).
+/// `"all"`): at q = 1 and one camera ray, point lights and beams
+/// (`docs/model.md` §10.3, §10.6); other q and N_B need the correlations
+/// of two spheres of every order (§10.4).
 pub(crate) fn every_order_variance_modelled(scene: &Scene) -> bool {
     let est = &scene.estimator;
-    est.q == 1.0 && est.camera_rays == 1 && first_beam(scene).is_none()
-}
-
-/// The index of the scene's first beam, if it has one.
-pub(crate) fn first_beam(scene: &Scene) -> Option<usize> {
-    scene.lights.iter().position(|l| matches!(l, mcrt_scene::Light::Beam { .. }))
-}
-
-/// Why an every-order scene with a beam has no Var L.
-fn beam_variance_not_modelled(beam: usize) -> String {
-    format!(
-        "not modelled for lights[{beam}] (kind = \"beam\") yet: with scattering_orders 2 to 9 or \"all\" the oracle \
-         has a beam's exact mean and bias, not its Var L (the same-path pairs of its ray and of its volume of first \
-         scatterings, docs/model.md §10.5). `predict` and `check` refuse the scene; its exact mean and bias: \
-         `oracle::every_order_mean` (`mcrt-noise oracle`); its Var L: the tracer (`mcrt-noise trace`)"
-    )
+    est.q == 1.0 && est.camera_rays == 1
 }
 
 /// Why an every-order report of `scene` carries the mean only, if it does.
 fn variance_missing_reason(scene: &Scene) -> Option<String> {
-    match first_beam(scene) {
-        Some(i) => Some(beam_variance_not_modelled(i)),
-        None => (!every_order_variance_modelled(scene)).then(|| VARIANCE_NOT_MODELLED.to_string()),
-    }
+    (!every_order_variance_modelled(scene)).then(|| VARIANCE_NOT_MODELLED.to_string())
 }
 
 /// Refuses, before any integral, a scene of orders ≥ 2 or `"all"` whose
@@ -172,12 +153,13 @@ pub(crate) fn every_order_variance_refusal(scene: &Scene) -> Result<(), OracleEr
 /// medium, point lights off the camera line and beams) in f64 to the relative
 /// tolerance `rel_tol` (default [`EVERY_ORDER_TOL`]; from 10⁻⁸ to 10⁻²)
 /// within `budget` (shared by its integrals: spent, the computation
-/// fails with that reason); at q = 1 and one camera ray, point lights
-/// only, also Var L, M₂
-/// (with its same-path pairs) and P, exact at R (`docs/model.md`
-/// §10.3; at a goal no tighter than [`EVERY_ORDER_VARIANCE_TOL`], beside the
-/// mean's integrals on a budget of their own charged after; ~9 s in all
-/// on two cores), else
+/// fails with that reason); at q = 1 and one camera ray also Var L, M₂
+/// (with its same-path pairs) and P, exact at R (`docs/model.md` §10.3,
+/// a beam's §10.6; at a goal no tighter than [`EVERY_ORDER_VARIANCE_TOL`],
+/// beside the mean's integrals on a budget of their own charged after;
+/// ~9 s in all on two cores for point lights, ~1 minute with a beam,
+/// whose order 5 spends ~1.1·10⁹ evaluations: give such scenes
+/// [`crate::prec::EVERY_ORDER_PREDICTION_EVALUATIONS`]), else
 /// [`EveryOrderMean::variance_missing`] says why not.
 ///
 /// ```no_run

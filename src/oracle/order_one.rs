@@ -136,8 +136,9 @@ pub fn finite_hg_moments_cover(scene: &Scene) -> bool {
 /// (the standard method: one sphere per camera ray, one camera ray) at any
 /// R: uncollided light, single-scattered light in an isotropic medium
 /// (point lights and beams), and scattering orders 2 to 9 and `"all"`
-/// (point lights off the camera line in an isotropic medium, albedo > 0,
-/// below 1 for `"all"`; `docs/model.md` §10.3). `tuning::optimize`
+/// (point lights off the camera line and beams in an isotropic medium,
+/// albedo > 0, below 1 for `"all"`; `docs/model.md` §10.3, §10.6).
+/// `tuning::optimize`
 /// searches R there.
 ///
 /// ```
@@ -178,10 +179,7 @@ pub fn finite_sphere_covers_the_standard_method(scene: &Scene) -> bool {
                 All => a < 1.0,
                 Limited(n) => n < crate::model::finite::start_density::MAX_FINITE_ORDER,
             };
-            // Var L of every order covers point lights only (a beam's
-            // mean, not its pairs: docs/model.md §10.5).
-            let beams = super::every_order::first_beam(scene).is_some();
-            a > 0.0 && ends && !beams && super::every_order::every_order_scene_covered(scene).is_ok()
+            a > 0.0 && ends && super::every_order::every_order_scene_covered(scene).is_ok()
         }
     }
 }

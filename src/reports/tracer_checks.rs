@@ -352,7 +352,7 @@ pub fn markdown(scenes_dir: &Path, figures_dir: &Path) -> Result<String, String>
          library's `predict`, its two order-1 points with the correlations of two spheres of single-scattered \
          light (the second, with 3·10⁷ trials, ignored in CI: `--ignored point_7`); `tests/finite_order1*.rs`: single-scattered light from point lights and beams, with two spheres per camera ray for both, `docs/model.md` §9.7 and §9.11; \
          `tests/every_order.rs`: the exact mean of orders 2, 3, 5 and every order at nine points (order 3 at albedo 1), isotropic media, point lights, §10.2; \
-         `tests/every_order_beams.rs`: a beam's exact mean of orders 2, 5 and every order at four points (one beside a point light, one running beside the camera ray), §10.5; \
+         `tests/every_order_beams.rs`: a beam's exact mean of orders 2, 5 and every order at four points (one beside a point light, one running beside the camera ray), §10.5, and its Var L at q = 1, N_B = 1 at five points (orders 2, 3, 5 and every order, N_F 1 to 200, two beside a point light), with the same-path pairs rejected where they are left out, §10.6; \
          `tests/every_order_variance.rs`: Var L of orders 2, 5 and every order at q = 1, N_B = 1 at thirteen points, with the same-path pairs \
          the paper's §3 leaves out rejected where they matter, §10.3). The small-sphere \
          model's own error for single-scattered light, which serves Henyey–Greenstein media at order 1 with q < 1 \

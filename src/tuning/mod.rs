@@ -24,9 +24,10 @@
 //! in an isotropic medium, whose Var L at other q and N_B needs pair
 //! integrals too slow to score a search with (`docs/model.md` §9.7), with the
 //! small-sphere model's (q, N_F, N_B) at the scene's R beside it, and for
-//! scattering orders ≥ 2 and `"all"` (point lights in an isotropic medium,
-//! §10.3: ~10 s a radius for `"all"` and order 2, ~30 s for order 5,
-//! minutes a search), with no small-sphere model beside it; elsewhere
+//! scattering orders ≥ 2 and `"all"` (point lights and beams in an
+//! isotropic medium, §10.3, §10.6: ~10 s a radius for `"all"` and order 2,
+//! ~30 s for order 5, about a minute with a beam, minutes a search), with
+//! no small-sphere model beside it; elsewhere
 //! (Henyey–Greenstein media at order 1) the bias is not predicted, R is
 //! held at the scene's and only (q, N_F, N_B) are chosen, for the noise
 //! alone; Henyey–Greenstein media and beams at orders ≥ 2, and orders
@@ -83,8 +84,8 @@ pub enum Searched {
     /// Uncollided light: every (q, R, N_F, N_B), by the finite-sphere model.
     Everything,
     /// Single-scattered light in an isotropic medium (point lights and
-    /// beams), and scattering orders ≥ 2 and `"all"` (point lights in an
-    /// isotropic medium): the finite-sphere model gives Var L at q = 1 and
+    /// beams), and scattering orders ≥ 2 and `"all"` (point lights and beams
+    /// in an isotropic medium): the finite-sphere model gives Var L at q = 1 and
     /// N_B = 1 only (in a search), so R and N_F are searched there (bias
     /// predicted), and for single scattering the small-sphere model's
     /// (q, N_F, N_B) at the scene's R is an alternative.
@@ -349,7 +350,7 @@ fn check_held_radius(scene: &Scene, range: Option<(f64, f64)>) -> Result<(), Tun
         Some((lo, hi)) if !(lo..=hi).contains(&r) => Err(TuningError::Option(format!(
             "--radius-range {lo:e},{hi:e}: the scene has scattered light the finite-sphere model does not cover \
              (effects.scattering_orders = {}, medium.phase = {}; it covers single scattering in an isotropic \
-             medium and orders 2 to 9 and \"all\" with point lights in one, whose R is searched), so its bias is not predicted, R cannot be searched and is held at the \
+             medium and orders 2 to 9 and \"all\" with point lights and beams in one, whose R is searched), so its bias is not predicted, R cannot be searched and is held at the \
              scene's estimator.radius = {r}, outside the range; set estimator.radius within it, or omit \
              --radius-range",
             scene.effects.scattering_orders.as_toml(),

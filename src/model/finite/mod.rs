@@ -33,6 +33,7 @@ mod fresh_hits;
 mod hit_cumulants;
 mod multiple;
 mod multiple_beam;
+mod multiple_beam_pairs;
 mod multiple_pairs;
 pub mod order1;
 mod pair_orders;

@@ -331,11 +331,23 @@ pub(super) struct MultipleTable<T> {
 pub(super) struct MultipleTables<T> {
     passes: OncePerPass<MultipleTable<T>>,
     beams: BeamBeyondTables<T>,
+    /// The finest goal a pass's tables are built at: the primary pass's
+    /// of the computation (`once_per_pass::capped_tables`), if set.
+    finest: Option<f64>,
 }
 
 impl<T> Default for MultipleTables<T> {
     fn default() -> Self {
-        MultipleTables { passes: OncePerPass::default(), beams: BeamBeyondTables::new(BeamLimit::Exact) }
+        MultipleTables { passes: OncePerPass::default(), beams: BeamBeyondTables::new(BeamLimit::Exact), finest: None }
+    }
+}
+
+impl<T> MultipleTables<T> {
+    /// The tables of a computation with options `opts`, whose scale pass
+    /// reads its primary pass's tables (`once_per_pass::fine_tables`).
+    pub(super) fn for_computation(opts: &Options) -> Self {
+        let finest = Some(crate::model::once_per_pass::primary_goal(opts));
+        MultipleTables { finest, beams: BeamBeyondTables::new(BeamLimit::Exact).finest(finest), ..Self::default() }
     }
 }
 
@@ -347,6 +359,11 @@ impl<T> MultipleTable<T> {
 }
 
 impl<T: CheckRule> MultipleTables<T> {
+    /// The beams' tables of orders ≥ 2 (`multiple_beam`).
+    pub(super) fn beams(&self) -> &BeamBeyondTables<T> {
+        &self.beams
+    }
+
     /// The tables of the pass with `opts` over the distances of `ff`.
     pub(super) fn for_pass(
         &self,
@@ -354,6 +371,7 @@ impl<T: CheckRule> MultipleTables<T> {
         density: &StartDensity<T>,
         opts: &Options,
     ) -> Option<Arc<MultipleTable<T>>> {
+        let opts = &crate::model::once_per_pass::capped_tables(opts, self.finest);
         self.passes.get_or_build(opts, || {
             let Some((lo, hi)) = super::scattered_table::distance_range(ff) else { return (None, 0) };
             // T is read at σ(D + d), d up to where the d-integral's tail is
@@ -454,7 +472,7 @@ impl<T: CheckRule> FiniteField<T> {
     /// [`FiniteField::scattered_mean`] it is the exact mean of a scene with
     /// orders ≥ 2 at its R.
     pub fn multiple_mean(&self, opts: &Options) -> Result<Estimate<T>, OracleError> {
-        let tables = MultipleTables::default();
+        let tables = MultipleTables::for_computation(opts);
         tables.charge(self.multiple_mean_with(&tables, opts))
     }
 

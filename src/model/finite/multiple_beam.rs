@@ -68,10 +68,9 @@ pub(super) enum BeamLimit {
 type BeamTable<T> = Result<(Piecewise<T>, T), String>;
 
 /// One volume integral per beam tabled along the camera ray for one pass:
-/// the beams' means of orders ≥ 2, exact or in the small-sphere limit (a
-/// beam's same-path pairs of every order, for its Var L, would be another
-/// such integral, of §10.3's pair sum: docs/model.md §10.4).
-struct AlongRay<T> {
+/// the beams' means of orders ≥ 2, exact or in the small-sphere limit, or
+/// their same-path pairs of every order (`multiple_beam_pairs`, §10.6).
+pub(super) struct AlongRay<T> {
     /// Per light in scene order: the beam's interpolant of its volume
     /// integral times e^{shift} and that shift, or why it could not be
     /// built (`None` for a point light).
@@ -90,18 +89,27 @@ type BeamBeyond<T> = AlongRay<T>;
 pub(super) struct BeamBeyondTables<T> {
     limit: BeamLimit,
     passes: OncePerPass<BeamBeyond<T>>,
+    /// The finest goal a pass's tables are built at, if set
+    /// (`once_per_pass::capped_tables`).
+    finest: Option<f64>,
 }
 
 impl<T> BeamBeyondTables<T> {
     /// No table yet, of the `limit` given.
     pub(super) fn new(limit: BeamLimit) -> Self {
-        BeamBeyondTables { limit, passes: OncePerPass::default() }
+        BeamBeyondTables { limit, passes: OncePerPass::default(), finest: None }
+    }
+
+    /// These tables built at goals no coarser than `finest`.
+    pub(super) fn finest(self, finest: Option<f64>) -> Self {
+        BeamBeyondTables { finest, ..self }
     }
 }
 
 impl<T: CheckRule> BeamBeyondTables<T> {
     /// The tables of the pass with `opts`.
     fn for_pass(&self, ff: &FiniteField<T>, density: &StartDensity<T>, opts: &Options) -> Option<Arc<BeamBeyond<T>>> {
+        let opts = &crate::model::once_per_pass::capped_tables(opts, self.finest);
         self.passes.get_or_build(opts, || build_beyond(ff, density, self.limit, opts))
     }
 
@@ -113,7 +121,7 @@ impl<T: CheckRule> BeamBeyondTables<T> {
 
 /// The rate (in units of σ) G′ and C decay at: ν with every order, 1 for
 /// a finite one.
-fn decay_rate<T: CheckRule>(density: &StartDensity<T>) -> T {
+pub(super) fn decay_rate<T: CheckRule>(density: &StartDensity<T>) -> T {
     match density.last_order() {
         None => density.decay(),
         Some(_) => density.mass().lit(1.0),
@@ -122,7 +130,7 @@ fn decay_rate<T: CheckRule>(density: &StartDensity<T>) -> T {
 
 /// (ln(1/goal) + [`CUT_MARGIN`])/(νσ): how far beyond the farthest point of
 /// the beam's disk the shells run.
-fn cut_span<T: CheckRule>(ff: &FiniteField<T>, density: &StartDensity<T>, opts: &Options) -> T {
+pub(super) fn cut_span<T: CheckRule>(ff: &FiniteField<T>, density: &StartDensity<T>, opts: &Options) -> T {
     let free_paths = (1.0 / opts.rel_tol).ln() + CUT_MARGIN;
     ff.sigma.lit(free_paths) / (decay_rate(density) * ff.sigma.clone())
 }
@@ -181,7 +189,7 @@ fn after_first_scattering<T: CheckRule>(
 /// distance from an end of the range to the farthest point of a beam's
 /// disk (a maximum of distances, convex along the ray, so largest at an
 /// end) + [`cut_span`]; `None` without beams.
-fn beams_reach<T: CheckRule>(ff: &FiniteField<T>, density: &StartDensity<T>, opts: &Options) -> Option<T> {
+pub(super) fn beams_reach<T: CheckRule>(ff: &FiniteField<T>, density: &StartDensity<T>, opts: &Options) -> Option<T> {
     let (lo, hi, _) = beams_range(ff);
     let span = cut_span(ff, density, opts);
     let mut reach = None;
@@ -204,7 +212,7 @@ impl<T: CheckRule> AlongRay<T> {
     /// [`decay_rate`] of `density`) — each value bearing `rel` besides its
     /// table's bar; `None` without beams or at a goal finer than
     /// [`FINEST_GOAL`].
-    fn build(
+    pub(super) fn build(
         ff: &FiniteField<T>,
         density: &StartDensity<T>,
         rel: T,
@@ -245,7 +253,7 @@ impl<T: CheckRule> AlongRay<T> {
     /// relative bar (the table's piece's there, the bar of what it read, and the rounding of
     /// the exponent c₀ − shift); `Ok(None)` beyond the table range, `Err`
     /// with the reason where the light's table could not be built.
-    fn value(&self, ff: &FiniteField<T>, index: usize, x: &T) -> Result<Option<(T, T)>, String> {
+    pub(super) fn value(&self, ff: &FiniteField<T>, index: usize, x: &T) -> Result<Option<(T, T)>, String> {
         if *x < self.lo || *x > self.hi {
             return Ok(None);
         }

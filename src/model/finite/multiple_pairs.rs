@@ -1,5 +1,6 @@
 //! The same-path pairs of orders ≥ 2 and of every order (isotropic media,
-//! point lights: `docs/model.md` §10.3): how often one forward path hits
+//! point lights: `docs/model.md` §10.3; a beam's, which read these tables,
+//! are `multiple_beam_pairs`, §10.6): how often one forward path hits
 //! one sphere with two of its segments j < k, which M₂ needs beside
 //! Σ_j⟨𝒞_j²⟩ = c f ⟨𝒞⟩, so that Var L at q = 1 and N_B = 1 is exact at
 //! any R.
@@ -45,6 +46,8 @@
 
 use super::fresh_hits::{from_table, FreshHits};
 use super::multiple::{convolved, MultipleTables, Radial, RadialFn, TailTable};
+use super::multiple_beam::{beams_reach, cut_span};
+use super::multiple_beam_pairs::{hits_table, BeamPairSums, BeamPairTables};
 use super::pair_orders::{PairOrders, Start};
 use super::point::cap_half_angle;
 use super::scattered_table::{ScatteredTable, ScatteredTables};
@@ -52,6 +55,7 @@ use super::second_hit::SecondHitTable;
 use super::start_density::StartDensity;
 use super::{FiniteField, FiniteLight, OncePerPass};
 use crate::model::field::graded_about;
+use crate::model::once_per_pass::fine_tables;
 use crate::model::OracleError;
 use crate::quad::{integrate_within_pass, CheckRule, Domain, Estimate, Failure, Options, Outcome};
 use crate::special::exp_int_e1_scaled;
@@ -63,7 +67,8 @@ pub type SecondMoments<T> = Result<(Estimate<T>, Estimate<T>), OracleError>;
 
 /// The K_G and 𝒦 tables of one level of remaining segments.
 pub(super) struct Level<T> {
-    after: SecondHitTable<T>,
+    /// K_G over the sphere's cross-section (it carries the albedo).
+    pub(super) after: SecondHitTable<T>,
     revisit: ScatteredTable<T>,
 }
 
@@ -73,16 +78,23 @@ pub(super) struct PairTable<T> {
     /// ([`PairOrders::densities`]).
     tails: Vec<Option<TailTable<T>>>,
     /// Per level of remaining segments ([`PairOrders::levels`]).
-    levels: Vec<Level<T>>,
+    pub(super) levels: Vec<Level<T>>,
     /// E[Σ_{j<k} hit_j hit_k](D)·e^{νσ(D − R)⁺} over the computation's
     /// distances between lights and spheres, read by every camera-ray
     /// point (`None` when it could not be built: the quadrature serves).
     pairs: Option<ScatteredTable<T>>,
+    /// What a beam's pairs read beside the levels (`multiple_beam_pairs`),
+    /// where the scene has beams (`None` also when they could not be built).
+    pub(super) beams: Option<BeamPairSums<T>>,
     /// Whether G was read from the pass's I(D) and (C′ * H)(D) tables
     /// (else from tables of its own): what the unit test asserts.
     #[cfg_attr(not(test), allow(dead_code))]
     g_from_shared: bool,
 }
+
+/// What the pair tables cover: the point lights' distances [lo, hi] and
+/// the beams' (span, reach) of their shells, where there are such lights.
+type Ranges<T> = (Option<(T, T)>, Option<(T, T)>);
 
 /// The pair tables of one computation, one per pass.
 pub(super) struct PairTables<T> {
@@ -97,27 +109,36 @@ impl<T> Default for PairTables<T> {
 
 impl<T: CheckRule> PairTable<T> {
     /// The largest relative bar of the levels' 𝒦 tables.
-    fn revisit_rel(&self) -> T {
+    pub(super) fn revisit_rel(&self) -> T {
         let bars = self.levels.iter().map(|l| l.revisit.rel_error.clone());
         bars.reduce(|m, b| m.max_of(b)).expect("a pair table has a level")
     }
 
     /// Builds the tables for a pass with `opts` (module docs), the pair
-    /// sum's over the lights' distances [lo, hi]; G's parts from
+    /// sum's over the point lights' distances [lo, hi] where there are
+    /// point lights, a beam's ([`BeamPairSums`]) over [0, reach] with the
+    /// shells' span where there are beams; G's parts from
     /// `mean_tables` (the pass's I(D) and (C′ * H)(D), where they reach
     /// [10⁻⁴R, R + 50/σ]) or tables of their own (`None` if any cannot be
     /// built within its goal).
     fn build(
         ff: &FiniteField<T>,
         orders: &PairOrders<T>,
-        lo: &T,
-        hi: &T,
+        (points, beams): Ranges<T>,
         mean_tables: (Option<&ScatteredTable<T>>, Option<&ScatteredTable<T>>),
         opts: &Options,
     ) -> (Option<Self>, u64) {
         let (sigma, r, a) = (&ff.sigma, &ff.radius, &ff.albedo);
         let mut spent = 0;
-        let far = hi.clone() + r.clone() + sigma.lit(100.0) / sigma.clone();
+        // The farthest distance a pair sum is asked for: the point lights'
+        // or a beam's shells' reach.
+        let widest = match (&points, &beams) {
+            (Some((_, hi)), Some((_, reach))) => hi.clone().max_of(reach.clone()),
+            (Some((_, hi)), None) => hi.clone(),
+            (None, Some((_, reach))) => reach.clone(),
+            (None, None) => return (None, 0),
+        };
+        let far = widest + r.clone() + sigma.lit(100.0) / sigma.clone();
         let reach = sigma.clone() * far.clone() * sigma.lit(2.0) + sigma.lit(200.0);
         let mut tails = Vec::new();
         for density in &orders.densities {
@@ -129,7 +150,11 @@ impl<T: CheckRule> PairTable<T> {
         let beyond = orders.densities.iter().zip(&tails).map(|(d, t)| (d, t.as_ref())).collect();
         let every = orders.every();
         let (once, more) = mean_tables;
-        let g_reach = r.clone() + sigma.lit(super::fresh_hits::FRESH_REACH) / sigma.clone();
+        // A beam's cut reads G as far as its shells reach.
+        let mut g_reach = r.clone() + sigma.lit(super::fresh_hits::FRESH_REACH) / sigma.clone();
+        if let Some((_, reach)) = &beams {
+            g_reach = g_reach.max_of(reach.clone());
+        }
         let (fresh, used) = FreshHits::build(
             (sigma, r, a),
             (&nu, &g_reach),
@@ -152,13 +177,26 @@ impl<T: CheckRule> PairTable<T> {
         }
         // With every order part 2 is the pass's (C′ * H)(D) table, if there.
         let g_from_shared = fresh.from_shared && (!every || more.is_some());
+        let beam_hits = beams.as_ref().map(|(_, reach)| {
+            let (hits, used) = hits_table(&fresh, orders, (r, reach), opts);
+            spent += used;
+            hits
+        });
         drop(fresh);
-        let mut table = PairTable { tails, levels, pairs: None, g_from_shared };
+        let mut table = PairTable { tails, levels, pairs: None, beams: None, g_from_shared };
+        if let (Some((span, reach)), Some(Some(hits))) = (&beams, beam_hits) {
+            let (sums, used) = BeamPairSums::build((sigma, r, a), &nu, orders, &table, hits, (span, reach), opts);
+            spent += used;
+            table.beams = sums;
+        }
+        let Some((lo, hi)) = points else { return (Some(table), spent) };
+        let (lo, hi) = (&lo, &hi);
         // The pair sum itself over the distances the camera ray puts between
         // lights and spheres: each camera-ray point then reads one value
         // instead of its convolutions (its samples read 𝒦 without a bar).
         let pairs_of = |d: &T, o: &Options| {
-            pair_sum(sigma, r, a, orders, &table, d, &(nu.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0))), o)
+            let shift = nu.clone() * (d.clone() - r.clone()).max_of(d.lit(0.0));
+            pair_sum(sigma, r, a, orders, &orders.terms, &table, d, &shift, o)
         };
         let (pairs, used) = ScatteredTable::build_with(pairs_of, &nu, r, lo, hi, super::scattered_table::LOWEST, opts);
         spent += used;
@@ -270,24 +308,26 @@ fn revisit<T: CheckRule>(
 }
 
 /// E[Σ_{j<k} hit_j hit_k]·e^{shift} for a sphere whose centre is D from a
-/// point light (module docs): Σ over the terms of `orders` of (start
-/// density * 𝒦 of its level)(D) — with every order 𝒦(D) + a(c₁ * 𝒦)(D) +
+/// point light (module docs): Σ over `terms` (those of `orders`, or a
+/// beam's fresh path's, [`PairOrders::fresh_terms`]) of (start density *
+/// 𝒦 of its level)(D) — with every order 𝒦(D) + a(c₁ * 𝒦)(D) +
 /// (C′ * 𝒦)(D) — 𝒦 from the pass's tables without their bar (the caller
 /// adds it) or, where they do not reach, by quadrature with its own.
 #[allow(clippy::too_many_arguments)]
-fn pair_sum<T: CheckRule>(
+pub(super) fn pair_sum<T: CheckRule>(
     sigma: &T,
     r: &T,
     a: &T,
     orders: &PairOrders<T>,
+    terms: &[(Start, usize)],
     t: &PairTable<T>,
     big_d: &T,
     shift: &T,
     o: &Options,
 ) -> Outcome<T> {
-    let share = Options { abs_tol: o.abs_tol / orders.terms.len() as f64, ..o.clone() };
+    let share = Options { abs_tol: o.abs_tol / terms.len() as f64, ..o.clone() };
     let mut total = Estimate::known(big_d.lit(0.0), big_d.lit(0.0), 0, o.rule);
-    for &(start, level) in &orders.terms {
+    for &(start, level) in terms {
         let level = &t.levels[level];
         let radial = |d: &T, io: &Options| -> Result<Radial<T>, Failure<T>> {
             if let Some(k) = from_table(&level.revisit, sigma, r, d) {
@@ -351,6 +391,12 @@ fn c1_convolved<T: CheckRule>(
     Ok(integrate_within_pass(f, &domain, opts)?.scaled(&factor))
 }
 
+/// The options the pair tables of the pass with `opts` are built at (the
+/// outer goal: [`FiniteField::pair_tables`]).
+pub(super) fn pair_table_options(opts: &Options) -> Options {
+    Options { rel_tol: (opts.rel_tol * 5.0).min(1e-3), ..opts.clone() }
+}
+
 impl<T: CheckRule> FiniteField<T> {
     /// The pair tables of the pass with `opts`.
     fn pair_tables(
@@ -371,11 +417,13 @@ impl<T: CheckRule> FiniteField<T> {
         // 20 of `integrate_nested`): four tables deep, each at a tenth of
         // the goal before it, the pass's own goal would leave the brackets
         // of G about d = R and d = 0 (~10⁻¹⁰) above the K_G table's samples'.
-        let table_opts = Options { rel_tol: (opts.rel_tol * 5.0).min(1e-3), ..opts.clone() };
+        let table_opts = pair_table_options(opts);
         tables.passes.get_or_build(&table_opts, || {
-            let Some((lo, hi)) = super::scattered_table::light_distance_range(self) else { return (None, 0) };
+            let points = super::scattered_table::light_distance_range(self);
+            let beams =
+                beams_reach(self, density, &table_opts).map(|reach| (cut_span(self, density, &table_opts), reach));
             let shared = (once.as_deref(), more.as_ref().and_then(|m| m.hits_table()));
-            PairTable::build(self, orders, &lo, &hi, shared, &table_opts)
+            PairTable::build(self, orders, (points, beams), shared, &table_opts)
         })
     }
 
@@ -383,7 +431,7 @@ impl<T: CheckRule> FiniteField<T> {
     /// same-path pairs of the simulated orders (≥ 2 or every order) in M₂
     /// (module docs), reading (and building) the tables of I(D) and
     /// (C * H)(D), whose evaluations the caller charges. Isotropic media,
-    /// point lights.
+    /// point lights and beams (`multiple_beam_pairs`).
     fn multiple_pairs_with(
         &self,
         mean: (&ScatteredTables<T>, &MultipleTables<T>),
@@ -392,6 +440,7 @@ impl<T: CheckRule> FiniteField<T> {
         let density = self.higher_orders()?;
         let orders = PairOrders::of(density, &self.albedo)?;
         let tables = PairTables::default();
+        let beam_tables = BeamPairTables::default();
         let (sigma, r) = (&self.sigma, &self.radius);
         let f = r.lit(1.0) / (r.pi() * r.lit(4.0));
         let what = match density.last_order() {
@@ -400,7 +449,10 @@ impl<T: CheckRule> FiniteField<T> {
         };
         let result = self.with_line(|line| {
             line.integral_nested(what, opts, |x, o| {
-                let Some(t) = self.pair_tables(&tables, mean, density, &orders, o) else {
+                // The tables of the scale pass (whose goal is coarser) are
+                // those of the primary pass with its rule: built once.
+                let tabled = fine_tables(o, opts);
+                let Some(t) = self.pair_tables(&tables, mean, density, &orders, &tabled) else {
                     // A spent budget ends a table's build too: say so.
                     let reason = o.budget.exhausted().unwrap_or_else(|| {
                         "the tables of the same-path pairs of orders ≥ 2 could not be built within the goal".into()
@@ -408,8 +460,17 @@ impl<T: CheckRule> FiniteField<T> {
                     return Err(Failure { reason, best_guess: None, error_estimate: None, evaluations: 0 });
                 };
                 let mut total = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
-                for light in &self.lights {
-                    let FiniteLight::Point(p) = light else { continue };
+                for (i, light) in self.lights.iter().enumerate() {
+                    let p = match light {
+                        FiniteLight::Point(p) => p,
+                        FiniteLight::Beam(b) => {
+                            let share = Options { abs_tol: o.abs_tol / self.lights.len() as f64, ..o.clone() };
+                            let along = (&beam_tables, &tabled);
+                            let e = self.beam_pairs((b, i), (density, &orders, &t), along, x, &share)?;
+                            total = total.plus(e);
+                            continue;
+                        }
+                    };
                     let (big_d, _) = p.distance_to(self, x);
                     let front = self.per_hit_power(2, &p.flux) * f.clone() * f.clone() * x.lit(2.0);
                     let from_pairs = t.pairs.as_ref().and_then(|tab| tab.hits(sigma, r, &big_d, &self.shift));
@@ -420,7 +481,8 @@ impl<T: CheckRule> FiniteField<T> {
                             abs_tol: (o.abs_tol / (front.to_f64() * self.lights.len() as f64)).min(f64::MAX),
                             ..o.clone()
                         };
-                        let e = pair_sum(sigma, r, &self.albedo, &orders, &t, &big_d, &self.shift, &share)?;
+                        let e =
+                            pair_sum(sigma, r, &self.albedo, &orders, &orders.terms, &t, &big_d, &self.shift, &share)?;
                         // 𝒦 was read without its bar.
                         let error = e.error.clone() + e.value.abs() * t.revisit_rel();
                         Estimate { error, ..e }
@@ -430,7 +492,7 @@ impl<T: CheckRule> FiniteField<T> {
                 Ok(total)
             })
         });
-        tables.passes.charge(result)
+        beam_tables.charge(tables.passes.charge(result))
     }
 
     /// The mean of segment 1 (§9.5) and of segments ≥ 2 (§10.2), reading
@@ -438,8 +500,8 @@ impl<T: CheckRule> FiniteField<T> {
     /// [`FiniteField::scattered_mean`] and [`FiniteField::multiple_mean`]
     /// give.
     pub fn every_order_means(&self, opts: &Options) -> Result<(Estimate<T>, Estimate<T>), OracleError> {
-        let scattered = ScatteredTables::default();
-        let multiple = MultipleTables::default();
+        let scattered = ScatteredTables::for_computation(opts);
+        let multiple = MultipleTables::for_computation(opts);
         let single = self.scattered_mean_with(&scattered, opts);
         let beyond = self.multiple_mean_with(&multiple, opts);
         Ok((scattered.charge(single)?, multiple.charge(beyond)?))
@@ -447,19 +509,14 @@ impl<T: CheckRule> FiniteField<T> {
 
     /// P = ∫σe^{−σs}⟨𝒞⟩² ds·e^{c₀} and the same-path pairs of M₂ (module
     /// docs) of the simulated orders (≥ 2 or every order; isotropic media,
-    /// point lights), reading one set of tables of I(D) and (C * H)(D) per
+    /// point lights and beams), reading one set of tables of I(D) and (C * H)(D) per
     /// pass, built by P and charged to it. Call
     /// [`FiniteField::cover_pair_distances`] first, or the pairs build
     /// tables of G's parts of their own.
     pub fn every_order_second_moments(&self, opts: &Options) -> SecondMoments<T> {
-        if let Some(i) = self.lights.iter().position(|l| matches!(l, FiniteLight::Beam(_))) {
-            return Err(OracleError::Unsupported(format!(
-                "lights[{i}] is a beam: P and the same-path pairs of every order cover point lights only (a beam's \
-                 pairs of its ray and of its volume of first scatterings are not built, docs/model.md §10.5)"
-            )));
-        }
-        let scattered = ScatteredTables::default();
-        let multiple = MultipleTables::default();
+        // Their scale passes read the primary passes' tables.
+        let scattered = ScatteredTables::for_computation(opts);
+        let multiple = MultipleTables::for_computation(opts);
         // A failed P ends it: the pairs alone would give no Var L.
         let p = self.every_order_p_with(&scattered, &multiple, opts)?;
         let pairs = self.multiple_pairs_with((&scattered, &multiple), opts)?;
@@ -481,10 +538,12 @@ impl<T: CheckRule> FiniteField<T> {
             let half = Options { abs_tol: o.abs_tol / 2.0, ..o.clone() };
             let first = self.order1_mean_with_bar(x, scattered, &half)?;
             let mut rest = Estimate::known(x.lit(0.0), x.lit(0.0), 0, o.rule);
-            for light in &self.lights {
-                if let FiniteLight::Point(p) = light {
-                    rest = rest.plus(p.multiple_moment(self, density, multiple, x, &half)?);
-                }
+            let share = Options { abs_tol: half.abs_tol / self.lights.len() as f64, ..half.clone() };
+            for (i, light) in self.lights.iter().enumerate() {
+                rest = rest.plus(match light {
+                    FiniteLight::Point(p) => p.multiple_moment(self, density, multiple, x, &share)?,
+                    FiniteLight::Beam(b) => b.beyond_moment(self, density, multiple.beams(), i, x, &share)?,
+                });
             }
             Ok(first.plus(rest))
         };
@@ -494,91 +553,5 @@ impl<T: CheckRule> FiniteField<T> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::model::field::Field;
-    use mcrt_scene::{ScatteringOrders, Scene};
-
-    /// The README scene (`point-isotropic`: σ = 1, the light at (1, 0, 1))
-    /// with the orders given, q = 1, one camera ray, the albedo and R given,
-    /// its tables made to reach the pairs' distances (as `every_order_mean`
-    /// does).
-    fn every_order_field(orders: ScatteringOrders, albedo: f64, radius: f64) -> FiniteField<f64> {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic.toml");
-        let mut s = Scene::from_toml_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-        s.medium.albedo = albedo;
-        s.estimator.radius = radius;
-        s.estimator.q = 1.0;
-        s.estimator.camera_rays = 1;
-        s.effects.scattering_orders = orders;
-        let mut first = s.clone();
-        first.effects.scattering_orders = ScatteringOrders::Limited(1);
-        let field = Field::from_scene(&first, &0.0f64).unwrap();
-        let mut ff = FiniteField::of_first_segments(&s, &field);
-        ff.cover_pair_distances();
-        ff
-    }
-
-    /// The tables of 𝒦(d) and of the pair sum, built for a pass of a 10⁻⁴
-    /// computation (`EVERY_ORDER_VARIANCE_TOL`; G from the pass's I(D) and
-    /// (C′ * H)(D) tables, asserted),
-    /// against their one-level integrals at 10⁻⁹ (the pair sum's at 10⁻⁷)
-    /// with the other rule, each reading the table below
-    /// it as the table does: 𝒦 on both sides of d = R, near the centre and
-    /// far out, at every level of remaining segments; the pair sum across
-    /// the light's distances from the camera ray; every order at albedo 0.5
-    /// and 0.95, and orders up to 4 (four levels, G's parts 2 and 3 from
-    /// tables of their own) at albedo 0.8. Each value within the table's
-    /// (chained) bar plus the reference's.
-    #[test]
-    fn the_pair_tables_are_within_their_bars() {
-        let all = ScatteringOrders::All;
-        for (orders, albedo, r) in [(all, 0.5, 0.2), (all, 0.95, 0.3), (ScatteringOrders::Limited(4), 0.8, 0.2)] {
-            let ff = every_order_field(orders, albedo, r);
-            let density = ff.higher_orders().unwrap();
-            let pair_orders = PairOrders::of(density, &albedo).unwrap();
-            // A pass's inner goal at 10⁻⁴ (`integrate_nested`'s 20).
-            let opts = Options::rel(1e-4 / 20.0).with_budget(crate::quad::Budget::new(20_000_000_000)).declared();
-            let (scattered, multiple, tables) =
-                (ScatteredTables::default(), MultipleTables::default(), PairTables::default());
-            let t = ff
-                .pair_tables(&tables, (&scattered, &multiple), density, &pair_orders, &opts)
-                .expect("pair tables at 1e-4");
-            assert!(t.g_from_shared, "a {albedo}, R {r}: G did not come from the I(D) and (C′ * H)(D) tables");
-            assert_eq!(t.levels.len(), if orders == all { 1 } else { 4 });
-            let mut checked = 0;
-            let fine = Options { rule: opts.rule.other(), ..Options::rel(1e-9).declared() };
-            let mut worst = 0.0f64;
-            let mut check = |what: &str, d: f64, got: f64, bar: f64, direct: Estimate<f64>| {
-                let off = (got / direct.value - 1.0).abs();
-                let allowed = bar + direct.error / direct.value + 1e-14;
-                worst = worst.max(off / allowed);
-                assert!(off <= allowed, "a {albedo}, R {r}, {what} at {d}: off {off:e}, allowed {allowed:e}");
-                checked += 1;
-            };
-            for level in &t.levels {
-                for d in [1e-3 * r, 0.5 * r, 0.999 * r, 1.001 * r, 2.0 * r, 1.5, 5.0] {
-                    let Some((got, bar)) = level.revisit.hits(&1.0, &r, &d, &0.0) else { continue };
-                    let direct = revisit(&1.0, &r, &level.after, &d, &0.0, &fine, false).unwrap();
-                    check("𝒦", d, got, bar, direct);
-                }
-            }
-            let (lo, hi) = super::super::scattered_table::light_distance_range(&ff).unwrap();
-            let pairs = t.pairs.as_ref().expect("a pair-sum table");
-            for d in [lo * 1.001, 0.5 * (lo + hi), 0.9 * hi] {
-                let Some((got, bar)) = pairs.hits(&1.0, &r, &d, &0.0) else { continue };
-                // 10⁻⁷: the samples read T from the pass's tail table, whose
-                // bar (~10⁻⁸ of the sum here) a finer goal could not meet.
-                let coarser = Options { rel_tol: 1e-7, ..fine.clone() };
-                let direct = pair_sum(&1.0, &r, &albedo, &pair_orders, &t, &d, &0.0, &coarser).unwrap();
-                check("pair sum", d, got, bar, direct);
-            }
-            println!(
-                "{orders:?}, a {albedo}, R {r}: 𝒦 bar {:.1e}, pairs bar {:.1e}, worst {worst:.2} of allowed ({checked} \
-                 values)",
-                t.revisit_rel(),
-                pairs.rel_error
-            );
-        }
-    }
-}
+#[path = "multiple_pairs_tests.rs"]
+mod tests;

@@ -55,6 +55,27 @@ impl<T: CheckRule> PairOrders<T> {
         Ok(PairOrders { densities, levels, terms, albedo: albedo.clone() })
     }
 
+    /// The terms of the pair sum of the fresh path that follows a beam ray's
+    /// first scattering (`multiple_beam_pairs`): a path of one segment fewer
+    /// than these orders' (its segment 0 is the beam's segment 1), i.e. a
+    /// point light of orders n − 1: (light, level n − 2), (a·c₁, level
+    /// n − 3) where n ≥ 3, and (a^j c_j, level n − j − 2) for j = 2..n − 2,
+    /// read from the same densities and levels; with every order the same
+    /// terms as [`PairOrders::terms`].
+    pub fn fresh_terms(&self) -> Vec<(Start, usize)> {
+        if self.every() {
+            return self.terms.clone();
+        }
+        // The fresh path's orders m = n − 1 ≥ 1 (levels 1..=n are built).
+        let m = self.levels.len() - 1;
+        let mut terms = vec![(Start::Light, m - 1)];
+        if m >= 2 {
+            terms.push((Start::FirstInteraction, m - 2));
+        }
+        terms.extend((2..m).map(|j| (Start::Beyond(j - 2), m - j - 1)));
+        terms
+    }
+
     /// Whether these are every order (`"all"`).
     pub fn every(&self) -> bool {
         self.densities.first().is_some_and(|d| d.last_order().is_none())
@@ -119,5 +140,21 @@ mod tests {
             (vec![2], vec![(Light, 0), (FirstInteraction, 0), (Beyond(0), 0)])
         );
         assert!(all.every() && (all.most_hits(2) - 5.0).abs() < 1e-12 && all.decay() < 1.0);
+    }
+
+    /// The fresh path after a beam's first scattering has one segment
+    /// fewer: its terms are those of the orders one below, read from the
+    /// same densities and levels (and every order's own terms).
+    #[test]
+    fn a_beams_fresh_path_reads_the_terms_of_one_order_less() {
+        use Start::{Beyond, FirstInteraction, Light};
+        assert_eq!(orders(Some(2)).fresh_terms(), vec![(Light, 0)]);
+        assert_eq!(orders(Some(3)).fresh_terms(), orders(Some(2)).terms);
+        assert_eq!(orders(Some(5)).fresh_terms(), orders(Some(4)).terms);
+        assert_eq!(
+            orders(Some(5)).fresh_terms(),
+            vec![(Light, 3), (FirstInteraction, 2), (Beyond(0), 1), (Beyond(1), 0)]
+        );
+        assert_eq!(orders(None).fresh_terms(), orders(None).terms);
     }
 }

@@ -111,6 +111,35 @@ impl<T: CheckRule> BeamLight<T> {
         table: Option<&SecondHitTable<T>>,
         opts: &Options,
     ) -> Outcome<T> {
+        self.ray_revisits(ff, x, table, &ff.albedo, opts)
+    }
+
+    /// The beam ray's pairs with every later segment of its path at the
+    /// sphere at s = center + x, ·e^{c₀}: [`BeamLight::same_path_moment`]
+    /// with the K_G table of every order (`multiple_pairs`, `docs/model.md`
+    /// §10.6), which carries the albedo (so the front does not). Never K of
+    /// order 1 in its place: the table is required.
+    pub(super) fn ray_pairs_every_order(
+        &self,
+        ff: &FiniteField<T>,
+        x: &T,
+        k_g: &SecondHitTable<T>,
+        opts: &Options,
+    ) -> Outcome<T> {
+        self.ray_revisits(ff, x, Some(k_g), &x.lit(1.0), opts)
+    }
+
+    /// ⟨𝒞₀ Σ_k 𝒞_k⟩·e^{c₀}: the beam ray crossing the sphere then hitting it
+    /// again as `table` (or order 1's K by quadrature) says, `albedo` in
+    /// front (module docs).
+    fn ray_revisits(
+        &self,
+        ff: &FiniteField<T>,
+        x: &T,
+        table: Option<&SecondHitTable<T>>,
+        albedo: &T,
+        opts: &Options,
+    ) -> Outcome<T> {
         let zero = x.lit(0.0);
         let nothing = || Ok(Estimate::known(zero.clone(), zero.clone(), 0, opts.rule));
         let s = ff.center.clone() + x.clone();
@@ -121,8 +150,7 @@ impl<T: CheckRule> BeamLight<T> {
         let at = self.seen_at(ff, x);
         let (r, a, p) = (&ff.radius, &self.radius, &at.p);
         let f = x.lit(1.0) / (x.pi() * x.lit(4.0));
-        let front = ff.per_hit_power(2, &self.flux) * f.clone() * f * ff.albedo.clone()
-            / (x.pi() * a.clone() * a.clone())
+        let front = ff.per_hit_power(2, &self.flux) * f.clone() * f * albedo.clone() / (x.pi() * a.clone() * a.clone())
             * (ff.shift.clone() - ff.sigma.clone() * at.tau.clone()).exp();
         if front.is_zero() {
             return nothing();

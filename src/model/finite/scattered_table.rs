@@ -84,6 +84,20 @@ impl<T: CheckRule> ScatteredTable<T> {
         lowest: f64,
         opts: &Options,
     ) -> (Option<ScatteredTable<T>>, u64) {
+        Self::build_with_window(g, decay, r, (lo, hi), (lowest, WINDOW), opts)
+    }
+
+    /// [`ScatteredTable::build_with`] with a window about R of half-width
+    /// `window`·R of its own (a table whose callers bound the window's
+    /// values instead of computing them, and want it narrow).
+    pub(super) fn build_with_window(
+        g: impl Fn(&T, &Options) -> crate::quad::Outcome<T>,
+        decay: &T,
+        r: &T,
+        (lo, hi): (&T, &T),
+        (lowest, window): (f64, f64),
+        opts: &Options,
+    ) -> (Option<ScatteredTable<T>>, u64) {
         let goal = opts.rel_tol / 10.0;
         let lo = &lo.clone().max_of(r.clone() * r.lit(lowest));
         if goal < FINEST_GOAL || !(hi > lo) {
@@ -91,7 +105,7 @@ impl<T: CheckRule> ScatteredTable<T> {
         }
         let samples = sample_options(r, goal, opts.rule, &opts.budget);
         let g = |d: &T| g(d, &samples);
-        let delta = r.clone() * r.lit(WINDOW);
+        let delta = r.clone() * r.lit(window);
         let (below, above) = (r.clone() - delta.clone(), r.clone() + delta.clone());
         let mut grading = graded_about(r, &delta, r);
         grading.extend(graded_about(&r.lit(0.0), &lo.clone().min_of(r.clone()), r));
@@ -151,17 +165,29 @@ impl<T: CheckRule> ScatteredTable<T> {
 pub(super) struct ScatteredTables<T> {
     points: OncePerPass<ScatteredTable<T>>,
     beams: OncePerPass<BeamAlongRay<T>>,
+    /// The finest goal a pass's tables are built at, if set
+    /// (`once_per_pass::capped_tables`).
+    finest: Option<f64>,
 }
 
 impl<T> Default for ScatteredTables<T> {
     fn default() -> Self {
-        ScatteredTables { points: OncePerPass::default(), beams: OncePerPass::default() }
+        ScatteredTables { points: OncePerPass::default(), beams: OncePerPass::default(), finest: None }
+    }
+}
+
+impl<T> ScatteredTables<T> {
+    /// The tables of a computation with options `opts`, whose scale pass
+    /// reads its primary pass's tables (`once_per_pass::fine_tables`).
+    pub(super) fn for_computation(opts: &Options) -> Self {
+        ScatteredTables { finest: Some(crate::model::once_per_pass::primary_goal(opts)), ..Self::default() }
     }
 }
 
 impl<T: CheckRule> ScatteredTables<T> {
     /// The I(D) table of the pass with `opts` over the distances of `ff`.
     pub(super) fn for_pass(&self, ff: &FiniteField<T>, opts: &Options) -> Option<Arc<ScatteredTable<T>>> {
+        let opts = &crate::model::once_per_pass::capped_tables(opts, self.finest);
         self.points.get_or_build(opts, || match distance_range(ff) {
             Some((lo, hi)) => ScatteredTable::build(&ff.sigma, &ff.radius, &lo, &hi, opts),
             None => (None, 0),
@@ -170,6 +196,7 @@ impl<T: CheckRule> ScatteredTables<T> {
 
     /// The beams' along-ray tables of the pass with `opts`.
     pub(super) fn beams_for_pass(&self, ff: &FiniteField<T>, opts: &Options) -> Option<Arc<BeamAlongRay<T>>> {
+        let opts = &crate::model::once_per_pass::capped_tables(opts, self.finest);
         self.beams.get_or_build(opts, || BeamAlongRay::build(ff, opts))
     }
 
