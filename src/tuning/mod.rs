@@ -30,8 +30,8 @@
 //! no small-sphere model beside it; elsewhere
 //! (Henyey–Greenstein media at order 1) the bias is not predicted, R is
 //! held at the scene's and only (q, N_F, N_B) are chosen, for the noise
-//! alone; Henyey–Greenstein media and beams at orders ≥ 2, and orders
-//! above 9, are refused (no Var L).
+//! alone; Henyey–Greenstein media at orders ≥ 2, and orders above 9, are
+//! refused (no Var L).
 
 pub mod alternatives;
 pub mod calibration;

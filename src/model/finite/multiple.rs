@@ -331,8 +331,9 @@ pub(super) struct MultipleTable<T> {
 pub(super) struct MultipleTables<T> {
     passes: OncePerPass<MultipleTable<T>>,
     beams: BeamBeyondTables<T>,
-    /// The finest goal a pass's tables are built at: the primary pass's
-    /// of the computation (`once_per_pass::capped_tables`), if set.
+    /// A cap on the goal a pass's tables are built at (none coarser): the
+    /// primary pass's of the computation (`once_per_pass::capped_tables`),
+    /// if set.
     finest: Option<f64>,
 }
 

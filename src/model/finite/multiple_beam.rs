@@ -89,8 +89,8 @@ type BeamBeyond<T> = AlongRay<T>;
 pub(super) struct BeamBeyondTables<T> {
     limit: BeamLimit,
     passes: OncePerPass<BeamBeyond<T>>,
-    /// The finest goal a pass's tables are built at, if set
-    /// (`once_per_pass::capped_tables`).
+    /// A cap on the goal a pass's tables are built at (none coarser), if
+    /// set (`once_per_pass::capped_tables`).
     finest: Option<f64>,
 }
 
@@ -442,6 +442,8 @@ impl<T: CheckRule> BeamLight<T> {
             Some(_) => Ok(Estimate::known(x.lit(0.0), bound, 0, opts.rule)),
             // A spent budget ends a table's build too: say so.
             None => Err(fail(opts.budget.exhausted().unwrap_or_else(|| {
+                // The goal the tables were asked for (the pass's, capped).
+                let opts = &crate::model::once_per_pass::capped_tables(opts, tables.finest);
                 if opts.rel_tol / 10.0 < FINEST_GOAL {
                     format!(
                         "a beam's scattering orders ≥ 2 need tables to a tenth of the pass's goal {:e}, finer than \

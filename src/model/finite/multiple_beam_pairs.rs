@@ -40,11 +40,12 @@ use super::start_density::StartDensity;
 use super::{FiniteField, OncePerPass};
 
 /// The half-width of the pair sum's table's window about R, relative to R:
-/// within it each shell's 𝒮 is bracketed by [0, M·G(R(1 − 10⁻⁶))] instead
-/// of computed (its quadrature there costs ~10⁶ evaluations a shell, and
-/// the shells' nodes crowd towards their knee at R); the window is narrow
-/// enough that its shells' share of the volume integral, ~10⁻⁹ of it, is
-/// far below any goal even with that bar.
+/// within it each shell's 𝒮 is bracketed by [0, M·G(R(1 − 2·10⁻⁶))]
+/// instead of computed (its quadrature there costs ~10⁶ evaluations a
+/// shell, and the shells' nodes crowd towards their knee at R); the window
+/// is narrow enough that its shells' share of the volume integral, ~10⁻¹²
+/// of it times M·G/𝒮, is far below any goal even with that bar (at 10⁻⁹R
+/// albedo 0.99, M = 100, ended NOT CONVERGED).
 const SUMS_WINDOW: f64 = 1e-12;
 use crate::model::beam_source::{ShellFactor, Shells};
 use crate::quad::{CheckRule, Estimate, Failure, Options, Outcome};
@@ -186,7 +187,7 @@ impl<T: CheckRule> BeamLight<T> {
             if (d.clone() - r.clone()).abs() > r.clone() * r.lit(SUMS_WINDOW * (1.0 + 1e-6)) {
                 return Err(missing("the distance"));
             }
-            // Within the table's window about R (|d − R| ≤ 10⁻⁹R, where 𝒮
+            // Within the table's window about R (|d − R| ≤ 10⁻¹²R, where 𝒮
             // jumps with the ray's first hit): 𝒮 ≤ M·G(d) ≤ M·G(R(1 − 2·10⁻⁶))
             // (G radially decreasing; read inside G's table, not on the end
             // of its piece at R(1 − 10⁻⁶)), taken as half that with a bar

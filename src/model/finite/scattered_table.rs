@@ -165,8 +165,8 @@ impl<T: CheckRule> ScatteredTable<T> {
 pub(super) struct ScatteredTables<T> {
     points: OncePerPass<ScatteredTable<T>>,
     beams: OncePerPass<BeamAlongRay<T>>,
-    /// The finest goal a pass's tables are built at, if set
-    /// (`once_per_pass::capped_tables`).
+    /// A cap on the goal a pass's tables are built at (none coarser), if
+    /// set (`once_per_pass::capped_tables`).
     finest: Option<f64>,
 }
 
