@@ -321,6 +321,30 @@ fn build_beyond<T: CheckRule>(
     (along, spent + used)
 }
 
+/// ∫ n(x₁) F(|x₁ − x|) d³x₁·e^{shift} over the shells about the point `at`
+/// out to `cut` (the caller bounds the rest), F a radial factor read once
+/// per shell (`factor`, decaying at `decay`, kinked at R): the kernel
+/// d²·σe^{shift − σt}·F(d) of a beam's volume integrals of every order,
+/// its mean's (F = G′) and its pairs' (F = 𝒮, `multiple_beam_pairs`).
+pub(super) fn shells_to_cut<T: CheckRule>(
+    ff: &FiniteField<T>,
+    at: &crate::model::beam_source::BeamPoint<T>,
+    (factor, decay): (&crate::model::beam_source::ShellFactorFn<'_, T>, &T),
+    (cut, shift): (&T, &T),
+    opts: &Options,
+) -> Outcome<T> {
+    let sigma = &ff.sigma;
+    let kernel = |t: &T, d: &T, f: &ShellFactor<T>| {
+        d.clone()
+            * d.clone()
+            * sigma.clone()
+            * f.rest.clone()
+            * (shift.clone() + f.ln.clone() - sigma.clone() * t.clone()).exp()
+    };
+    let shells = Shells { knee: Some(&ff.radius), decay: decay.clone(), factor: Some(factor), cut: Some(cut.clone()) };
+    at.integral_over_shells(&kernel, &shells, opts, true)
+}
+
 impl<T: CheckRule> BeamLight<T> {
     /// ∫ n(x₁) G′(|x₁ − x(s)|) d³x₁·e^{shift} at s = center + x (module
     /// docs), shells out to `span` beyond the farthest point of the disk,
@@ -343,17 +367,7 @@ impl<T: CheckRule> BeamLight<T> {
             let g = fresh.beyond_radial(parts, d, o)?;
             Ok(ShellFactor { ln: -(sigma.clone() * g.reach), rest: g.rest, rel: g.rel })
         };
-        // d²·σe^{shift − σt}·G′(d).
-        let kernel = |t: &T, d: &T, f: &ShellFactor<T>| {
-            d.clone()
-                * d.clone()
-                * sigma.clone()
-                * f.rest.clone()
-                * (shift.clone() + f.ln.clone() - sigma.clone() * t.clone()).exp()
-        };
-        let shells =
-            Shells { knee: Some(&ff.radius), decay: fresh.nu().clone(), factor: Some(&factor), cut: Some(cut.clone()) };
-        let e = at.integral_over_shells(&kernel, &shells, opts, true)?;
+        let e = shells_to_cut(ff, &at, (&factor, fresh.nu()), (&cut, shift), opts)?;
         let g = fresh.beyond_radial(parts, &cut, opts)?;
         let bar = x.lit(1.0) + g.rel + fresh.rel_error.clone();
         let beyond = g.rest * (shift.clone() - sigma.clone() * g.reach).exp() * bar;

@@ -32,12 +32,14 @@
 
 use super::beam::BeamLight;
 use super::fresh_hits::{from_table, FreshHits};
-use super::multiple_beam::AlongRay;
+use super::multiple_beam::{shells_to_cut, AlongRay};
 use super::multiple_pairs::{pair_sum, pair_table_options, PairTable};
 use super::pair_orders::PairOrders;
 use super::scattered_table::{ScatteredTable, LOWEST, WINDOW};
 use super::start_density::StartDensity;
 use super::{FiniteField, OncePerPass};
+use crate::model::beam_source::ShellFactor;
+use crate::quad::{CheckRule, Estimate, Failure, Options, Outcome};
 
 /// The half-width of the pair sum's table's window about R, relative to R:
 /// within it each shell's 𝒮 is bracketed by [0, M·G(R(1 − 2·10⁻⁶))]
@@ -47,8 +49,6 @@ use super::{FiniteField, OncePerPass};
 /// of it times M·G/𝒮, is far below any goal even with that bar (at 10⁻⁹R
 /// albedo 0.99, M = 100, ended NOT CONVERGED).
 const SUMS_WINDOW: f64 = 1e-12;
-use crate::model::beam_source::{ShellFactor, Shells};
-use crate::quad::{CheckRule, Estimate, Failure, Options, Outcome};
 
 /// The tables of a pass a beam's pairs of every order read beside the
 /// levels' K_G and 𝒦 (module docs).
@@ -152,7 +152,7 @@ impl<T: CheckRule> BeamLight<T> {
         shift: &T,
         opts: &Options,
     ) -> Outcome<T> {
-        let (sigma, r) = (&ff.sigma, &ff.radius);
+        let r = &ff.radius;
         let at = self.seen_at(ff, x);
         let cut = at.farthest_on_disk() + sums.span.clone();
         let factor = |d: &T, _: &Options| -> Result<ShellFactor<T>, Failure<T>> {
@@ -201,15 +201,7 @@ impl<T: CheckRule> BeamLight<T> {
             Ok(ShellFactor { ln, rest: half, rel: d.lit(1.0) })
         };
         // d²·σe^{shift − σt}·𝒮(d).
-        let kernel = |t: &T, d: &T, f: &ShellFactor<T>| {
-            d.clone()
-                * d.clone()
-                * sigma.clone()
-                * f.rest.clone()
-                * (shift.clone() + f.ln.clone() - sigma.clone() * t.clone()).exp()
-        };
-        let shells = Shells { knee: Some(r), decay: nu.clone(), factor: Some(&factor), cut: Some(cut.clone()) };
-        let e = at.integral_over_shells(&kernel, &shells, opts, true)?;
+        let e = shells_to_cut(ff, &at, (&factor, nu), (&cut, shift), opts)?;
         let Some(g) = from_table(&sums.hits, nu, r, &cut) else {
             let reason = "a beam's pairs of every order: the table of G does not reach the shells' cut".to_string();
             return Err(Failure { reason, best_guess: None, error_estimate: None, evaluations: e.evaluations });
