@@ -85,11 +85,7 @@ pub const EVERY_ORDER_VARIANCE_TOL: f64 = 1e-4;
 /// their Var L, [`every_order_variance_modelled`]).
 pub(crate) fn every_order_scene_covered(scene: &Scene) -> Result<(), OracleError> {
     if scene.medium.phase != mcrt_scene::Phase::Isotropic {
-        return Err(OracleError::Unsupported(format!(
-            "effects.scattering_orders >= 2 with medium.phase = {:?}: the model of every order covers isotropic \
-             media only (docs/model.md §10); allowed: medium.phase.kind = \"isotropic\", or scattering_orders <= 1",
-            scene.medium.phase
-        )));
+        return Err(crate::model::finite::every_order_phase_refusal(scene.medium.phase));
     }
     let (o, u) = (scene.camera.origin, scene.camera.direction);
     for (i, light) in scene.lights.iter().enumerate() {

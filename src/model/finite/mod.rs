@@ -50,6 +50,7 @@ mod tables;
 pub mod virtual_lights;
 
 pub(super) use super::once_per_pass::OncePerPass;
+pub(crate) use multiple::every_order_phase_refusal;
 
 use super::along::{lowest_quadratic_path, pair_scale_exponent, MeanSource, RayLine};
 use super::angular::Direction;

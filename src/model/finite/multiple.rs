@@ -457,12 +457,7 @@ impl<T: CheckRule> FiniteField<T> {
             Some(Ok(density)) => density,
         };
         if self.phase != mcrt_scene::Phase::Isotropic {
-            return Err(OracleError::Unsupported(format!(
-                "effects.scattering_orders ≥ 2 with medium.phase = {:?}: the finite-sphere model of every order \
-                 covers isotropic media only (docs/model.md §10); allowed: medium.phase = \"isotropic\", or \
-                 scattering_orders ≤ 1",
-                self.phase
-            )));
+            return Err(every_order_phase_refusal(self.phase));
         }
         Ok(density)
     }
@@ -578,6 +573,19 @@ impl<T: CheckRule> FiniteField<T> {
         });
         beam_tables.charge(mean)
     }
+}
+
+/// The refusal of a scene with `scattering_orders` ≥ 2 in a medium other
+/// than an isotropic one, naming the fields a user would change.
+pub(crate) fn every_order_phase_refusal(phase: mcrt_scene::Phase) -> OracleError {
+    let phase = match phase {
+        mcrt_scene::Phase::Isotropic => "medium.phase.kind = \"isotropic\"".to_string(),
+        mcrt_scene::Phase::HenyeyGreenstein { g } => format!("medium.phase.kind = \"henyey-greenstein\" (g = {g})"),
+    };
+    OracleError::Unsupported(format!(
+        "effects.scattering_orders >= 2 with {phase}: the finite-sphere model of every order covers isotropic \
+         media only (docs/model.md §10.4); allowed: medium.phase.kind = \"isotropic\", or scattering_orders <= 1"
+    ))
 }
 
 #[cfg(test)]
