@@ -146,7 +146,8 @@ const char *mcrt_last_error(void);
 enum McrtStatus mcrt_scene_from_toml(const char *text, struct McrtScene **out);
 
 /**
- * Reads and validates a scene file and stores it in `*out`.
+ * Reads and validates a scene file (at most 1 MiB; the path in the
+ * file system's bytes) and stores it in `*out`.
  *
  * # Safety
  * `path` is a NUL-terminated string; `out` points to writable storage.
@@ -172,18 +173,20 @@ void mcrt_scene_free(struct McrtScene *scene);
 enum McrtStatus mcrt_predict(const struct McrtScene *scene, struct McrtPrediction **out);
 
 /**
- * The predicted mean ⟨⟨L⟩⟩ of one iteration, with its bars.
+ * The predicted mean ⟨⟨L⟩⟩ of one iteration, with its bars (NaN in
+ * every field for a null `prediction`, with a message).
  *
  * # Safety
- * `prediction` is a live prediction (not null).
+ * `prediction` is a live prediction or null.
  */
 struct McrtPredicted mcrt_prediction_mean(const struct McrtPrediction *prediction);
 
 /**
- * The predicted Var L of one iteration, with its bars.
+ * The predicted Var L of one iteration, with its bars (NaN for a null
+ * `prediction`, with a message).
  *
  * # Safety
- * `prediction` is a live prediction (not null).
+ * `prediction` is a live prediction or null.
  */
 struct McrtPredicted mcrt_prediction_variance(const struct McrtPrediction *prediction);
 
@@ -222,10 +225,10 @@ enum McrtStatus mcrt_samples_extend(struct McrtSamples *samples,
 enum McrtStatus mcrt_samples_merge(struct McrtSamples *into, const struct McrtSamples *other);
 
 /**
- * How many values the samples hold.
+ * How many values the samples hold (0 for null, with a message).
  *
  * # Safety
- * `samples` is live (not null).
+ * `samples` is live or null.
  */
 uint64_t mcrt_samples_count(const struct McrtSamples *samples);
 
@@ -256,27 +259,27 @@ enum McrtStatus mcrt_check(const struct McrtPrediction *prediction,
                            struct McrtVerdict **out);
 
 /**
- * PASS, FAIL or NOT RESOLVED.
+ * PASS, FAIL or NOT RESOLVED (NOT RESOLVED for null, with a message).
  *
  * # Safety
- * `verdict` is live (not null).
+ * `verdict` is live or null.
  */
 enum McrtVerdictStatus mcrt_verdict_status(const struct McrtVerdict *verdict);
 
 /**
- * 1 if the check passed, else 0.
+ * 1 if the check passed, else 0 (0 for null, with a message).
  *
  * # Safety
- * `verdict` is live (not null).
+ * `verdict` is live or null.
  */
 int mcrt_verdict_passed(const struct McrtVerdict *verdict);
 
 /**
  * The mean's z-score in `*z`: returns 1, or 0 where the samples give none
- * (too few values, no spread).
+ * (too few values, no spread; or a null argument).
  *
  * # Safety
- * `verdict` is live; `z` points to a double.
+ * `verdict` is live or null; `z` points to a double or is null.
  */
 int mcrt_verdict_z_mean(const struct McrtVerdict *verdict, double *z);
 
@@ -284,31 +287,33 @@ int mcrt_verdict_z_mean(const struct McrtVerdict *verdict, double *z);
  * Var L's z-score in `*z`: returns 1, or 0 where the samples give none.
  *
  * # Safety
- * `verdict` is live; `z` points to a double.
+ * `verdict` is live or null; `z` points to a double or is null.
  */
 int mcrt_verdict_z_variance(const struct McrtVerdict *verdict, double *z);
 
 /**
- * The |z| limit of both z-tests.
+ * The |z| limit of both z-tests (NaN for null, with a message).
  *
  * # Safety
- * `verdict` is live (not null).
+ * `verdict` is live or null.
  */
 double mcrt_verdict_z_limit(const struct McrtVerdict *verdict);
 
 /**
- * The whole verdict as the CLI prints it (UTF-8, owned by the verdict).
+ * The whole verdict as the CLI prints it (UTF-8, owned by the verdict;
+ * "" for null, with a message).
  *
  * # Safety
- * `verdict` is live (not null).
+ * `verdict` is live or null.
  */
 const char *mcrt_verdict_text(const struct McrtVerdict *verdict);
 
 /**
- * The whole verdict as the CLI's `--json` gives it (owned by the verdict).
+ * The whole verdict as the CLI's `check --json` prints it (owned by the
+ * verdict; "" for null, with a message).
  *
  * # Safety
- * `verdict` is live (not null).
+ * `verdict` is live or null.
  */
 const char *mcrt_verdict_json(const struct McrtVerdict *verdict);
 

@@ -102,25 +102,35 @@ thread_local! {
     static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
 }
 
+/// Keeps `message` for `mcrt_last_error` (not during the thread's exit,
+/// when its storage is gone: then the message is dropped, never a panic).
 fn set_error(message: &str) {
     let message = CString::new(message.replace('\0', " ")).unwrap_or_default();
-    LAST_ERROR.with(|e| *e.borrow_mut() = message);
+    let _ = LAST_ERROR.try_with(|e| *e.borrow_mut() = message);
 }
 
 /// Runs `body`, turning an error into its status (the message kept for
 /// `mcrt_last_error`) and a panic into `McrtStatus::Panic`.
 fn guarded(body: impl FnOnce() -> Result<(), (McrtStatus, String)>) -> McrtStatus {
-    match catch_unwind(AssertUnwindSafe(body)) {
-        Ok(Ok(())) => McrtStatus::Ok,
-        Ok(Err((status, message))) => {
+    let outcome = catch_unwind(AssertUnwindSafe(|| match body() {
+        Ok(()) => McrtStatus::Ok,
+        Err((status, message)) => {
             set_error(&message);
             status
         }
-        Err(_) => {
-            set_error("a panic inside mcrt-noise (a bug: please report it with the scene and the values)");
-            McrtStatus::Panic
-        }
-    }
+    }));
+    outcome.unwrap_or_else(|_| {
+        let _ = catch_unwind(|| set_error(PANIC_MESSAGE));
+        McrtStatus::Panic
+    })
+}
+
+const PANIC_MESSAGE: &str = "a panic inside mcrt-noise (a bug: please report it with the scene and the values)";
+
+/// `message` for a null handle given to an accessor, which then returns
+/// its neutral value (NaN, 0 or an empty string).
+fn null_handle(name: &str) {
+    set_error(&format!("{name}: a null pointer"));
 }
 
 unsafe fn text_arg<'a>(text: *const c_char, name: &str) -> Result<&'a str, (McrtStatus, String)> {
@@ -137,6 +147,14 @@ unsafe fn handle<'a, T>(ptr: *const T, name: &str) -> Result<&'a T, (McrtStatus,
     ptr.as_ref().ok_or_else(|| (McrtStatus::InvalidArgument, format!("{name}: a null pointer")))
 }
 
+/// Sets `*out` to null (where `out` is not null) before a call's work, so
+/// that a failed call leaves null there, never an old pointer.
+unsafe fn clear<T>(out: *mut *mut T) {
+    if !out.is_null() {
+        *out = std::ptr::null_mut();
+    }
+}
+
 unsafe fn put<T>(out: *mut *mut T, value: T, name: &str) -> Result<(), (McrtStatus, String)> {
     if out.is_null() {
         return Err((McrtStatus::InvalidArgument, format!("{name}: a null pointer")));
@@ -145,11 +163,35 @@ unsafe fn put<T>(out: *mut *mut T, value: T, name: &str) -> Result<(), (McrtStat
     Ok(())
 }
 
+/// The most values one `McrtSamples` holds: counts stay exact as doubles.
+const MAX_COUNT: u64 = 1 << 53;
+
+fn within_count(have: u64, adding: u64) -> Result<(), (McrtStatus, String)> {
+    match have.checked_add(adding) {
+        Some(total) if total <= MAX_COUNT => Ok(()),
+        _ => Err((
+            McrtStatus::InvalidArgument,
+            format!("count = {have} + {adding}: at most 2^53 = {MAX_COUNT} values in one McrtSamples"),
+        )),
+    }
+}
+
+#[cfg(unix)]
+fn path_from_bytes(bytes: &[u8]) -> std::path::PathBuf {
+    use std::os::unix::ffi::OsStrExt;
+    std::path::PathBuf::from(std::ffi::OsStr::from_bytes(bytes))
+}
+
+#[cfg(not(unix))]
+fn path_from_bytes(bytes: &[u8]) -> std::path::PathBuf {
+    std::path::PathBuf::from(String::from_utf8_lossy(bytes).into_owned())
+}
+
 /// The message of the last failed call on this thread (empty if none):
 /// owned by the library, valid until the next failing call on this thread.
 #[no_mangle]
 pub extern "C" fn mcrt_last_error() -> *const c_char {
-    LAST_ERROR.with(|e| e.borrow().as_ptr())
+    LAST_ERROR.try_with(|e| e.borrow().as_ptr()).unwrap_or(c"".as_ptr())
 }
 
 /// Validates a scene given as TOML text (`docs/scene-format.md`) and stores
@@ -159,6 +201,7 @@ pub extern "C" fn mcrt_last_error() -> *const c_char {
 /// `text` is a NUL-terminated string; `out` points to writable storage.
 #[no_mangle]
 pub unsafe extern "C" fn mcrt_scene_from_toml(text: *const c_char, out: *mut *mut McrtScene) -> McrtStatus {
+    clear(out);
     guarded(|| {
         let text = text_arg(text, "text")?;
         let scene = Scene::from_toml_str(text).map_err(|e| (McrtStatus::InvalidScene, e.to_string()))?;
@@ -166,16 +209,21 @@ pub unsafe extern "C" fn mcrt_scene_from_toml(text: *const c_char, out: *mut *mu
     })
 }
 
-/// Reads and validates a scene file and stores it in `*out`.
+/// Reads and validates a scene file (at most 1 MiB; the path in the
+/// file system's bytes) and stores it in `*out`.
 ///
 /// # Safety
 /// `path` is a NUL-terminated string; `out` points to writable storage.
 #[no_mangle]
 pub unsafe extern "C" fn mcrt_scene_from_file(path: *const c_char, out: *mut *mut McrtScene) -> McrtStatus {
+    clear(out);
     guarded(|| {
-        let path = text_arg(path, "path")?;
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| (McrtStatus::InvalidScene, format!("{path}: cannot read: {e}")))?;
+        if path.is_null() {
+            return Err((McrtStatus::InvalidArgument, "path: a null pointer: must be a NUL-terminated string".into()));
+        }
+        let path = path_from_bytes(CStr::from_ptr(path).to_bytes());
+        let text = mcrt_noise::scene::limits::read_scene_text(&path).map_err(|e| (McrtStatus::InvalidScene, e))?;
+        let path = path.display();
         let scene = Scene::from_toml_str(&text).map_err(|e| (McrtStatus::InvalidScene, format!("{path}: {e}")))?;
         put(out, McrtScene(scene), "out")
     })
@@ -200,6 +248,7 @@ pub unsafe extern "C" fn mcrt_scene_free(scene: *mut McrtScene) {
 /// `scene` is a live scene; `out` points to writable storage.
 #[no_mangle]
 pub unsafe extern "C" fn mcrt_predict(scene: *const McrtScene, out: *mut *mut McrtPrediction) -> McrtStatus {
+    clear(out);
     guarded(|| {
         let scene = handle(scene, "scene")?;
         let prediction = predict(&scene.0).map_err(|e| match e {
@@ -214,22 +263,37 @@ fn predicted(p: mcrt_noise::Predicted) -> McrtPredicted {
     McrtPredicted { value: p.value, quadrature_bar: p.quadrature_bar, model_bar: p.model_bar }
 }
 
-/// The predicted mean ⟨⟨L⟩⟩ of one iteration, with its bars.
+/// The predicted mean ⟨⟨L⟩⟩ of one iteration, with its bars (NaN in
+/// every field for a null `prediction`, with a message).
 ///
 /// # Safety
-/// `prediction` is a live prediction (not null).
+/// `prediction` is a live prediction or null.
 #[no_mangle]
 pub unsafe extern "C" fn mcrt_prediction_mean(prediction: *const McrtPrediction) -> McrtPredicted {
-    predicted((*prediction).0.mean)
+    prediction_part(prediction, |p| p.mean)
 }
 
-/// The predicted Var L of one iteration, with its bars.
+unsafe fn prediction_part(
+    prediction: *const McrtPrediction,
+    part: impl Fn(&Prediction) -> mcrt_noise::Predicted,
+) -> McrtPredicted {
+    match prediction.as_ref() {
+        Some(p) => predicted(part(&p.0)),
+        None => {
+            null_handle("prediction");
+            McrtPredicted { value: f64::NAN, quadrature_bar: f64::NAN, model_bar: f64::NAN }
+        }
+    }
+}
+
+/// The predicted Var L of one iteration, with its bars (NaN for a null
+/// `prediction`, with a message).
 ///
 /// # Safety
-/// `prediction` is a live prediction (not null).
+/// `prediction` is a live prediction or null.
 #[no_mangle]
 pub unsafe extern "C" fn mcrt_prediction_variance(prediction: *const McrtPrediction) -> McrtPredicted {
-    predicted((*prediction).0.variance)
+    prediction_part(prediction, |p| p.variance)
 }
 
 /// Releases a prediction (null: nothing).
@@ -270,6 +334,7 @@ pub unsafe extern "C" fn mcrt_samples_extend(
         if values.is_null() {
             return Err((McrtStatus::InvalidArgument, format!("values: a null pointer with count = {count}")));
         }
+        within_count(samples.0.count(), count as u64)?;
         let values = std::slice::from_raw_parts(values, count);
         samples.0.extend(values.iter().copied()).map_err(|e| (McrtStatus::InvalidSample, e.to_string()))
     })
@@ -282,20 +347,31 @@ pub unsafe extern "C" fn mcrt_samples_extend(
 #[no_mangle]
 pub unsafe extern "C" fn mcrt_samples_merge(into: *mut McrtSamples, other: *const McrtSamples) -> McrtStatus {
     guarded(|| {
-        let other = handle(other, "other")?;
-        let into = into.as_mut().ok_or((McrtStatus::InvalidArgument, "into: a null pointer".to_string()))?;
-        into.0 = std::mem::take(&mut into.0).merge(&other.0);
+        if into.is_null() {
+            return Err((McrtStatus::InvalidArgument, "into: a null pointer".to_string()));
+        }
+        // `other` may be `into` itself: copy it before `into` is borrowed mutably.
+        let other = handle(other, "other")?.0.clone();
+        let into = &mut *into;
+        within_count(into.0.count(), other.count())?;
+        into.0 = std::mem::take(&mut into.0).merge(&other);
         Ok(())
     })
 }
 
-/// How many values the samples hold.
+/// How many values the samples hold (0 for null, with a message).
 ///
 /// # Safety
-/// `samples` is live (not null).
+/// `samples` is live or null.
 #[no_mangle]
 pub unsafe extern "C" fn mcrt_samples_count(samples: *const McrtSamples) -> u64 {
-    (*samples).0.count()
+    samples.as_ref().map_or_else(
+        || {
+            null_handle("samples");
+            0
+        },
+        |s| s.0.count(),
+    )
 }
 
 /// Releases samples (null: nothing).
@@ -340,6 +416,7 @@ pub unsafe extern "C" fn mcrt_check(
     options_or_null: *const McrtCheckOptions,
     out: *mut *mut McrtVerdict,
 ) -> McrtStatus {
+    clear(out);
     guarded(|| {
         let prediction = handle(prediction, "prediction")?;
         let samples = handle(samples, "samples")?;
@@ -349,36 +426,45 @@ pub unsafe extern "C" fn mcrt_check(
         };
         let verdict = check(&prediction.0, &samples.0, &opts);
         let text = CString::new(verdict.to_string().replace('\0', " ")).unwrap_or_default();
-        let json = serde_json::to_string(&verdict).map_err(|e| (McrtStatus::Panic, e.to_string()))?;
+        let json = serde_json::to_string_pretty(&verdict).map_err(|e| (McrtStatus::Panic, e.to_string()))?;
         let json = CString::new(json).unwrap_or_default();
         put(out, McrtVerdict { verdict, text, json }, "out")
     })
 }
 
-/// PASS, FAIL or NOT RESOLVED.
+/// The verdict behind `verdict`, or None (with a message) for null.
+unsafe fn verdict_of<'a>(verdict: *const McrtVerdict) -> Option<&'a McrtVerdict> {
+    let v = verdict.as_ref();
+    if v.is_none() {
+        null_handle("verdict");
+    }
+    v
+}
+
+/// PASS, FAIL or NOT RESOLVED (NOT RESOLVED for null, with a message).
 ///
 /// # Safety
-/// `verdict` is live (not null).
+/// `verdict` is live or null.
 #[no_mangle]
 pub unsafe extern "C" fn mcrt_verdict_status(verdict: *const McrtVerdict) -> McrtVerdictStatus {
-    match (*verdict).verdict.status {
-        Status::Pass => McrtVerdictStatus::Pass,
-        Status::Fail => McrtVerdictStatus::Fail,
-        Status::NotResolved => McrtVerdictStatus::NotResolved,
+    match verdict_of(verdict).map(|v| v.verdict.status) {
+        Some(Status::Pass) => McrtVerdictStatus::Pass,
+        Some(Status::Fail) => McrtVerdictStatus::Fail,
+        Some(Status::NotResolved) | None => McrtVerdictStatus::NotResolved,
     }
 }
 
-/// 1 if the check passed, else 0.
+/// 1 if the check passed, else 0 (0 for null, with a message).
 ///
 /// # Safety
-/// `verdict` is live (not null).
+/// `verdict` is live or null.
 #[no_mangle]
 pub unsafe extern "C" fn mcrt_verdict_passed(verdict: *const McrtVerdict) -> c_int {
-    c_int::from((*verdict).verdict.pass)
+    c_int::from(verdict_of(verdict).is_some_and(|v| v.verdict.pass))
 }
 
 unsafe fn quantity_z(verdict: *const McrtVerdict, name: &str, out: *mut f64) -> c_int {
-    let z = (*verdict).verdict.checks.iter().find(|c| c.name == name).and_then(|c| c.z);
+    let z = verdict_of(verdict).and_then(|v| v.verdict.checks.iter().find(|c| c.name == name)?.z);
     match (z, out.is_null()) {
         (Some(z), false) => {
             *out = z;
@@ -389,10 +475,10 @@ unsafe fn quantity_z(verdict: *const McrtVerdict, name: &str, out: *mut f64) -> 
 }
 
 /// The mean's z-score in `*z`: returns 1, or 0 where the samples give none
-/// (too few values, no spread).
+/// (too few values, no spread; or a null argument).
 ///
 /// # Safety
-/// `verdict` is live; `z` points to a double.
+/// `verdict` is live or null; `z` points to a double or is null.
 #[no_mangle]
 pub unsafe extern "C" fn mcrt_verdict_z_mean(verdict: *const McrtVerdict, z: *mut f64) -> c_int {
     quantity_z(verdict, "mean L", z)
@@ -401,37 +487,39 @@ pub unsafe extern "C" fn mcrt_verdict_z_mean(verdict: *const McrtVerdict, z: *mu
 /// Var L's z-score in `*z`: returns 1, or 0 where the samples give none.
 ///
 /// # Safety
-/// `verdict` is live; `z` points to a double.
+/// `verdict` is live or null; `z` points to a double or is null.
 #[no_mangle]
 pub unsafe extern "C" fn mcrt_verdict_z_variance(verdict: *const McrtVerdict, z: *mut f64) -> c_int {
     quantity_z(verdict, "Var L", z)
 }
 
-/// The |z| limit of both z-tests.
+/// The |z| limit of both z-tests (NaN for null, with a message).
 ///
 /// # Safety
-/// `verdict` is live (not null).
+/// `verdict` is live or null.
 #[no_mangle]
 pub unsafe extern "C" fn mcrt_verdict_z_limit(verdict: *const McrtVerdict) -> f64 {
-    (*verdict).verdict.z_limit
+    verdict_of(verdict).map_or(f64::NAN, |v| v.verdict.z_limit)
 }
 
-/// The whole verdict as the CLI prints it (UTF-8, owned by the verdict).
+/// The whole verdict as the CLI prints it (UTF-8, owned by the verdict;
+/// "" for null, with a message).
 ///
 /// # Safety
-/// `verdict` is live (not null).
+/// `verdict` is live or null.
 #[no_mangle]
 pub unsafe extern "C" fn mcrt_verdict_text(verdict: *const McrtVerdict) -> *const c_char {
-    (*verdict).text.as_ptr()
+    verdict_of(verdict).map_or(c"".as_ptr(), |v| v.text.as_ptr())
 }
 
-/// The whole verdict as the CLI's `--json` gives it (owned by the verdict).
+/// The whole verdict as the CLI's `check --json` prints it (owned by the
+/// verdict; "" for null, with a message).
 ///
 /// # Safety
-/// `verdict` is live (not null).
+/// `verdict` is live or null.
 #[no_mangle]
 pub unsafe extern "C" fn mcrt_verdict_json(verdict: *const McrtVerdict) -> *const c_char {
-    (*verdict).json.as_ptr()
+    verdict_of(verdict).map_or(c"".as_ptr(), |v| v.json.as_ptr())
 }
 
 /// Releases a verdict (null: nothing).

@@ -6,6 +6,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef __cplusplus
+#include <cstdlib>
+#endif
 
 #include "mcrt_noise.h"
 
@@ -19,7 +22,27 @@ static int failures = 0;
         }                                                                          \
     } while (0)
 
+/* A failure here makes the rest meaningless: say why, and stop. */
+#define REQUIRE(call, what)                                                            \
+    do {                                                                               \
+        if ((call) != MCRT_STATUS_OK) {                                                \
+            fprintf(stderr, "FAILED: %s (line %d): %s\n", what, __LINE__, mcrt_last_error()); \
+            return 1;                                                                  \
+        }                                                                              \
+    } while (0)
+
 enum { ITERATIONS = 200000 };
+
+#ifdef __cplusplus
+/* A renderer's registry torn down after main: a failing call during process
+ * exit must return its status, not abort. */
+static struct TornDownAfterMain {
+    ~TornDownAfterMain() {
+        McrtScene *scene = NULL;
+        if (mcrt_scene_from_toml("not a scene", &scene) != MCRT_STATUS_INVALID_SCENE) std::abort();
+    }
+} torn_down_after_main;
+#endif
 
 static McrtVerdict *check_values(const McrtPrediction *prediction, const double *values, size_t n,
                                  const McrtCheckOptions *options) {
@@ -45,7 +68,7 @@ int main(int argc, char **argv) {
         return 1;
     }
     McrtPrediction *prediction = NULL;
-    EXPECT(mcrt_predict(scene, &prediction) == MCRT_STATUS_OK, "predict");
+    REQUIRE(mcrt_predict(scene, &prediction), "predict");
     McrtPredicted mean = mcrt_prediction_mean(prediction);
     McrtPredicted var = mcrt_prediction_variance(prediction);
     printf("mean %.10e +- %.1e (quadrature) +- %.1e (model)\n", mean.value, mean.quadrature_bar, mean.model_bar);
@@ -53,7 +76,7 @@ int main(int argc, char **argv) {
     EXPECT(mean.value > 0 && mean.quadrature_bar > 0 && mean.quadrature_bar < 1e-9 * mean.value, "mean with a bar");
 
     double *values = (double *)malloc(ITERATIONS * sizeof(double));
-    EXPECT(mcrt_reference_values(scene, 11, 0, ITERATIONS, values) == MCRT_STATUS_OK, "reference values");
+    REQUIRE(mcrt_reference_values(scene, 11, 0, ITERATIONS, values), "reference values");
 
     /* Correct values pass. */
     McrtVerdict *verdict = check_values(prediction, values, ITERATIONS, NULL);
@@ -63,7 +86,7 @@ int main(int argc, char **argv) {
     EXPECT(mcrt_verdict_z_mean(verdict, &z_mean) == 1 && fabs(z_mean) < mcrt_verdict_z_limit(verdict), "z of the mean");
     EXPECT(mcrt_verdict_z_variance(verdict, &z_var) == 1 && fabs(z_var) < mcrt_verdict_z_limit(verdict), "z of Var L");
     EXPECT(strncmp(mcrt_verdict_text(verdict), "PASS: 200000 samples", 20) == 0, "the CLI's text");
-    EXPECT(strstr(mcrt_verdict_json(verdict), "\"status\":\"pass\"") != NULL, "the CLI's JSON");
+    EXPECT(strstr(mcrt_verdict_json(verdict), "\"status\": \"pass\"") != NULL, "the CLI's JSON");
     printf("correct values: %s\n", mcrt_verdict_text(verdict));
     mcrt_verdict_free(verdict);
 
@@ -90,6 +113,10 @@ int main(int argc, char **argv) {
     printf("invalid scene: %s\n", mcrt_last_error());
 
     McrtSamples *samples = mcrt_samples_new();
+    double four[4] = {0.1, 0.2, 0.3, 0.4};
+    EXPECT(mcrt_samples_extend(samples, four, 4) == MCRT_STATUS_OK, "four values");
+    EXPECT(mcrt_samples_merge(samples, samples) == MCRT_STATUS_OK && mcrt_samples_count(samples) == 8,
+           "samples merged with themselves count twice");
     double negative[2] = {0.5, -1.0};
     EXPECT(mcrt_samples_extend(samples, negative, 2) == MCRT_STATUS_INVALID_SAMPLE, "a negative value refused");
     EXPECT(strstr(mcrt_last_error(), "-1") != NULL, "the message gives the value");
@@ -99,7 +126,14 @@ int main(int argc, char **argv) {
     EXPECT(mcrt_check(prediction, samples, &options, &verdict) == MCRT_STATUS_INVALID_OPTION, "rate 2 refused");
     EXPECT(strstr(mcrt_last_error(), "false_alarm_rate = 2") != NULL, "the message names the option");
     EXPECT(mcrt_check(NULL, samples, NULL, &verdict) == MCRT_STATUS_INVALID_ARGUMENT, "null prediction refused");
-    EXPECT(mcrt_scene_from_file("/no/such/scene.toml", &bad) == MCRT_STATUS_INVALID_SCENE, "missing file");
+    bad = (McrtScene *)&failures; /* an old pointer: a failed call must leave NULL */
+    EXPECT(mcrt_scene_from_file("/no/such/scene.toml", &bad) == MCRT_STATUS_INVALID_SCENE && bad == NULL, "missing file");
+    EXPECT(strstr(mcrt_last_error(), "/no/such/scene.toml: cannot read") != NULL, "the message names the path");
+
+    /* Accessors given NULL: a neutral value and a message, never a crash. */
+    EXPECT(isnan(mcrt_prediction_mean(NULL).value) && mcrt_samples_count(NULL) == 0, "null accessors");
+    EXPECT(mcrt_verdict_passed(NULL) == 0 && strcmp(mcrt_verdict_text(NULL), "") == 0, "null verdict");
+    EXPECT(strstr(mcrt_last_error(), "verdict: a null pointer") != NULL, "null named");
     mcrt_samples_free(samples);
 
     free(values);

@@ -109,7 +109,8 @@ def _render_chunk(scene: ToyScene, bug: Bug, iterations: int, rng: np.random.Gen
 def render(scene: ToyScene, bug: Bug, iterations: int, seed: int, chunk: int = 20_000) -> np.ndarray:
     """``iterations`` pixel values L, one per iteration, from a NumPy
     ``Generator`` seeded with ``seed``, in chunks of ``chunk`` iterations
-    (the memory is that of one chunk)."""
+    (the memory is that of one chunk; the values are those of this seed and
+    chunk size)."""
     rng = np.random.default_rng(seed)
     parts = [_render_chunk(scene, bug, min(chunk, iterations - start), rng) for start in range(0, iterations, chunk)]
     return np.concatenate(parts) if parts else np.zeros(0)

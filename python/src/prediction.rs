@@ -1,6 +1,7 @@
 //! `predict` and what it returns.
 
-use crate::errors::{json_to_py, PredictError, SceneError};
+use crate::errors::{json_to_py, OptionsError, PredictError, SceneError};
+use crate::fork::parallel_guard;
 use crate::scene::Scene;
 use mcrt_noise::check::predict_with;
 use mcrt_noise::oracle::Precision;
@@ -92,17 +93,49 @@ impl Prediction {
 
 /// Predicts one iteration's mean and Var L (and the bias) for a scene.
 ///
-/// `rel_tol` is the quadrature's relative goal (None: the oracle's default).
-/// Releases the GIL while it computes (milliseconds for uncollided light,
-/// seconds to minutes with scattered light: `docs/library.md`).
+/// `rel_tol` is the quadrature's relative goal in (0, 1) (None: the
+/// oracle's default). Computes on its own thread with the GIL released
+/// (milliseconds for uncollided light, seconds to minutes with scattered
+/// light: `docs/library.md`); Ctrl-C returns at once with
+/// `KeyboardInterrupt` (the computation then finishes in the background,
+/// within its evaluation budget, and is dropped).
 #[pyfunction]
 #[pyo3(signature = (scene, *, rel_tol = None))]
 pub(crate) fn predict(py: Python<'_>, scene: &Scene, rel_tol: Option<f64>) -> PyResult<Prediction> {
-    let scene = scene.inner.clone();
-    py.detach(move || predict_with(&scene, Precision::F64, rel_tol)).map(|inner| Prediction { inner }).map_err(|e| {
-        match e {
-            mcrt_noise::PredictError::Scene(e) => SceneError::new_err(e.to_string()),
-            other => PredictError::new_err(other.to_string()),
+    if let Some(tol) = rel_tol {
+        if !(tol > 0.0 && tol < 1.0) {
+            return Err(OptionsError::new_err(format!(
+                "rel_tol = {tol:e}: must be in (0, 1), or None for the default"
+            )));
         }
+    }
+    parallel_guard()?;
+    let scene = scene.inner.clone();
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::Builder::new()
+        .name("mcrt-noise-predict".into())
+        .spawn(move || {
+            // The receiver may be gone (Ctrl-C): nothing to tell then.
+            let _ = send.send(predict_with(&scene, Precision::F64, rel_tol));
+        })
+        .map_err(|e| PredictError::new_err(format!("cannot start the prediction's thread: {e}")))?;
+    let mut receive = receive;
+    let result = loop {
+        // The receiver is Send but not Sync: it travels into the detached closure and back.
+        let (got, back) = py.detach(move || (receive.recv_timeout(std::time::Duration::from_millis(100)), receive));
+        receive = back;
+        match got {
+            Ok(result) => break result,
+            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => py.check_signals()?,
+            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                return Err(PredictError::new_err(
+                    "the prediction's thread ended without a result (a bug: please report it)",
+                ))
+            }
+        }
+    };
+    result.map(|inner| Prediction { inner }).map_err(|e| match e {
+        mcrt_noise::PredictError::Scene(e) => SceneError::new_err(e.to_string()),
+        other => PredictError::new_err(other.to_string()),
     })
 }

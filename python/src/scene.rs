@@ -15,7 +15,35 @@ pub struct Scene {
     pub(crate) inner: RustScene,
 }
 
+fn shape_error(name: &str, shape: &str, e: PyErr) -> PyErr {
+    Python::attach(|py| SceneError::new_err(format!("{name}: {}: must be {shape}", e.value(py))))
+}
+
+/// A keyword's sequence of lights (None: none).
+fn items<'py>(value: Option<&Bound<'py, PyAny>>, name: &str) -> PyResult<Vec<Bound<'py, PyAny>>> {
+    let Some(value) = value else { return Ok(Vec::new()) };
+    if value.is_instance_of::<pyo3::types::PyString>() {
+        return Err(SceneError::new_err(format!("{name} = {value}: must be a sequence of lights")));
+    }
+    value.try_iter().and_then(|it| it.collect()).map_err(|e| shape_error(name, "a sequence of lights", e))
+}
+
+/// A 3-vector of real numbers.
+fn vector(value: &Bound<'_, PyAny>, name: &str) -> PyResult<[f64; 3]> {
+    value.extract::<[f64; 3]>().map_err(|e| shape_error(name, "three real numbers (x, y, z)", e))
+}
+
+/// A count >= 1 (`forward_rays`, `camera_rays`); a bool is not a count.
+fn count(value: &Bound<'_, PyAny>, name: &str) -> PyResult<u64> {
+    let n = if value.is_instance_of::<pyo3::types::PyBool>() { None } else { value.extract::<i128>().ok() };
+    n.and_then(|n| u64::try_from(n).ok())
+        .ok_or_else(|| SceneError::new_err(format!("estimator.{name} = {value}: must be an integer >= 1")))
+}
+
 fn orders_from_py(orders: &Bound<'_, PyAny>) -> PyResult<ScatteringOrders> {
+    if orders.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(SceneError::new_err(format!("scattering_orders = {orders}: must be an integer >= 0 or \"all\"")));
+    }
     if let Ok(text) = orders.extract::<String>() {
         return match text.as_str() {
             "all" => Ok(ScatteringOrders::All),
@@ -48,11 +76,10 @@ fn phase_from_py(phase: &str, g: Option<f64>) -> PyResult<Phase> {
 
 #[pymethods]
 impl Scene {
-    /// Reads and validates a scene file (TOML, `docs/scene-format.md`).
+    /// Reads and validates a scene file (TOML, `docs/scene-format.md`; at most 1 MiB).
     #[staticmethod]
     fn from_file(path: std::path::PathBuf) -> PyResult<Scene> {
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| SceneError::new_err(format!("{}: cannot read: {e}", path.display())))?;
+        let text = mcrt_noise::scene::limits::read_scene_text(&path).map_err(SceneError::new_err)?;
         let inner =
             RustScene::from_toml_str(&text).map_err(|e| SceneError::new_err(format!("{}: {e}", path.display())))?;
         Ok(Scene { inner })
@@ -65,11 +92,16 @@ impl Scene {
     }
 
     /// Builds a scene from keywords, validated as a scene file is.
+    ///
+    /// `point_lights`: a sequence of ((x, y, z), flux); `beams`: of
+    /// ((x, y, z) centre, (x, y, z) direction, radius, flux); `phase`:
+    /// "isotropic" or "henyey-greenstein" (with `g`); `scattering_orders`:
+    /// an integer >= 0 or "all".
     #[staticmethod]
     #[pyo3(signature = (
         *, sigma_ext, albedo, radius, q, forward_rays, camera_rays,
-        point_lights = Vec::new(), beams = Vec::new(),
-        camera_origin = [0.0, 0.0, 0.0], camera_direction = [0.0, 0.0, 1.0],
+        point_lights = None, beams = None,
+        camera_origin = None, camera_direction = None,
         phase = "isotropic", g = None, scattering_orders = None
     ))]
     #[allow(clippy::too_many_arguments)]
@@ -78,25 +110,36 @@ impl Scene {
         albedo: f64,
         radius: f64,
         q: f64,
-        forward_rays: u64,
-        camera_rays: u64,
-        point_lights: Vec<([f64; 3], f64)>,
-        beams: Vec<([f64; 3], [f64; 3], f64, f64)>,
-        camera_origin: [f64; 3],
-        camera_direction: [f64; 3],
+        forward_rays: &Bound<'_, PyAny>,
+        camera_rays: &Bound<'_, PyAny>,
+        point_lights: Option<&Bound<'_, PyAny>>,
+        beams: Option<&Bound<'_, PyAny>>,
+        camera_origin: Option<&Bound<'_, PyAny>>,
+        camera_direction: Option<&Bound<'_, PyAny>>,
         phase: &str,
         g: Option<f64>,
         scattering_orders: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Scene> {
+        let origin = camera_origin.map(|v| vector(v, "camera_origin")).transpose()?.unwrap_or([0.0; 3]);
+        let direction = camera_direction.map(|v| vector(v, "camera_direction")).transpose()?.unwrap_or([0.0, 0.0, 1.0]);
         let mut builder = RustScene::builder()
             .medium(sigma_ext, albedo)
             .phase(phase_from_py(phase, g)?)
-            .camera(camera_origin, camera_direction)
-            .estimator(radius, q, forward_rays, camera_rays);
-        for (position, flux) in point_lights {
-            builder = builder.point_light(position, flux);
+            .camera(origin, direction)
+            .estimator(radius, q, count(forward_rays, "forward_rays")?, count(camera_rays, "camera_rays")?);
+        for (i, light) in items(point_lights, "point_lights")?.iter().enumerate() {
+            let name = format!("point_lights[{i}]");
+            let (position, flux) =
+                light.extract::<(Bound<'_, PyAny>, f64)>().map_err(|e| shape_error(&name, "((x, y, z), flux)", e))?;
+            builder = builder.point_light(vector(&position, &format!("{name} position"))?, flux);
         }
-        for (center, direction, beam_radius, flux) in beams {
+        for (i, beam) in items(beams, "beams")?.iter().enumerate() {
+            let name = format!("beams[{i}]");
+            let (center, direction, beam_radius, flux) = beam
+                .extract::<(Bound<'_, PyAny>, Bound<'_, PyAny>, f64, f64)>()
+                .map_err(|e| shape_error(&name, "((x, y, z) centre, (x, y, z) direction, radius, flux)", e))?;
+            let (center, direction) =
+                (vector(&center, &format!("{name} centre"))?, vector(&direction, &format!("{name} direction"))?);
             builder = builder.beam(center, direction, beam_radius, flux);
         }
         if let Some(orders) = scattering_orders {

@@ -1,6 +1,7 @@
 //! `check` and `plan`, and what they return.
 
 use crate::errors::{json_to_py, OptionsError};
+use crate::fork::parallel_guard;
 use crate::prediction::Prediction;
 use crate::samples::Samples;
 use mcrt_noise::check::{plan as plan_samples, Plan as RustPlan, Status};
@@ -142,7 +143,9 @@ pub(crate) fn _check_samples(
     target_variance: f64,
 ) -> PyResult<Verdict> {
     let options = options_from(false_alarm_rate, power, target_mean, target_variance)?;
-    let inner = py.detach(|| check_samples(&prediction.inner, &samples.inner, &options));
+    parallel_guard()?;
+    let samples = samples.snapshot();
+    let inner = py.detach(|| check_samples(&prediction.inner, &samples, &options));
     Ok(Verdict { inner })
 }
 
@@ -189,5 +192,6 @@ pub(crate) fn _plan_samples(
     target_variance: f64,
 ) -> PyResult<Plan> {
     let options = options_from(false_alarm_rate, power, target_mean, target_variance)?;
-    Ok(Plan { inner: plan_samples(&prediction.inner, &pilot.inner, &options) })
+    parallel_guard()?;
+    Ok(Plan { inner: plan_samples(&prediction.inner, &pilot.snapshot(), &options) })
 }

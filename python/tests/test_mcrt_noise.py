@@ -6,6 +6,8 @@ renderer off by 10 % must fail. Run: ``pip install ./python && pytest python/tes
 
 from __future__ import annotations
 
+import concurrent.futures
+import multiprocessing
 import pathlib
 import re
 
@@ -168,3 +170,98 @@ def test_bad_values_and_options_are_named(prediction: m.Prediction, values: np.n
         m.check(prediction, values, false_alarm_rate=2.0)
     with pytest.raises(m.OptionsError, match="power"):
         m.check(prediction, values, power=1.5)
+
+
+def test_inputs_that_are_not_real_numbers_are_refused(prediction: m.Prediction) -> None:
+    refused = {
+        "text": ["0.1", "0.2"],
+        "None in an object array": np.array([1.0, None], dtype=object),
+        "masked": np.ma.array([0.1, 0.2], mask=[0, 1]),
+        "complex": np.array([0.1 + 1j, 0.2]),
+        "boolean": np.array([True, False]),
+        "a dict": {1: 2},
+        "a float": 0.5,
+        "0-d": np.float64(3.0),
+        "ragged": [[0.1], [0.2, 0.3]],
+    }
+    for what, values in refused.items():
+        with pytest.raises(m.SampleError, match="^values"):
+            m.check(prediction, values)
+            pytest.fail(f"{what} accepted")
+    assert m.samples_of(np.arange(10, dtype=np.int32)).count == 10  # integers are real numbers
+
+
+def test_extend_adds_all_values_or_none(values: np.ndarray) -> None:
+    samples = m.Samples()
+    samples.extend(values[:100])
+    bad = values.copy()
+    bad[170_000] = float("inf")
+    with pytest.raises(m.SampleError, match="170000"):
+        samples.extend(bad)
+    assert samples.count == 100
+
+
+def test_an_iterator_is_read_in_blocks(values: np.ndarray) -> None:
+    many = np.tile(values, 6)  # 1.2e6 values: two blocks of 2^20
+    from_array, from_iterator = m.samples_of(many), m.samples_of(iter(many.tolist()))
+    assert from_iterator.count == many.size
+    assert (from_iterator.mean, from_iterator.variance) == (from_array.mean, from_array.variance)
+
+
+def test_threads_may_extend_one_samples(prediction: m.Prediction, values: np.ndarray) -> None:
+    shared = m.Samples()
+    with concurrent.futures.ThreadPoolExecutor(4) as pool:
+        list(pool.map(shared.extend, np.array_split(values, 16)))
+    whole = m.check(prediction, values)
+    assert shared.count == values.size
+    assert (m.check(prediction, shared).z_mean, shared.variance) == (whole.z_mean, m.samples_of(values).variance)
+
+
+def test_counts_stay_below_2_to_the_53(values: np.ndarray) -> None:
+    sums = [1.0, 1.0, 1.0, 1.0, 1.0, 1.0]
+    for count in (0, -1, 2**53 + 1, 2**64 - 1):
+        with pytest.raises(m.SampleError, match=r"count = .*: must be in \[1, 2\^53"):
+            m.Samples.from_power_sums(count, sums, 1e-6)
+    full = m.Samples.from_power_sums(2**53, [2.0**53] * 6, 0.0)
+    with pytest.raises(m.SampleError, match="at most 2\\^53"):
+        full.push(1.0)
+    with pytest.raises(m.SampleError, match="at most 2\\^53"):
+        full.merge(m.samples_of(values[:10]))
+    assert full.count == 2**53
+
+
+def test_out_of_range_arguments_are_named(scene: m.Scene) -> None:
+    with pytest.raises(m.OptionsError, match=r"rel_tol = 0e0: must be in \(0, 1\)"):
+        m.predict(scene, rel_tol=0.0)
+    base = dict(sigma_ext=1.0, albedo=0.8, point_lights=[((1, 0, 1), 1.0)], radius=0.2, q=1.0, camera_rays=1)
+    with pytest.raises(m.SceneError, match=r"estimator.forward_rays = -1: must be an integer >= 1"):
+        m.Scene.build(forward_rays=-1, **base)
+    with pytest.raises(m.SceneError, match=r"estimator.forward_rays = True"):
+        m.Scene.build(forward_rays=True, **base)
+    with pytest.raises(m.SceneError, match=r"point_lights\[0\] position: .*must be three real numbers"):
+        m.Scene.build(**{**base, "point_lights": [((1, 0), 1.0)]}, forward_rays=20)
+    with pytest.raises(m.SceneError, match=r"beams\[0\]: .*must be \(\(x, y, z\) centre"):
+        m.Scene.build(**base, forward_rays=20, beams=[((0, 0, 0), 1.0)])
+    with pytest.raises(m.SceneError, match="scattering_orders = True"):
+        m.Scene.build(**base, forward_rays=20, scattering_orders=True)
+    with pytest.raises(ValueError, match=r"count = 4294967296: must be in \[0, 100000000\]"):
+        m.reference_values(scene, 2**32)
+    with pytest.raises(ValueError, match="seed = -1"):
+        m.reference_values(scene, 10, seed=-1)
+
+
+def _predict_in_a_child(path: str) -> str:
+    try:
+        m.predict(m.Scene.from_file(path))
+    except RuntimeError as e:
+        return str(e)
+    return "no error"
+
+
+def test_a_forked_child_gets_an_error_not_a_hang(prediction: m.Prediction) -> None:
+    # The parent has run parallel work (the fixtures); rayon's threads are not in a forked child.
+    with multiprocessing.get_context("fork").Pool(1) as pool:
+        message = pool.apply_async(_predict_in_a_child, (str(README_SCENE),)).get(timeout=120)
+    assert "before it forked this process" in message and '"spawn"' in message, message
+    with multiprocessing.get_context("spawn").Pool(1) as pool:
+        assert pool.apply_async(_predict_in_a_child, (str(README_SCENE),)).get(timeout=300) == "no error"

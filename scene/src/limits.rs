@@ -68,3 +68,33 @@ pub const MAX_SPHERES_PER_ITERATION: f64 = 1e7;
 
 /// Largest number of scattering orders accepted as a number (beyond, use "all").
 pub const MAX_ORDERS: i64 = 1_000_000;
+
+/// The largest scene file read (a scene file is a few hundred bytes; this
+/// bounds what a wrong path, `/dev/zero` say, can make a reader allocate).
+pub const MAX_SCENE_FILE_BYTES: u64 = 1 << 20;
+
+/// The text of the scene file at `path`, at most [`MAX_SCENE_FILE_BYTES`]
+/// long, or a message naming the path and what went wrong.
+///
+/// ```
+/// use mcrt_scene::limits::read_scene_text;
+/// let err = read_scene_text(std::path::Path::new("/no/such/scene.toml")).unwrap_err();
+/// assert!(err.starts_with("/no/such/scene.toml: cannot read"));
+/// ```
+pub fn read_scene_text(path: &std::path::Path) -> Result<String, String> {
+    use std::io::Read;
+    let cannot = |e: std::io::Error| format!("{}: cannot read: {e}", path.display());
+    let mut text = String::new();
+    std::fs::File::open(path)
+        .map_err(cannot)?
+        .take(MAX_SCENE_FILE_BYTES + 1)
+        .read_to_string(&mut text)
+        .map_err(cannot)?;
+    if text.len() as u64 > MAX_SCENE_FILE_BYTES {
+        return Err(format!(
+            "{}: longer than {MAX_SCENE_FILE_BYTES} bytes: not a scene file (they are a few hundred bytes)",
+            path.display()
+        ));
+    }
+    Ok(text)
+}

@@ -37,10 +37,10 @@ class Scene:
         q: float,
         forward_rays: int,
         camera_rays: int,
-        point_lights: Sequence[tuple[Vec3, float]] = ...,
-        beams: Sequence[tuple[Vec3, Vec3, float, float]] = ...,
-        camera_origin: Vec3 = ...,
-        camera_direction: Vec3 = ...,
+        point_lights: Optional[Sequence[tuple[Vec3, float]]] = None,
+        beams: Optional[Sequence[tuple[Vec3, Vec3, float, float]]] = None,
+        camera_origin: Optional[Vec3] = None,
+        camera_direction: Optional[Vec3] = None,
         phase: str = "isotropic",
         g: Optional[float] = None,
         scattering_orders: Union[int, str, None] = None,
@@ -74,7 +74,7 @@ class Prediction:
     def to_dict(self) -> dict[str, Any]: ...
 
 class Samples:
-    """Exact power sums of per-iteration values; chunks and merges give the same bits."""
+    """Exact power sums of per-iteration values; chunks, merges and threads give the same bits."""
 
     def __init__(self) -> None: ...
     def push(self, value: float) -> None: ...
