@@ -44,8 +44,8 @@
 //!   any R for uncollided light);
 //! - [`quad`], [`special`], [`real`]: the quadrature engine and special
 //!   functions, in f64 and MPFR, never silently wrong;
-//! - [`reports`]: the CLI's tables and the generated documents (uses the
-//!   library; the library never uses it);
+//! - `reports` (feature `cli`, on by default): the CLI's tables and the
+//!   generated documents (uses the library; the library never uses it);
 //! - [`scene`] (crate `mcrt-scene`) and [`reference`](mod@crate::reference) (crate
 //!   `mcrt-reference`, the independent reference tracer), re-exported.
 //!
@@ -69,6 +69,7 @@ pub mod oracle;
 pub mod prec;
 pub mod quad;
 pub mod real;
+#[cfg(feature = "cli")]
 pub mod reports;
 pub mod special;
 pub mod tuning;
