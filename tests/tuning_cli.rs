@@ -3,6 +3,21 @@
 //! it), a calibration's costs file read back by `optimize --costs`.
 
 use std::process::{Command, Output};
+use std::sync::{PoisonError, RwLock, RwLockReadGuard, RwLockWriteGuard};
+
+/// The machine, as the tests of this file share it: a calibration times
+/// this machine's costs and must run alone (beside an `optimize` of another
+/// test on two cores, a CI run's 0.3 s cases resolved no per-iteration cost,
+/// and the fit was refused); the other tests share it.
+static MACHINE: RwLock<()> = RwLock::new(());
+
+fn shared_machine() -> RwLockReadGuard<'static, ()> {
+    MACHINE.read().unwrap_or_else(PoisonError::into_inner)
+}
+
+fn machine_alone() -> RwLockWriteGuard<'static, ()> {
+    MACHINE.write().unwrap_or_else(PoisonError::into_inner)
+}
 
 fn run(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_mcrt-noise"))
@@ -18,6 +33,7 @@ fn text(o: &Output) -> (String, String) {
 
 #[test]
 fn optimize_prints_the_best_the_alternatives_and_the_sensitivity() {
+    let _shared = shared_machine();
     let dir = std::env::temp_dir().join(format!("mcrt-noise-maps-{}", std::process::id()));
     let out = run(&["optimize", "scenes/point-isotropic.toml", "--budget", "0.5", "--maps", dir.to_str().unwrap()]);
     let (t, e) = text(&out);
@@ -53,6 +69,7 @@ fn optimize_prints_the_best_the_alternatives_and_the_sensitivity() {
 /// held here) is refused before any computation, naming the flag.
 #[test]
 fn optimize_with_single_scattered_light_searches_r_at_the_standard_method() {
+    let _shared = shared_machine();
     let out = run(&["optimize", "scenes/point-isotropic-order1.toml", "--budget", "1", "--radius-range", "0.05,0.2"]);
     let (t, e) = text(&out);
     assert!(out.status.success(), "{e}");
@@ -77,6 +94,7 @@ fn optimize_with_single_scattered_light_searches_r_at_the_standard_method() {
 /// why (it was ignored silently once), before any computation.
 #[test]
 fn optimize_refuses_a_radius_range_it_cannot_search() {
+    let _shared = shared_machine();
     let text_of = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/point-isotropic-order1.toml"))
         .unwrap()
         .replace("kind = \"isotropic\"", "kind = \"henyey-greenstein\"\ng = 0.5");
@@ -99,6 +117,7 @@ fn optimize_refuses_a_radius_range_it_cannot_search() {
 /// nothing on standard output).
 #[test]
 fn the_radius_range_is_lo_comma_hi_within_the_scenes_bounds() {
+    let _shared = shared_machine();
     let out = run(&["optimize", "scenes/point-isotropic.toml", "--budget", "0.5", "--radius-range", "0.01,0.1"]);
     let (t, e) = text(&out);
     assert!(out.status.success(), "{e}");
@@ -123,6 +142,7 @@ fn the_radius_range_is_lo_comma_hi_within_the_scenes_bounds() {
 
 #[test]
 fn bad_optimize_flags_and_costs_name_themselves() {
+    let _shared = shared_machine();
     for (args, needle) in [
         (&["--budget", "0"][..], "--budget"),
         (&["--budget", "-1"], "--budget"),
@@ -148,6 +168,7 @@ fn bad_optimize_flags_and_costs_name_themselves() {
 /// `optimize --costs` and, pasted into a scene, by the scene's validation.
 #[test]
 fn a_calibration_writes_costs_that_optimize_reads() {
+    let _alone = machine_alone();
     let path = std::env::temp_dir().join(format!("mcrt-noise-costs-{}.toml", std::process::id()));
     // 0.3 s per case: at 0.05 s, beside the other tests of this file on
     // two cores, a CI run's fit held every per-iteration cost at 0 (now an
@@ -194,6 +215,7 @@ fn costs_file(tag: &str, trial_ns: &str) -> std::path::PathBuf {
 /// significant digits.
 #[test]
 fn costs_of_a_free_iteration_are_refused_and_m_is_bounded() {
+    let _shared = shared_machine();
     for (tag, trial) in [("zero", "0"), ("tiny", "1e-9")] {
         let path = costs_file(tag, trial);
         let out = run(&["optimize", "scenes/point-isotropic.toml", "--budget", "1", "--costs", path.to_str().unwrap()]);
