@@ -12,12 +12,14 @@
 //! - [`hits`]: which spheres a forward segment hits (sorted search, brute force);
 //! - [`limits`]: the tracer's bounds (lengths, memory and work of a trial, work of a run);
 //! - [`estimator`]: one trial (one iteration of one pixel), with counters;
+//! - [`exact`]: exact sums of powers of doubles and exact dyadic arithmetic (no GMP/MPFR);
 //! - [`moments`]: exact power sums, mean, variance and standard errors;
 //! - [`run`]: parallel runs over trial ranges, shards and their exact merge;
 //! - [`correlation`]: a direct measurement of ⟨𝒞(s)𝒞(s+t)⟩.
 
 pub mod correlation;
 pub mod estimator;
+pub mod exact;
 pub mod hits;
 pub mod limits;
 pub mod moments;

@@ -3,6 +3,8 @@
 //! and the joint influence of the largest few bounds what a handful of
 //! large values can do.
 
+use mcrt_reference::exact::Dyadic;
+
 /// How many of the largest values are kept ([`Extremes::largest`]).
 pub const TOP_VALUES: usize = 8;
 
@@ -75,7 +77,7 @@ impl Extremes {
 /// `count − t` values in [`smallest`, the t-th largest], must account for
 /// what the sums leave, (count − t)·min^k ≤ S_k − Σ top^k ≤ (count − t)·
 /// top_t^k for k = 1…6; and every value in [min, max] gives min·S_k ≤
-/// S_{k+1} ≤ max·S_k. Formed at 4 096 bits, each side allowing the sums'
+/// S_{k+1} ≤ max·S_k. Formed exactly, each side allowing the sums'
 /// error. Necessary conditions only: a renderer that misstates its
 /// extremes within them is not caught, and the guarantees that rest on the
 /// extremes (one value's influence, the tail test) assume them honest.
@@ -83,12 +85,9 @@ pub fn check_against_sums(
     smallest: f64,
     largest: &[f64],
     count: u64,
-    sums: &[rug::Float; 6],
+    sums: &[Dyadic; 6],
     eps: f64,
 ) -> Result<(), String> {
-    use rug::ops::Pow;
-    use rug::Float;
-    const P: u32 = 4096;
     if !(smallest >= 0.0 && smallest.is_finite()) {
         return Err(format!("min = {smallest:e}: must be finite and >= 0 (L is never negative)"));
     }
@@ -106,28 +105,27 @@ pub fn check_against_sums(
     let mut top = largest.to_vec();
     top.sort_by(|a, b| b.total_cmp(a));
     let (max, last) = (top[0], top[t - 1]);
-    let rest = Float::with_val(P, count - t as u64);
-    let power = |x: f64, k: u32| Float::with_val(P, x).pow(k);
-    let slack = 1.01 * eps + 8.0 * f64::EPSILON;
+    let rest = Dyadic::from(count - t as u64);
+    let power = |x: f64, k: u32| Dyadic::from_f64(x).expect("finite").pow(k);
+    let slack = Dyadic::from_f64(1.01 * eps + 8.0 * f64::EPSILON).expect("finite");
+    let (max_d, smallest_d) = (Dyadic::from_f64(max).expect("finite"), Dyadic::from_f64(smallest).expect("finite"));
     for k in 1..=6u32 {
-        let s = Float::with_val(P, &sums[k as usize - 1]);
-        let top_sum = top.iter().fold(Float::new(P), |acc, v| acc + power(*v, k));
-        let tol = Float::with_val(P, Float::with_val(P, &s + &top_sum) * slack);
-        let remainder = Float::with_val(P, &s - &top_sum);
-        let low = Float::with_val(P, &rest * power(smallest, k));
-        let high = Float::with_val(P, &rest * power(last, k));
-        if Float::with_val(P, &remainder + &tol) < low || Float::with_val(P, &remainder - &tol) > high {
+        let s = &sums[k as usize - 1];
+        let top_sum = top.iter().fold(Dyadic::zero(), |acc, v| &acc + &power(*v, k));
+        let tol = &(s + &top_sum) * &slack;
+        let remainder = s - &top_sum;
+        let low = &rest * &power(smallest, k);
+        let high = &rest * &power(last, k);
+        if &remainder + &tol < low || &remainder - &tol > high {
             return Err(format!(
                 "min = {smallest:e}, largest = {top:?}: the sums cannot come from values with these extremes: \
                  Σ L^{k} less the largest values' must lie in [(count − {t})·min^{k}, (count − {t})·{last:e}^{k}]"
             ));
         }
         if k < 6 {
-            let next = Float::with_val(P, &sums[k as usize]);
-            let tol = Float::with_val(P, Float::with_val(P, &next + Float::with_val(P, &s * max)) * slack);
-            if Float::with_val(P, &next + &tol) < Float::with_val(P, &s * smallest)
-                || Float::with_val(P, &next - &tol) > Float::with_val(P, &s * max)
-            {
+            let next = &sums[k as usize];
+            let tol = &(next + &(s * &max_d)) * &slack;
+            if next + &tol < s * &smallest_d || next - &tol > s * &max_d {
                 return Err(format!(
                     "min = {smallest:e}, max = {max:e}: the sums cannot come from values in [min, max]: min·Σ L^{k} ≤ \
                      Σ L^{} ≤ max·Σ L^{k} fails",

@@ -2,7 +2,7 @@
 //! necessary inequalities, each derived, checked allowing for the sums'
 //! stated relative error.
 
-use super::samples::SUM_BITS;
+use mcrt_reference::exact::Dyadic;
 use serde::Serialize;
 use std::fmt;
 
@@ -87,9 +87,8 @@ impl SumsInequality {
 /// M²S₃ − 3MS₂S₁ + 2S₁³ (= M³μ₃), c₄ = M³S₄ − 4M²S₃S₁ + 6MS₂S₁² − 3S₁⁴
 /// (= M⁴μ₄) are polynomials whose terms are products of k sums, each off by
 /// at most ~kε of itself (`1.01` covers the higher orders); their bounds
-/// ĉ ± e are then used as intervals the same way. Everything is formed at
-/// 14 400 bits, room for products of six 2 300-bit sums: a rounding there
-/// lies far below any stated ε.
+/// ĉ ± e are then used as intervals the same way. Everything is formed exactly
+/// (`mcrt_reference::exact::Dyadic`).
 ///
 /// Derivations, for real L₁…L_M:
 /// 1. (Σ L)² ≤ N Σ L²: Cauchy–Schwarz over the N nonzero values, (Σ 1·L)² ≤
@@ -119,111 +118,102 @@ impl SumsInequality {
 pub(super) fn realisable(
     count: u64,
     nonzero: Option<u64>,
-    sums: &[rug::Float; 6],
+    sums: &[Dyadic; 6],
     eps: f64,
 ) -> Result<(), (SumsInequality, (String, String))> {
-    use rug::Float;
     use SumsInequality as I;
-    const P: u32 = 6 * SUM_BITS + 6 * 64 + 216;
-    let f = |x: &Float| Float::with_val(P, x);
-    let n = Float::with_val(P, count);
-    let k = Float::with_val(P, nonzero.unwrap_or(count));
-    let [s1, s2, s3, s4, s5, s6] = sums.each_ref().map(f);
-    let zero = Float::new(P);
-    let eps1 = eps * 1.01;
+    let n = Dyadic::from(count);
+    let k = Dyadic::from(nonzero.unwrap_or(count));
+    let [s1, s2, s3, s4, s5, s6] = sums.clone();
+    let zero = Dyadic::zero();
+    let one = Dyadic::from(1u64);
+    let eps1 = Dyadic::from_f64(eps * 1.01).expect("eps is finite");
     // An interval's ends, and its smallest and largest |x|.
-    let hi = |x: &Float, e: &Float| Float::with_val(P, x + e);
-    let lo = |x: &Float, e: &Float| Float::with_val(P, x - e);
-    let min_abs = |x: &Float, e: &Float| Float::with_val(P, Float::with_val(P, x.abs_ref()) - e).max(&zero);
-    let max_abs = |x: &Float, e: &Float| Float::with_val(P, Float::with_val(P, x.abs_ref()) + e);
-    let raw_err = |x: &Float| Float::with_val(P, x.abs_ref()) * eps1;
+    let hi = |x: &Dyadic, e: &Dyadic| x + e;
+    let lo = |x: &Dyadic, e: &Dyadic| x - e;
+    let min_abs = |x: &Dyadic, e: &Dyadic| (&x.abs() - e).max(Dyadic::zero());
+    let max_abs = |x: &Dyadic, e: &Dyadic| &x.abs() + e;
+    let raw_err = |x: &Dyadic| &x.abs() * &eps1;
     let [e1, e2, e3, e4] = [&s1, &s2, &s3, &s4].map(raw_err);
-    let sq = |x: &Float| Float::with_val(P, x * x);
-    let mul = |a: &Float, b: &Float| Float::with_val(P, a * b);
-    let show = |x: Float| format!("{x:.6e}");
-    let fail = |which, l: Float, r: Float| Err((which, (show(l), show(r))));
+    let sq = |x: &Dyadic| x * x;
+    let show = |x: &Dyadic, den: &Dyadic| x.div_to_sci(den, 5); // six significant digits
+    let fail = |which, l: &Dyadic, r: &Dyadic, den: &Dyadic| Err((which, (show(l, den), show(r, den))));
     // 1, 2, 3, 4: raw sums.
-    if sq(&min_abs(&s1, &e1)) > mul(&k, &hi(&s2, &e2)) {
-        return fail(I::SquareOfSumAtMostNTimesSumOfSquares, sq(&s1), mul(&k, &s2));
+    if sq(&min_abs(&s1, &e1)) > &k * &hi(&s2, &e2) {
+        return fail(I::SquareOfSumAtMostNTimesSumOfSquares, &sq(&s1), &(&k * &s2), &one);
     }
-    if sq(&min_abs(&s2, &e2)) > mul(&k, &hi(&s4, &e4)) {
-        return fail(I::SquareOfSumOfSquaresAtMostNTimesFourthSum, sq(&s2), mul(&k, &s4));
+    if sq(&min_abs(&s2, &e2)) > &k * &hi(&s4, &e4) {
+        return fail(I::SquareOfSumOfSquaresAtMostNTimesFourthSum, &sq(&s2), &(&k * &s4), &one);
     }
-    let (s2_hi, s4_hi) = (hi(&s2, &e2).max(&zero), hi(&s4, &e4).max(&zero));
-    if sq(&min_abs(&s3, &e3)) > mul(&s2_hi, &s4_hi) {
-        return fail(I::SquareOfThirdSumAtMostSecondTimesFourth, sq(&s3), mul(&s2, &s4));
+    let (s2_hi, s4_hi) = (hi(&s2, &e2).max(zero.clone()), hi(&s4, &e4).max(zero.clone()));
+    if sq(&min_abs(&s3, &e3)) > &s2_hi * &s4_hi {
+        return fail(I::SquareOfThirdSumAtMostSecondTimesFourth, &sq(&s3), &(&s2 * &s4), &one);
     }
     if lo(&s4, &e4) > sq(&max_abs(&s2, &e2)) {
-        return fail(I::FourthSumAtMostSquareOfSecond, s4.clone(), sq(&s2));
+        return fail(I::FourthSumAtMostSquareOfSecond, &s4, &sq(&s2), &one);
     }
     if nonzero.is_some_and(|k| k >= 1) && s2.is_zero() {
-        return fail(I::NonzeroValuesNeedPositiveSquares, s2.clone(), zero.clone());
+        return fail(I::NonzeroValuesNeedPositiveSquares, &s2, &zero, &one);
     }
     // 9, 10: non-negative values.
     for s in [&s1, &s3] {
         if hi(s, &raw_err(s)) < zero {
-            return fail(I::OddSumsNonNegative, s.clone(), zero.clone());
+            return fail(I::OddSumsNonNegative, s, &zero, &one);
         }
     }
-    if sq(&min_abs(&s2, &e2)) > mul(&hi(&s1, &e1).max(&zero), &hi(&s3, &e3).max(&zero)) {
-        return fail(I::SquareOfSecondAtMostFirstTimesThird, sq(&s2), mul(&s1, &s3));
+    if sq(&min_abs(&s2, &e2)) > &hi(&s1, &e1).max(zero.clone()) * &hi(&s3, &e3).max(zero.clone()) {
+        return fail(I::SquareOfSecondAtMostFirstTimesThird, &sq(&s2), &(&s1 * &s3), &one);
     }
     // 11: the fifth and sixth sums.
     let [e5, e6] = [&s5, &s6].map(raw_err);
     for (s, e) in [(&s5, &e5), (&s6, &e6)] {
         if hi(s, e) < zero {
-            return fail(I::HigherSumsNonNegative, s.clone(), zero.clone());
+            return fail(I::HigherSumsNonNegative, s, &zero, &one);
         }
     }
-    let s6_hi = hi(&s6, &e6).max(&zero);
-    if sq(&min_abs(&s4, &e4)) > mul(&s2_hi, &s6_hi) {
-        return fail(I::SquareOfFourthAtMostSecondTimesSixth, sq(&s4), mul(&s2, &s6));
+    let s6_hi = hi(&s6, &e6).max(zero.clone());
+    if sq(&min_abs(&s4, &e4)) > &s2_hi * &s6_hi {
+        return fail(I::SquareOfFourthAtMostSecondTimesSixth, &sq(&s4), &(&s2 * &s6), &one);
     }
-    if sq(&min_abs(&s5, &e5)) > mul(&s4_hi, &s6_hi) {
-        return fail(I::SquareOfFifthAtMostFourthTimesSixth, sq(&s5), mul(&s4, &s6));
+    if sq(&min_abs(&s5, &e5)) > &s4_hi * &s6_hi {
+        return fail(I::SquareOfFifthAtMostFourthTimesSixth, &sq(&s5), &(&s4 * &s6), &one);
     }
     // 5, 6, 7: central sums, each with the bound of its terms' rounding.
     let s1sq = sq(&s1);
     let n2 = sq(&n);
-    let central = |terms: &[(Float, u32)]| {
-        let value = terms.iter().fold(Float::new(P), |acc, (t, _)| acc + t);
-        let err = terms
-            .iter()
-            .fold(Float::new(P), |acc, (t, k)| acc + Float::with_val(P, t.abs_ref()) * (eps1 * f64::from(*k)));
+    let central = |terms: &[(Dyadic, u64)]| {
+        let value = terms.iter().fold(Dyadic::zero(), |acc, (t, _)| &acc + t);
+        let err = terms.iter().fold(Dyadic::zero(), |acc, (t, k)| &acc + &(&t.abs() * &eps1).mul_u64(*k));
         (value, err)
     };
-    let (c2, ec2) = central(&[(mul(&n, &s2), 1), (-s1sq.clone(), 2)]);
-    let (c3, ec3) = central(&[(mul(&n2, &s3), 1), (mul(&mul(&n, &s2), &s1) * -3i32, 2), (mul(&s1sq, &s1) * 2u32, 3)]);
+    let (c2, ec2) = central(&[(&n * &s2, 1), (-&s1sq, 2)]);
+    let (c3, ec3) = central(&[(&n2 * &s3, 1), (-(&(&n * &s2) * &s1).mul_u64(3), 2), ((&s1sq * &s1).mul_u64(2), 3)]);
     let (c4, ec4) = central(&[
-        (mul(&mul(&n2, &n), &s4), 1),
-        (mul(&mul(&n2, &s3), &s1) * -4i32, 2),
-        (mul(&mul(&n, &s2), &s1sq) * 6u32, 3),
-        (sq(&s1sq) * -3i32, 4),
+        (&(&n2 * &n) * &s4, 1),
+        (-(&(&n2 * &s3) * &s1).mul_u64(4), 2),
+        ((&(&n * &s2) * &s1sq).mul_u64(6), 3),
+        (-sq(&s1sq).mul_u64(3), 4),
     ]);
-    let c2_lo = lo(&c2, &ec2).max(&zero);
-    let c2_hi = hi(&c2, &ec2).max(&zero);
+    let c2_lo = lo(&c2, &ec2).max(zero.clone());
+    let c2_hi = hi(&c2, &ec2).max(zero.clone());
     let c4_hi = hi(&c4, &ec4);
+    let m4 = sq(&n2);
     if c4_hi < sq(&c2_lo) {
         // Shown as μ₄ and μ₂² (c₄/M⁴, c₂²/M⁴).
-        let m4 = sq(&n2);
-        return fail(I::CentralFourthAtLeastSquareOfSecond, Float::with_val(P, &c4 / &m4), sq(&c2) / m4);
+        return fail(I::CentralFourthAtLeastSquareOfSecond, &c4, &sq(&c2), &m4);
     }
     // max over the intervals of c₂(c₄ − c₂²) − c₃² ≤ c₂_hi (c₄_hi − c₂_lo²) − min c₃²
     // (both factors ≥ 0 here).
-    let spread = Float::with_val(P, &c4_hi - sq(&c2_lo));
-    if mul(&c2_hi, &spread) < sq(&min_abs(&c3, &ec3)) {
+    let spread = &c4_hi - &sq(&c2_lo);
+    if &c2_hi * &spread < sq(&min_abs(&c3, &ec3)) {
         // Shown as μ₂μ₄ and μ₃² + μ₂³ (each over M⁶).
-        let m6 = mul(&sq(&n2), &n2);
-        let left = mul(&c2, &c4) / &m6;
-        let right = Float::with_val(P, sq(&c3) + mul(&sq(&c2), &c2)) / &m6;
-        return fail(I::Pearson, left, right);
+        let m6 = &m4 * &n2;
+        return fail(I::Pearson, &(&c2 * &c4), &(&sq(&c3) + &(&sq(&c2) * &c2)), &m6);
     }
-    let m_minus_1 = Float::with_val(P, &n - 1u32);
-    if lo(&c4, &ec4) > mul(&m_minus_1, &sq(&max_abs(&c2, &ec2))) {
+    let m_minus_1 = &n - &one;
+    if lo(&c4, &ec4) > &m_minus_1 * &sq(&max_abs(&c2, &ec2)) {
         // Shown as μ₄ and (M − 1)μ₂².
-        let m4 = sq(&n2);
-        let right = mul(&m_minus_1, &sq(&c2)) / &m4;
-        return fail(I::CentralFourthAtMostMMinusOneTimesSquare, Float::with_val(P, &c4 / &m4), right);
+        return fail(I::CentralFourthAtMostMMinusOneTimesSquare, &c4, &(&m_minus_1 * &sq(&c2)), &m4);
     }
     Ok(())
 }

@@ -3,9 +3,8 @@
 use super::extremes::{check_against_sums, Extremes};
 use super::realisable::{realisable, SumsInequality};
 use super::shape::Shape;
+use mcrt_reference::exact::{Dyadic, ExactSum, Powers};
 use mcrt_reference::moments::PowerSums;
-use rug::ops::Pow;
-use rug::Float;
 use serde::Serialize;
 use std::fmt;
 
@@ -19,8 +18,8 @@ pub struct Measured {
 }
 
 /// The per-iteration values L of one pixel, accumulated as exact power sums
-/// Σ L … Σ L⁶ (2 300- and 3 456-bit MPFR numbers: the powers of a double are
-/// formed exactly and their sums do not round), the number of nonzero
+/// Σ L … Σ L⁶ (the powers of a double are formed exactly and their sums do
+/// not round: `mcrt_reference::exact`), the number of nonzero
 /// values, the smallest value and the few largest. All of these are
 /// independent of the order of accumulation: samples pushed by several
 /// threads and merged give the same numbers, bit for bit, as one thread
@@ -46,9 +45,9 @@ pub struct Measured {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Samples {
     sums: PowerSums,
-    /// Σ L⁵ and Σ L⁶, exact at [`HIGHER_BITS`] (for the skewness of the
-    /// squared deviations, which Var L's test corrects for).
-    higher: [Float; 2],
+    /// Σ L⁵ and Σ L⁶, exact (for the skewness of the squared deviations,
+    /// which Var L's test corrects for).
+    higher: [ExactSum; 2],
     /// Relative error bound of the sums (0 when accumulated here).
     sums_relative_error: f64,
     /// How many of the values are nonzero: exact when pushed here, `None`
@@ -64,7 +63,7 @@ impl Default for Samples {
     fn default() -> Self {
         Samples {
             sums: PowerSums::default(),
-            higher: [Float::new(HIGHER_BITS), Float::new(HIGHER_BITS)],
+            higher: Default::default(),
             sums_relative_error: 0.0,
             nonzero: Some(0),
             extremes: Some(Extremes::empty()),
@@ -197,7 +196,11 @@ impl Samples {
         let power_sums = PowerSums::from_f64_sums(count, first)
             .filter(|_| sums[4].is_finite() && sums[5].is_finite())
             .ok_or_else(|| SampleError::InvalidSums(format!("sums = {sums:?}: must be finite")))?;
-        let higher = [sums[4], sums[5]].map(|x| Float::with_val(HIGHER_BITS, x));
+        let higher = [sums[4], sums[5]].map(|x| {
+            let mut sum = ExactSum::default();
+            sum.add_f64(x);
+            sum
+        });
         let samples = Samples { sums: power_sums, higher, sums_relative_error, nonzero: None, extremes: None };
         samples.realisable(None)?;
         Ok(samples)
@@ -314,32 +317,42 @@ impl Samples {
         if self.count() < 4 || self.all_equal() {
             return None;
         }
-        // Σ (L − mean)^k = Σ_j C(k, j)(−mean)^{k−j} S_j (S₀ = M), with the
-        // mean S₁/M at 8 192 bits: the cancellation of the expansion loses
-        // at most (mean/spread)⁶ ≤ 2⁶·⁵³, far inside that width.
-        const P: u32 = 8192;
-        let n = Float::with_val(P, self.count());
-        let s = self.exact_sums().map(|x| Float::with_val(P, x));
-        let mean = Float::with_val(P, &s[0] / &n);
-        let minus_mean = Float::with_val(P, -&mean);
-        let central = |k: usize| {
-            let power = |e: usize| Float::with_val(P, (&minus_mean).pow(e as u32));
-            let mut total = Float::with_val(P, &n * power(k));
+        // M^k Σ (L − mean)^k = Σ_j C(k, j) S_j (−S₁)^{k−j} M^j (S₀ = M, mean =
+        // S₁/M) =: C_k, exactly; μ_k = C_k/M^{k+1}, and the standardised
+        // moment μ_k/μ₂^{k/2} is C_k M^{k/2−1}/C₂^{k/2}: a quotient for even
+        // k, the signed root of C_k² M^{k−2}/C₂^k for odd k.
+        let n = Dyadic::from(self.count());
+        let s = self.exact_sums();
+        let minus_s1 = -&s[0];
+        let central = |k: u32| {
             let mut binomial = 1u64;
-            for j in 1..=k {
-                binomial = binomial * (k - j + 1) as u64 / j as u64;
-                total += Float::with_val(P, &s[j - 1] * power(k - j)) * binomial;
-            }
-            total / &n
+            (0..=k).fold(Dyadic::zero(), |acc, j| {
+                if j > 0 {
+                    binomial = binomial * u64::from(k - j + 1) / u64::from(j);
+                }
+                let sum = if j == 0 { n.clone() } else { s[j as usize - 1].clone() };
+                &acc + &(&(&sum * &minus_s1.pow(k - j)) * &n.pow(j)).mul_u64(binomial)
+            })
         };
-        let m2 = central(2);
-        if !m2.is_sign_positive() || m2.is_zero() {
+        let c2 = central(2);
+        if c2 <= Dyadic::zero() {
             return None;
         }
-        let sd = Float::with_val(P, m2.sqrt_ref());
-        let standard = |k: usize| Float::with_val(P, central(k) / Float::with_val(P, (&sd).pow(k as u32))).to_f64();
-        let sd = sd.to_f64();
-        let mean = mean.to_f64();
+        let standard = |k: u32| {
+            let ck = central(k);
+            if k % 2 == 0 {
+                (&ck * &n.pow(k / 2 - 1)).div_to_f64(&c2.pow(k / 2))
+            } else {
+                let magnitude = (&(&ck * &ck) * &n.pow(k - 2)).sqrt_div_to_f64(&c2.pow(k));
+                if ck.is_negative() {
+                    -magnitude
+                } else {
+                    magnitude
+                }
+            }
+        };
+        let sd = c2.sqrt_div_to_f64(&n.pow(3));
+        let mean = s[0].div_to_f64(&n);
         // 1 ≤ κ ≤ M − 1 (μ₄ ≥ μ₂², μ₄ ≤ (M − 1)μ₂²), against the sums' rounding.
         let kurtosis = standard(4).clamp(1.0, self.count() as f64 - 1.0);
         let normal = |x: f64| x == 0.0 || x.is_normal();
@@ -363,7 +376,7 @@ impl Samples {
             return (*max, true);
         }
         let [_, s2, _, s4, s5, s6] = self.exact_sums();
-        let ratio = |a: &Float, b: &Float| if b.is_zero() { 0.0 } else { Float::with_val(SUM_BITS, a / b).to_f64() };
+        let ratio = |a: &Dyadic, b: &Dyadic| if b.is_zero() { 0.0 } else { a.div_to_f64(b) };
         let bound = ratio(&s4, &s2).sqrt().max(ratio(&s6, &s5));
         (bound * (1.0 - 2.02 * self.sums_relative_error), false)
     }
@@ -376,7 +389,7 @@ impl Samples {
             SampleError::Unrealisable {
                 count: self.count(),
                 nonzero,
-                sums: sums.iter().map(rug::Float::to_f64).collect(),
+                sums: sums.iter().map(Dyadic::to_f64).collect(),
                 sums_relative_error: self.sums_relative_error,
                 violated,
                 sides,
@@ -395,12 +408,10 @@ impl Samples {
         }
         // −0 is 0 (and kept as +0 among the extremes).
         let l = l.abs();
-        self.sums.push(l);
-        let x = Float::with_val(HIGHER_POWER_BITS, l);
-        let x2 = Float::with_val(HIGHER_POWER_BITS, &x * &x);
-        let x3 = Float::with_val(HIGHER_POWER_BITS, &x2 * &x);
-        self.higher[0] += Float::with_val(HIGHER_POWER_BITS, &x3 * &x2);
-        self.higher[1] += Float::with_val(HIGHER_POWER_BITS, &x3 * &x3);
+        let powers = Powers::<6>::of(l).expect("finite");
+        self.sums.push_powers(&powers);
+        powers.add_to(5, &mut self.higher[0]);
+        powers.add_to(6, &mut self.higher[1]);
         self.nonzero = self.nonzero.map(|k| k + u64::from(l != 0.0));
         if let Some(e) = &mut self.extremes {
             e.push(l);
@@ -419,7 +430,7 @@ impl Samples {
         self.extremes = self.extremes.as_ref().zip(other.extremes.as_ref()).map(|(a, b)| a.merge(b));
         self.sums = self.sums.merge(&other.sums);
         for (a, b) in self.higher.iter_mut().zip(&other.higher) {
-            *a += b;
+            a.merge(b);
         }
         self.sums_relative_error = self.sums_relative_error.max(other.sums_relative_error);
         self
@@ -480,18 +491,13 @@ impl Samples {
     /// Whether every value is the same: M·Σ L² = (Σ L)², exactly.
     fn all_equal(&self) -> bool {
         let [s1, s2, _, _, _, _] = self.exact_sums();
-        let p = 2 * SUM_BITS + 128;
-        Float::with_val(p, &s2 * self.count()) == Float::with_val(p, &s1 * &s1)
+        &s2 * &Dyadic::from(self.count()) == &s1 * &s1
     }
 
-    /// The exact sums Σ L … Σ L⁶ (the first four read back from
-    /// [`PowerSums::to_hex`]).
-    fn exact_sums(&self) -> [Float; 6] {
-        let [a, b, c, d] = self.sums.to_hex().map(|hex| {
-            let parsed = Float::parse_radix(&hex, 16).expect("PowerSums::to_hex is MPFR's own format");
-            Float::with_val(SUM_BITS, parsed)
-        });
-        let [e, f] = self.higher.clone();
+    /// The exact sums Σ L … Σ L⁶.
+    fn exact_sums(&self) -> [Dyadic; 6] {
+        let [a, b, c, d] = self.sums.exact_sums();
+        let [e, f] = self.higher.each_ref().map(ExactSum::to_dyadic);
         [a, b, c, d, e, f]
     }
 
@@ -514,15 +520,3 @@ impl Samples {
         }
     }
 }
-
-/// Width of the power sums as read back from [`PowerSums::to_hex`] (that of
-/// the exact sums).
-pub(super) const SUM_BITS: u32 = 2300;
-
-/// Width of the exact Σ L⁵ and Σ L⁶ (the powers have 265 and 318 bits and
-/// six times the exponent range of L: room for as wide a spread of values
-/// as the first four sums hold).
-const HIGHER_BITS: u32 = 3456;
-
-/// Width of one value's fifth and sixth powers: exact for any double L.
-const HIGHER_POWER_BITS: u32 = 6 * 53;
