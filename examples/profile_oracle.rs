@@ -24,6 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let costs = match precision {
         Precision::F64 => integral_costs(&scene, &0.0f64, tol)?,
         Precision::Bits(b) => integral_costs(&scene, &Float::with_val(b, 0), tol)?,
+        other => return Err(format!("{other:?}: a precision this example does not know").into()),
     };
     for c in costs {
         match c.outcome {

@@ -229,6 +229,7 @@ pub fn kernel_integral_bare<T: CheckRule>(angle: &Angle<T>, r: &T, opts: &Option
 /// B(1, 3/2) = 2/3, B(3/2, 3/2) = π/8 and B(a + 1, b) = B(a, b)·a/(a + b).
 /// The alternating series is summed at `prec` bits plus the cT/ln 2 bits its
 /// terms cancel (cT = 4000 for I(10⁻⁶, 10⁻³): ~6000 bits, well under a second).
+#[cfg(feature = "mpfr")]
 pub fn kernel_series_reference(sin_theta: &rug::Float, abs_cos: &rug::Float, r: &rug::Float, prec: u32) -> rug::Float {
     use rug::Float;
     let t_edge = Float::with_val(prec, r * 2u32) / sin_theta;
@@ -251,6 +252,7 @@ pub const ACCEPTANCE_CASES: [(&str, &str, bool, &str, &str); 6] = [
 ];
 
 /// Parses a decimal (or `pi/2`, `pi`) at `prec` bits.
+#[cfg(feature = "mpfr")]
 pub fn parse_decimal(text: &str, prec: u32) -> Result<rug::Float, String> {
     use rug::float::Constant;
     use rug::Float;

@@ -43,7 +43,8 @@
 //!   noise (small-sphere model of the paper) and [`model::finite`] (exact at
 //!   any R for uncollided light);
 //! - [`quad`], [`special`], [`real`]: the quadrature engine and special
-//!   functions, in f64 and MPFR, never silently wrong;
+//!   functions, in f64 and (feature `mpfr`, on by default) MPFR, never
+//!   silently wrong;
 //! - `reports` (feature `cli`, on by default): the CLI's tables and the
 //!   generated documents (uses the library; the library never uses it);
 //! - [`scene`] (crate `mcrt-scene`) and [`reference`](mod@crate::reference) (crate

@@ -433,10 +433,7 @@ fn load(path: &PathBuf) -> Result<Scene, CliError> {
 /// `kernel --theta`, `--radius`: plain decimals in range, read at the
 /// working precision (`cli::flags`).
 fn kernel_args(theta: &str, radius: &str, precision: Precision) -> Result<(), CliError> {
-    let bits = match precision {
-        Precision::F64 => None,
-        Precision::Bits(b) => Some(b),
-    };
+    let bits = precision.mpfr_bits();
     cli::flags::check_theta(theta, bits).map_err(CliError::Usage)?;
     cli::flags::check_kernel_radius(radius, bits).map_err(CliError::Usage)
 }

@@ -27,7 +27,8 @@ pub fn model_error_scale(radius: f64) -> f64 {
 }
 
 /// Default relative tolerance for `bits` of MPFR: 2^{−(bits − 22)}, leaving
-/// 22 bits for rounding noise and the inner integrals' tenth.
+/// 22 bits for rounding noise and the inner integrals' tenth (feature `mpfr`).
+#[cfg(feature = "mpfr")]
 pub fn mpfr_default_tol(bits: u32) -> f64 {
     2f64.powi(-(bits as i32 - 22))
 }

@@ -1,15 +1,19 @@
-//! One numeric interface for f64 and MPFR (`rug::Float`) so that every special
-//! function and quadrature rule is written once and runs at any precision.
+//! One numeric interface for f64 and MPFR (`rug::Float`, feature `mpfr`) so
+//! that every special function and quadrature rule is written once and runs
+//! at any precision.
 //!
 //! A `rug::Float` carries its precision; constants are made "like" an existing
 //! value ([`Real::lit`], [`Real::pi`]) so that they inherit it.
 
+#[cfg(feature = "mpfr")]
 use rug::float::Constant;
+#[cfg(feature = "mpfr")]
 use rug::Float;
 use std::fmt::Debug;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-/// A real number type: f64, or `rug::Float` at its own precision.
+/// A real number type: f64, or `rug::Float` at its own precision (feature
+/// `mpfr`).
 pub trait Real:
     'static
     + Clone
@@ -182,6 +186,7 @@ impl Real for f64 {
     }
 }
 
+#[cfg(feature = "mpfr")]
 impl Real for Float {
     const CAN_RAISE_PRECISION: bool = true;
     fn raised(&self, extra: u32) -> Self {

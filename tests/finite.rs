@@ -287,6 +287,7 @@ fn henyey_greenstein_tables_are_charged_whatever_the_threads() {
 /// (it spent the budget, 6 336 azimuths; `model::finite::point`'s
 /// `FOLD_POWER`). ~25 s in a release build on two cores.
 #[test]
+#[cfg(feature = "mpfr")]
 fn a_light_next_to_the_line_ahead_converges_at_128_bits() {
     use mcrt_noise::quad::Budget;
     let s = point_at([1e-6, 0.0, 2.0]);

@@ -9,6 +9,7 @@
 //! piece, 15 evaluations against 61).
 
 use mcrt_noise::quad::{integrate, integrate_nested, Domain, Options, Rule};
+#[cfg(feature = "mpfr")]
 use rug::Float;
 
 /// (label, integrand, domain, exact value).
@@ -103,6 +104,7 @@ fn nested_kronrod_passes_are_within_their_bars() {
 /// f64 constants), and the estimate says so: at 128 bits ∫₀¹ √x meets
 /// 10⁻³⁰.
 #[test]
+#[cfg(feature = "mpfr")]
 fn above_53_bits_the_pair_falls_back_to_tanh_sinh() {
     let one = Float::with_val(128, 1);
     let e = integrate(

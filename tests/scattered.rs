@@ -146,6 +146,7 @@ fn the_two_angular_frames_agree() {
 /// oracle at 128 bits takes longer than 25 min; this checks its parts, at
 /// 128 bits to 1e−12, in about 50 s.)
 #[test]
+#[cfg(feature = "mpfr")]
 fn order_one_parts_agree_between_f64_and_128_bits() {
     use mcrt_noise::model::angular::Measure;
     use rug::Float;

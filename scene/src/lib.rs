@@ -5,6 +5,10 @@
 //! [`Scene::builder`] builds one in code with the same validation):
 //! every invalid value is reported as a [`FieldError`] naming the field, the
 //! value and the allowed range, and no partially valid scene is ever returned.
+//! The accessors ([`Scene::medium`], [`Scene::lights`], [`Scene::camera`],
+//! [`Scene::estimator`], [`Scene::scattering_orders`], [`Scene::cost`] and
+//! those of each part) read every value back, so a renderer can set itself
+//! up from a scene, or rebuild one, through these methods alone.
 //!
 //! This crate holds only the scene and the physics primitives both crates need
 //! (the phase functions). The oracle's formulas live in `mcrt-noise`; the tracer
@@ -12,6 +16,7 @@
 
 #![warn(missing_docs)]
 
+mod access;
 mod builder;
 mod error;
 mod file;

@@ -1,11 +1,33 @@
 //! The validated scene. Every value here is in range; construct it with
-//! [`Scene::from_toml_str`].
+//! [`Scene::from_toml_str`] or [`Scene::builder`], read it with the
+//! accessors (`access.rs`).
 
 use crate::phase::Phase;
 use glam::DVec3;
 
 /// A validated scene: one medium filling space, lights, one pixel's camera ray,
 /// the estimator's parameters, and the effects to simulate.
+///
+/// Read it with the accessors ([`Scene::medium`], [`Scene::lights`],
+/// [`Scene::camera`], [`Scene::estimator`], [`Scene::effects`],
+/// [`Scene::scattering_orders`], [`Scene::cost`]); the fields stay public for
+/// existing code, and a scene changed through them is checked again by
+/// [`Scene::validated`].
+///
+/// ```
+/// // A renderer reads a scene file and sets up its own parameters.
+/// use mcrt_scene::Scene;
+/// let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/point-isotropic-order1.toml"))?;
+/// let scene = Scene::from_toml_str(&text)?;
+/// let sigma_t = scene.medium().sigma_ext();
+/// let n_lights = scene.lights().len();
+/// let eye = (scene.camera().origin(), scene.camera().direction());
+/// let (r, n_f) = (scene.estimator().radius(), scene.estimator().forward_rays());
+/// let max_bounces = scene.scattering_orders().limit();
+/// assert_eq!((sigma_t, n_lights, r, n_f, max_bounces), (1.0, 1, 0.01, 200, Some(1)));
+/// assert_eq!(eye.1.z, 1.0);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
     /// The medium filling space.

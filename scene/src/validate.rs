@@ -212,39 +212,13 @@ impl Scene {
     }
 
     pub(crate) fn to_file(&self) -> SceneFile {
-        let phase = match self.medium.phase {
-            Phase::Isotropic => PhaseFile { kind: "isotropic".into(), g: None },
-            Phase::HenyeyGreenstein { g } => PhaseFile { kind: "henyey-greenstein".into(), g: Some(g) },
-        };
-        let lights = self
-            .lights
-            .iter()
-            .map(|l| match *l {
-                Light::Point { position, flux } => LightFile {
-                    kind: "point".into(),
-                    position: Some(position.to_array().into()),
-                    center: None,
-                    direction: None,
-                    radius: None,
-                    flux,
-                },
-                Light::Beam { center, direction, radius, flux } => LightFile {
-                    kind: "beam".into(),
-                    position: None,
-                    center: Some(center.to_array().into()),
-                    direction: Some(direction.to_array().into()),
-                    radius: Some(radius),
-                    flux,
-                },
-            })
-            .collect();
-        let orders = match self.effects.scattering_orders {
-            ScatteringOrders::Limited(n) => OrdersFile::Count(n as i64),
-            ScatteringOrders::All => OrdersFile::Word("all".into()),
-        };
         SceneFile {
-            medium: MediumFile { sigma_ext: self.medium.sigma_ext, albedo: self.medium.albedo, phase },
-            lights,
+            medium: MediumFile {
+                sigma_ext: self.medium.sigma_ext,
+                albedo: self.medium.albedo,
+                phase: self.medium.phase.into(),
+            },
+            lights: self.lights.iter().map(|&l| l.into()).collect(),
             camera: CameraFile {
                 origin: self.camera.origin.to_array().into(),
                 direction: self.camera.direction.to_array().into(),
@@ -255,8 +229,49 @@ impl Scene {
                 forward_rays: self.estimator.forward_rays as i64,
                 camera_rays: self.estimator.camera_rays as i64,
             },
-            effects: EffectsFile { scattering_orders: orders },
+            effects: EffectsFile { scattering_orders: self.effects.scattering_orders.into() },
             cost: self.cost.map(CostFile::from),
+        }
+    }
+}
+
+impl From<Phase> for PhaseFile {
+    fn from(phase: Phase) -> PhaseFile {
+        match phase {
+            Phase::Isotropic => PhaseFile { kind: "isotropic".into(), g: None },
+            Phase::HenyeyGreenstein { g } => PhaseFile { kind: "henyey-greenstein".into(), g: Some(g) },
+        }
+    }
+}
+
+impl From<Light> for LightFile {
+    fn from(light: Light) -> LightFile {
+        match light {
+            Light::Point { position, flux } => LightFile {
+                kind: "point".into(),
+                position: Some(position.to_array().into()),
+                center: None,
+                direction: None,
+                radius: None,
+                flux,
+            },
+            Light::Beam { center, direction, radius, flux } => LightFile {
+                kind: "beam".into(),
+                position: None,
+                center: Some(center.to_array().into()),
+                direction: Some(direction.to_array().into()),
+                radius: Some(radius),
+                flux,
+            },
+        }
+    }
+}
+
+impl From<ScatteringOrders> for OrdersFile {
+    fn from(orders: ScatteringOrders) -> OrdersFile {
+        match orders {
+            ScatteringOrders::Limited(n) => OrdersFile::Count(i64::from(n)),
+            ScatteringOrders::All => OrdersFile::Word("all".into()),
         }
     }
 }

@@ -127,6 +127,7 @@ pub enum Scope {
 /// 2^{−(bits − 22)} is then 2^{−1002} ≈ 2.3·10⁻³⁰², still a normal double
 /// (tolerances are f64; past ~1044 bits the default underflowed to 0 and
 /// every integral was refused).
+#[cfg(feature = "mpfr")]
 pub const MAX_BITS: u32 = 1024;
 
 /// The most lights a scene may have for the oracle. Integrals that sum
@@ -139,38 +140,69 @@ pub const MAX_BITS: u32 = 1024;
 pub const MAX_LIGHTS: usize = 100;
 
 /// Working precision of an oracle run.
+///
+/// MPFR precisions (`Precision::Bits`) exist with the `mpfr` feature (on
+/// by default) only; without it every run is in f64. The enum is
+/// `#[non_exhaustive]` so that a dependent crate's `match` compiles with
+/// and without the feature (another crate in the build may turn it on).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Precision {
     /// IEEE double precision.
     F64,
-    /// MPFR with this many bits of mantissa (32 to [`MAX_BITS`]).
+    /// MPFR with this many bits of mantissa (32 to [`MAX_BITS`]; feature
+    /// `mpfr`).
+    #[cfg(feature = "mpfr")]
     Bits(u32),
 }
 
 impl Precision {
-    /// Parses `f64` or a number of bits in [32, [`MAX_BITS`]].
+    /// Parses `f64` or (feature `mpfr`) a number of bits in [32,
+    /// `MAX_BITS`]. Without the feature a number of bits is refused,
+    /// naming the feature.
     pub fn parse(text: &str) -> Result<Precision, String> {
         if text == "f64" {
             return Ok(Precision::F64);
         }
-        match text.parse::<u32>() {
-            Ok(b) if (32..=MAX_BITS).contains(&b) => Ok(Precision::Bits(b)),
-            _ => Err(format!(
-                "--precision {text:?}: must be `f64` or a number of bits in [32, {MAX_BITS}] (tolerances are \
-                 doubles, so the tightest is ~1e-300: more bits would only be guard digits)"
-            )),
+        #[cfg(feature = "mpfr")]
+        {
+            match text.parse::<u32>() {
+                Ok(b) if (32..=MAX_BITS).contains(&b) => Ok(Precision::Bits(b)),
+                _ => Err(format!(
+                    "--precision {text:?}: must be `f64` or a number of bits in [32, {MAX_BITS}] (tolerances are \
+                     doubles, so the tightest is ~1e-300: more bits would only be guard digits)"
+                )),
+            }
+        }
+        #[cfg(not(feature = "mpfr"))]
+        {
+            Err(format!(
+                "precision {text:?}: must be `f64` (MPFR precisions, a number of bits, need mcrt-noise's `mpfr` \
+                 feature, which this build leaves out)"
+            ))
+        }
+    }
+
+    /// The bits of an MPFR precision; `None` for f64 (and always without
+    /// the `mpfr` feature).
+    pub fn mpfr_bits(self) -> Option<u32> {
+        match self {
+            Precision::F64 => None,
+            #[cfg(feature = "mpfr")]
+            Precision::Bits(b) => Some(b),
         }
     }
 
     /// Default evaluation budget of a run: [`crate::quad::DEFAULT_EVALUATIONS`]
     /// (10⁹, ~20 s) in f64; in MPFR, whose evaluations cost ~300 times
     /// more at 128 bits and grow roughly with the square of the precision
-    /// beyond, [`crate::quad::DEFAULT_EVALUATIONS_MPFR`] (5·10⁷, a few
+    /// beyond, `quad::DEFAULT_EVALUATIONS_MPFR` (5·10⁷, a few
     /// minutes) up to 128 bits and 5·10⁷·(128/bits)² above (7.8·10⁵ at 1024
     /// bits), so that the default never means hours.
     pub fn default_evaluations(self) -> u64 {
         match self {
             Precision::F64 => crate::quad::DEFAULT_EVALUATIONS,
+            #[cfg(feature = "mpfr")]
             Precision::Bits(b) => {
                 let scale = (128.0 / f64::from(b.max(128))).powi(2);
                 (crate::quad::DEFAULT_EVALUATIONS_MPFR as f64 * scale) as u64
@@ -182,6 +214,7 @@ impl Precision {
     pub fn default_tol(self) -> f64 {
         match self {
             Precision::F64 => 1e-10,
+            #[cfg(feature = "mpfr")]
             Precision::Bits(b) => crate::prec::mpfr_default_tol(b),
         }
     }
@@ -195,6 +228,7 @@ impl Precision {
         match (self, scattered) {
             (_, false) => self.default_tol(),
             (Precision::F64, true) => 1e-6,
+            #[cfg(feature = "mpfr")]
             (Precision::Bits(_), true) => self.default_tol().max(1e-10),
         }
     }
@@ -618,6 +652,7 @@ fn finite_report<T: CheckRule>(
 /// assert_eq!(prediction_scope(&scene, Precision::F64), (Scope::Prediction, 1_000_000_000));
 /// scene.effects.scattering_orders = mcrt_scene::ScatteringOrders::Limited(1);
 /// assert_eq!(prediction_scope(&scene, Precision::F64), (Scope::ExactPrediction, 3_000_000_000));
+/// # #[cfg(feature = "mpfr")]
 /// assert_eq!(prediction_scope(&scene, Precision::Bits(128)).0, Scope::Prediction);
 /// (scene.estimator.q, scene.estimator.camera_rays) = (1.0, 1);
 /// scene.medium.phase = mcrt_scene::Phase::HenyeyGreenstein { g: 0.6 };
@@ -679,8 +714,33 @@ pub fn run_within_scoped(
     let tol = rel_tol.unwrap_or(precision.default_tol_for(scene));
     match precision {
         Precision::F64 => run_with_scoped(scene, &0.0f64, tol, "f64".into(), budget, scope),
+        #[cfg(feature = "mpfr")]
         Precision::Bits(b) => {
             run_with_scoped(scene, &rug::Float::with_val(b, 0), tol, format!("{b} bits"), budget, scope)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Precision;
+
+    /// `f64` parses in every build; a number of bits only with the `mpfr`
+    /// feature, and is refused naming it without.
+    #[test]
+    fn precision_parses_bits_only_with_mpfr() {
+        assert_eq!(Precision::parse("f64"), Ok(Precision::F64));
+        assert_eq!(Precision::F64.mpfr_bits(), None);
+        #[cfg(feature = "mpfr")]
+        {
+            assert_eq!(Precision::parse("128"), Ok(Precision::Bits(128)));
+            assert_eq!(Precision::Bits(128).mpfr_bits(), Some(128));
+            assert!(Precision::parse("31").is_err());
+        }
+        #[cfg(not(feature = "mpfr"))]
+        {
+            let err = Precision::parse("128").unwrap_err();
+            assert!(err.contains("`mpfr` feature"), "{err}");
         }
     }
 }

@@ -503,7 +503,7 @@ impl Report {
     }
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "mpfr"))]
 mod tests {
     use super::reported;
     use rug::Float;

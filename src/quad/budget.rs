@@ -47,6 +47,7 @@ pub const DEFAULT_EVALUATIONS: u64 = 1_000_000_000;
 /// heaviest bundled MPFR computation, the oracle of `point-isotropic` at 192
 /// bits (both models), takes 9.5·10⁶; an order-1 scene at 128 bits needs
 /// more and ends as `NOT CONVERGED` naming the budget (`docs/accuracy-cost.md`).
+#[cfg(feature = "mpfr")]
 pub const DEFAULT_EVALUATIONS_MPFR: u64 = 50_000_000;
 
 /// A shared evaluation budget: cheap to clone (clones share the count).

@@ -16,6 +16,7 @@
 use super::nodes::gauss_legendre;
 use super::{control, Failure, Mapped, Options, Piece, RuleResult, Sample};
 use crate::real::Real;
+#[cfg(feature = "mpfr")]
 use rug::Float;
 
 /// The integrand of a panel in the substituted variable.
@@ -113,6 +114,7 @@ fn gauss_legendre_rule<T: Real + 'static>(
     Ok((v * half.clone(), e * half.clone(), a * half))
 }
 
+#[cfg(feature = "mpfr")]
 impl CheckRule for Float {
     const CHECK_NAME: &'static str = "Gauss-Legendre (MPFR nodes)";
 

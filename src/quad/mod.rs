@@ -47,7 +47,9 @@ mod scan;
 mod tanh_sinh;
 
 use crate::real::Real;
-pub use budget::{Budget, CHECK_EVERY, DEFAULT_EVALUATIONS, DEFAULT_EVALUATIONS_MPFR};
+#[cfg(feature = "mpfr")]
+pub use budget::DEFAULT_EVALUATIONS_MPFR;
+pub use budget::{Budget, CHECK_EVERY, DEFAULT_EVALUATIONS};
 pub use check::CheckRule;
 pub(crate) use mapped::{Mapped, Piece, TailMap};
 pub use nested::{integrate_nested, integrate_within_pass};

@@ -158,7 +158,7 @@ fn legendre<T: Real>(x: &T, n: usize) -> (T, T) {
     (p1, p0)
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "mpfr"))]
 mod tests {
     use super::*;
     use rug::Float;

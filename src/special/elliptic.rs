@@ -79,6 +79,7 @@ mod tests {
     /// f64 against the same algorithm at 256 bits, in ulps, over
     /// k′ ∈ [1e-12, 1] log-spaced.
     #[test]
+    #[cfg(feature = "mpfr")]
     fn f64_within_a_few_ulps_of_mpfr() {
         let mut worst = 0.0f64;
         for i in 0..=2000 {

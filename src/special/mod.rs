@@ -34,5 +34,6 @@ pub use expint::{exp_int_e1, exp_int_e1_scaled, exp_int_tail2};
 pub use exponential::{exp_segment, exp_triangle};
 pub use hg_ring::hg_ring;
 pub use lens::{arc_in_disc, arc_in_disc_gaps, disc_overlap};
+#[cfg(feature = "mpfr")]
 pub(crate) use overlap::laplace_sum;
 pub use overlap::{overlap_a, overlap_a_gap, overlap_a_integral, overlap_a_laplace, overlap_a_moment};

@@ -612,6 +612,7 @@ fn cap_weight<T: CheckRule>(ff: &FiniteField<T>, d: &T, psi: &T) -> T {
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[cfg(feature = "mpfr")]
     use rug::Float;
 
     /// At each azimuth `azimuth_kinks` declares, the ϑ-kinks it names meet:
@@ -647,6 +648,7 @@ mod tests {
 
     /// Direction (ϑ about u) with 1 ∓ μ from half angles, in the precision
     /// of `like`.
+    #[cfg(feature = "mpfr")]
     fn direction<T: CheckRule>(theta: f64, like: &T) -> Direction<T> {
         let (t, two) = (like.lit(theta), like.lit(2.0));
         let (h_sin, h_cos) = ((t.clone() / two.clone()).sin(), (t.clone() / two.clone()).cos());
@@ -667,6 +669,7 @@ mod tests {
     /// that and 10³ε(|B| + |μ|ρ)/sin ϑ when b < R (352 ends, 286 of them at
     /// a window's).
     #[test]
+    #[cfg(feature = "mpfr")]
     fn tau_at_the_ends_of_j_is_formed_without_cancellation() {
         let r = 0.2f64;
         let hi = Float::with_val(256, 0);

@@ -290,6 +290,7 @@ mod tests {
 
     /// A goal finer than the table serves gets none: the quadrature serves.
     #[test]
+    #[cfg(feature = "mpfr")]
     fn an_mpfr_goal_gets_no_table() {
         let opts = Options::rel(1e-20).declared();
         let f = |v: f64| rug::Float::with_val(128, v);

@@ -217,6 +217,7 @@ mod tests {
     /// A goal the margins cannot meet (their gap at w = R is ~σ²R²δ₁ ln δ₁,
     /// ~10⁻¹⁵ here) gets no table: the quadrature serves.
     #[test]
+    #[cfg(feature = "mpfr")]
     fn a_goal_below_the_margins_gap_gets_no_table() {
         let opts = Options::rel(1e-20).declared();
         let r = rug::Float::with_val(128, 0.2);
