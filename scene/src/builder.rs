@@ -144,8 +144,8 @@ impl SceneBuilder {
     /// assert_eq!(scene.total_flux(), 4.0);
     /// # Ok::<(), mcrt_scene::SceneError>(())
     /// ```
-    pub fn point_light(self, position: [f64; 3], flux: f64) -> Self {
-        self.light(Light::Point { position: DVec3::from_array(position), flux })
+    pub fn point_light(self, position: impl Into<DVec3>, flux: f64) -> Self {
+        self.light(Light::Point { position: position.into(), flux })
     }
 
     /// Adds a collimated beam: a disk of `radius` a at `center`, perpendicular
@@ -171,13 +171,8 @@ impl SceneBuilder {
     /// assert_eq!(beam.radius(), Some(0.5));
     /// # Ok::<(), mcrt_scene::SceneError>(())
     /// ```
-    pub fn beam(self, center: [f64; 3], direction: [f64; 3], radius: f64, flux: f64) -> Self {
-        self.light(Light::Beam {
-            center: DVec3::from_array(center),
-            direction: DVec3::from_array(direction),
-            radius,
-            flux,
-        })
+    pub fn beam(self, center: impl Into<DVec3>, direction: impl Into<DVec3>, radius: f64, flux: f64) -> Self {
+        self.light(Light::Beam { center: center.into(), direction: direction.into(), radius, flux })
     }
 
     /// Adds a light given as a [`Light`] (one of another scene's
@@ -220,10 +215,18 @@ impl SceneBuilder {
     ///     .estimator(0.01, 0.5, 200, 8)
     ///     .build()?;
     /// assert_eq!(scene.camera().direction().to_array(), [0.0, 0.0, 1.0]);
+    /// // Positions and directions are arrays or glam's `DVec3`, as the accessors give them.
+    /// let again = Scene::builder()
+    ///     .medium(1.0, 0.8)
+    ///     .point_light(scene.lights()[0].position().unwrap(), 1.0)
+    ///     .camera(scene.camera().origin(), scene.camera().direction())
+    ///     .estimator(0.01, 0.5, 200, 8)
+    ///     .build()?;
+    /// assert_eq!(again, scene);
     /// # Ok::<(), mcrt_scene::SceneError>(())
     /// ```
-    pub fn camera(mut self, origin: [f64; 3], direction: [f64; 3]) -> Self {
-        self.camera = Some((origin, direction));
+    pub fn camera(mut self, origin: impl Into<DVec3>, direction: impl Into<DVec3>) -> Self {
+        self.camera = Some((origin.into().to_array(), direction.into().to_array()));
         self
     }
 

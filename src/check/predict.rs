@@ -449,7 +449,7 @@ fn predict_every_order(
     // cover (its medium, lights) or has no Var L of, then MPFR and a goal
     // outside its range.
     oracle::every_order_variance_refusal(scene)?;
-    if let Precision::Bits(bits) = precision {
+    if let Some(bits) = precision.mpfr_bits() {
         return Err(PredictError::Oracle(OracleError::Unsupported(format!(
             "precision = {bits} bits: with effects.scattering_orders = {orders} the oracle computes in f64 only \
              (allowed: f64)"

@@ -7,6 +7,7 @@
 mod every_order;
 mod figures;
 mod kernel;
+mod library;
 mod oracle;
 pub mod profile;
 mod target;
@@ -84,6 +85,8 @@ pub fn cost_markdown(repeats: usize, figures_dir: &Path) -> Result<String, Strin
     every_order::section(&mut body, &mut ledger)?;
     writeln!(body).unwrap();
     optimize_section(&mut body, &mut ledger)?;
+    writeln!(body).unwrap();
+    library::section(&mut body, &mut ledger)?;
     writeln!(body).unwrap();
     profile::section(&mut body)?;
     writeln!(body).unwrap();
