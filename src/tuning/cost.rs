@@ -120,7 +120,7 @@ impl CostTable {
     /// `[cost]` table nor `--costs` gives any. A renderer has costs of its own:
     /// give them, or the times are this tracer's.
     pub fn reference_machine() -> CostTable {
-        super::calibration::REFERENCE_COSTS
+        super::reference_costs::REFERENCE_COSTS
     }
 
     /// Predicted wall time of one iteration with `counts`, in seconds, and

@@ -6,7 +6,7 @@
 //!   per-operation costs;
 //! - [`rates`]: the geometric rates the counts need (searching and hitting
 //!   segments), measured by walking forward rays;
-//! - [`calibration`]: per-operation costs fitted from timed tracer runs;
+//! - `calibration` (feature `cli`): per-operation costs fitted from timed tracer runs;
 //! - [`objective`]: RMSE = √(b(R)² + Var L/M) after the budget, M = T/τ;
 //! - [`search`]: the search over (q, N_F, N_B) at one R, explicit in them;
 //! - [`radii`]: the model and rates per radius, computed once;
@@ -34,6 +34,7 @@
 //! refused (no Var L).
 
 pub mod alternatives;
+#[cfg(feature = "cli")]
 pub mod calibration;
 pub mod cost;
 pub mod maps;
