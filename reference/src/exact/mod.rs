@@ -18,8 +18,9 @@ pub use sum::{ExactSum, Powers};
 
 use num_bigint::{BigInt, BigUint};
 
-/// The largest binary exponent, in magnitude, that [`from_hex`] accepts
-/// (2²⁰: any sum of the tracer's or a renderer's powers lies far inside).
+/// The largest |e| that [`from_hex`] accepts for 2^e, the unit of a
+/// number's last digit, in either text form (2²⁰: any sum of the tracer's or
+/// a renderer's powers lies far inside).
 pub const MAX_HEX_EXPONENT: i64 = 1 << 20;
 
 /// The largest number of hexadecimal digits [`from_hex`] accepts.
@@ -34,6 +35,9 @@ pub const MAX_HEX_DIGITS: usize = 1 << 14;
 /// assert_eq!(to_hex(&x), "-0x1.8p+1");
 /// assert_eq!(from_hex(&to_hex(&x)), Ok(x));
 /// assert_eq!(from_hex("ff.8"), Ok(Dyadic::from_f64(255.5).unwrap())); // MPFR's form
+/// assert!(from_hex("0x1p-9223372036854775808").is_err()); // beyond ±2²⁰
+/// assert_eq!(from_hex("1@-262144"), from_hex("0x1p-1048576")); // one bound for both forms
+/// assert!(from_hex("1@-262145").is_err());
 /// ```
 pub fn to_hex(x: &Dyadic) -> String {
     if x.is_zero() {
@@ -60,12 +64,13 @@ pub fn from_hex(text: &str) -> Result<Dyadic, String> {
         Some(rest) => (true, rest),
         None => (false, text),
     };
+    // The exponent of the last digit's unit, in i128: no input overflows it.
     let (digits, exponent) = if let Some(c99) = body.strip_prefix("0x") {
         let (digits, exp) = c99.split_once('p').ok_or("no binary exponent (`p`)")?;
         (digits, parse_exponent(exp)?)
     } else {
         match body.split_once('@') {
-            Some((digits, exp)) => (digits, parse_exponent(exp)?.checked_mul(4).ok_or("exponent out of range")?),
+            Some((digits, exp)) => (digits, 4 * parse_exponent(exp)?),
             None => (body, 0),
         }
     };
@@ -77,20 +82,19 @@ pub fn from_hex(text: &str) -> Result<Dyadic, String> {
     if all.len() > MAX_HEX_DIGITS {
         return Err(format!("{} hexadecimal digits: at most {MAX_HEX_DIGITS}", all.len()));
     }
-    let exponent = exponent - 4 * fraction.len() as i64;
-    if exponent.abs() > MAX_HEX_EXPONENT + 4 * MAX_HEX_DIGITS as i64 {
-        return Err(format!("binary exponent {exponent}: must be within ±{MAX_HEX_EXPONENT}"));
+    let exponent = exponent - 4 * fraction.len() as i128;
+    if exponent.unsigned_abs() > MAX_HEX_EXPONENT as u128 {
+        return Err(format!("the last digit's unit is 2^{exponent}: its exponent must be within ±{MAX_HEX_EXPONENT}"));
     }
+    let exponent = exponent as i64;
     let m = BigInt::parse_bytes(all.as_bytes(), 16).ok_or("not hexadecimal digits")?;
     Ok(Dyadic::new(if negative { -m } else { m }, exponent))
 }
 
-fn parse_exponent(text: &str) -> Result<i64, String> {
+/// An exponent as written (any i64), widened so that scaling it cannot overflow.
+fn parse_exponent(text: &str) -> Result<i128, String> {
     let e: i64 = text.parse().map_err(|_| format!("exponent \"{text}\" is not an integer"))?;
-    if e.abs() > MAX_HEX_EXPONENT {
-        return Err(format!("exponent {e}: must be within ±{MAX_HEX_EXPONENT}"));
-    }
-    Ok(e)
+    Ok(i128::from(e))
 }
 
 impl ExactSum {
@@ -100,5 +104,34 @@ impl ExactSum {
         let (sign, limbs) = x.mantissa().to_u64_digits();
         sum.add_term(&limbs, x.exponent(), sign == num_bigint::Sign::Minus);
         sum
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn extreme_exponents_are_refused_not_wrapped() {
+        for text in [
+            "0x1p-9223372036854775808",
+            "0x1.8p-9223372036854775808",
+            "0x1p+9223372036854775807",
+            "1@-9223372036854775808",
+            "1@9223372036854775807",
+            "0x1p-1048577",
+        ] {
+            let err = from_hex(text).unwrap_err();
+            assert!(err.contains("within ±1048576"), "{text}: {err}");
+        }
+        assert!(from_hex("0x1p99999999999999999999").unwrap_err().contains("not an integer"));
+        assert_eq!(from_hex("0x1p-1048576").unwrap().exponent(), -1048576);
+    }
+
+    #[test]
+    fn shard_sums_with_extreme_exponents_are_refused() {
+        let hex = ["0x1p-9223372036854775808", "0x1p+0", "0x1p+0", "0x1p+0"].map(String::from);
+        let err = crate::moments::PowerSums::from_hex(4, &hex).unwrap_err();
+        assert!(err.starts_with("sums[0] = \"0x1p-9223372036854775808\""), "{err}");
     }
 }
